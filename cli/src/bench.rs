@@ -1,0 +1,96 @@
+//! `perifrac bench`: measured figures for the README.
+
+use std::fmt::Write as _;
+use std::path::Path;
+use std::time::Instant;
+
+use perifrac_sim::run;
+use perifrac_sim::scene::Scene;
+use perifrac_sim::step::total_time;
+
+use crate::args::BenchCommand;
+use crate::commands::{Failure, set_threads};
+
+/// Runs a benchmark.
+pub fn run(which: BenchCommand, quiet: bool) -> Result<(), Failure> {
+    match which {
+        BenchCommand::Throughput { particles, steps, out, threads } => {
+            set_threads(threads)?;
+            throughput(particles, steps, &out, quiet)
+        }
+    }
+}
+
+/// The three walls of Chen Table 1 (glass, plastic, elastic) at `particles`
+/// particles, δ = 1.45λ, hit by a sphere.
+pub fn wall_scene(kind: &str, particles: usize) -> String {
+    // A 1 × 1 × 0.1 m wall; the BCC mesher makes about 9.1 tets per λ³.
+    let volume = 0.1;
+    let lambda = (volume * 9.1 / particles as f64).cbrt();
+    let material = match kind {
+        "elastic" => "density = 1200\nbulk_modulus = 1.0e7\nshear_modulus = 6.0e6",
+        "plastic" => "density = 1200\nbulk_modulus = 1.0e7\nshear_modulus = 6.0e6\nyield_stretch = 0.002\nplastic_limit = 0.2",
+        _ => "density = 2200\nbulk_modulus = 3.3e10\nshear_modulus = 2.0e10\ncritical_stretch = 0.0005",
+    };
+    format!(
+        "[scene]\nname = \"{kind}-wall\"\nduration = 1.0\nfps = 24\n\n[materials.wall]\n{material}\n\n\
+         [[body]]\nmaterial = \"wall\"\nshape = {{ type = \"box\", center = [0, 0.5, 0], size = [1, 1, 0.1] }}\n\
+         resolution = {lambda}\nhorizon = 1.45\nvelocity = [0, 0, 0]\n\n\
+         [[collider]]\ntype = \"ground\"\n\n\
+         [[collider]]\ntype = \"sphere\"\ncenter = [0, 0.5, 0.2]\nradius = 0.1\nvelocity = [0, 0, -20]\nmass = 50\n"
+    )
+}
+
+fn throughput(particles: usize, steps: usize, out: &Path, quiet: bool) -> Result<(), Failure> {
+    let mut table = String::new();
+    let _ = writeln!(
+        table,
+        "| wall | particles | bonds | bytes/bond | setup (s) | s/step | bond-updates/s | dilatation | plasticity | fracture | forces | other |"
+    );
+    let _ = writeln!(table, "|---|---|---|---|---|---|---|---|---|---|---|---|");
+    for kind in ["elastic", "plastic", "glass"] {
+        let text = wall_scene(kind, particles);
+        let scene = Scene::parse(&text, Path::new(&format!("{kind}-wall (bench)")), Path::new("."))?;
+        let t = Instant::now();
+        let mut p = run::prepare(&scene)?;
+        let setup = t.elapsed().as_secs_f64();
+        p.sim.step()?;
+        p.sim.model.times = Default::default();
+        p.sim.other_time = 0.0;
+        let t = Instant::now();
+        for _ in 0..steps {
+            p.sim.step()?;
+        }
+        let wall = t.elapsed().as_secs_f64();
+        let m = &p.sim.model;
+        let per_step = wall / steps as f64;
+        let updates = m.bonds.len() as f64 / per_step;
+        let st = m.times;
+        let stage = |s: f64| format!("{:.0}%", 100.0 * s / wall);
+        let _ = writeln!(
+            table,
+            "| {kind} | {} | {} | {:.1} | {setup:.1} | {per_step:.3} | {updates:.3e} | {} | {} | {} | {} | {} |",
+            m.len(),
+            m.bonds.len(),
+            m.bond_bytes() as f64 / m.bonds.len() as f64,
+            stage(st.dilatation),
+            stage(st.plasticity),
+            stage(st.fracture),
+            stage(st.forces),
+            stage(wall - total_time(&st)),
+        );
+        if !quiet {
+            eprintln!("{kind} wall: {} particles, {:.3} s/step, {updates:.3e} bond-updates/s", m.len(), per_step);
+        }
+    }
+    let threads = rayon::current_num_threads();
+    let report = format!(
+        "# Throughput\n\nThree walls of Chen Table 1 (δ = 1.45λ), {steps} timed steps after one warm-up, \
+         {threads} threads. Bond-updates/s = directed bonds × steps / wall seconds.\n\n{table}"
+    );
+    std::fs::create_dir_all(out).map_err(|e| Failure::from(anyhow::anyhow!("{}: {e}", out.display())))?;
+    let path = out.join("throughput.md");
+    std::fs::write(&path, &report).map_err(|e| Failure::from(anyhow::anyhow!("{}: {e}", path.display())))?;
+    println!("{report}");
+    Ok(())
+}

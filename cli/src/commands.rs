@@ -1,0 +1,194 @@
+//! `run`, `check` and `demo`.
+
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use anyhow::Context;
+use indicatif::{ProgressBar, ProgressStyle};
+use perifrac_sim::SimError;
+use perifrac_sim::family;
+use perifrac_sim::geometry::discretize::discretize;
+use perifrac_sim::run::{self, BYTES_PER_PARTICLE, Progress, RunOptions};
+use perifrac_sim::scene::Scene;
+
+use crate::args::RunConfig;
+
+/// A failed command and its exit code.
+pub struct Failure {
+    /// What went wrong.
+    pub error: anyhow::Error,
+    /// 1 for a failed run, 2 for bad input.
+    pub code: u8,
+}
+
+impl Failure {
+    /// Bad input (exit code 2).
+    pub fn input(error: anyhow::Error) -> Failure {
+        Failure { error, code: 2 }
+    }
+}
+
+impl From<SimError> for Failure {
+    fn from(e: SimError) -> Failure {
+        let code = match e {
+            SimError::Scene { .. } | SimError::Refused(_) | SimError::Mesh { .. } => 2,
+            _ => 1,
+        };
+        Failure { error: e.into(), code }
+    }
+}
+
+impl From<anyhow::Error> for Failure {
+    fn from(error: anyhow::Error) -> Failure {
+        Failure { error, code: 1 }
+    }
+}
+
+/// The built-in demo scene (also `assets/scenes/demo.toml`).
+pub const DEMO_SCENE: &str = include_str!("../../assets/scenes/demo.toml");
+
+/// Sets the worker thread count for the whole process.
+pub fn set_threads(threads: Option<usize>) -> Result<(), Failure> {
+    if let Some(n) = threads {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global()
+            .map_err(|e| Failure::input(anyhow::anyhow!("--threads {n}: {e}")))?;
+    }
+    Ok(())
+}
+
+/// `perifrac run`.
+pub fn run(config: &RunConfig, quiet: bool) -> Result<(), Failure> {
+    set_threads(config.threads)?;
+    let scene = Scene::load(&config.scene)?;
+    let out = config
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("out").join(&scene.scene.name));
+    simulate(&scene, &out, &RunOptions { frames: config.frames, resume: config.resume }, quiet)
+}
+
+/// `perifrac demo`.
+pub fn demo(out: &Path, threads: Option<usize>, quiet: bool) -> Result<(), Failure> {
+    set_threads(threads)?;
+    let scene = Scene::parse(DEMO_SCENE, Path::new("demo.toml (built in)"), Path::new("."))?;
+    simulate(&scene, out, &RunOptions::default(), quiet)?;
+    println!("demo outputs:");
+    println!("  particles (PLY, one per frame): {}", out.join("particles").display());
+    println!("  manifest:                       {}", out.join("manifest.json").display());
+    println!("  resolved scene:                 {}", out.join("scene.toml").display());
+    Ok(())
+}
+
+fn simulate(scene: &Scene, out: &Path, options: &RunOptions, quiet: bool) -> Result<(), Failure> {
+    let bar = if quiet {
+        ProgressBar::hidden()
+    } else {
+        let bar = ProgressBar::new(scene.frame_count() as u64 + 1);
+        bar.set_style(
+            ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:30} frame {pos}/{len} {msg} ETA {eta}")
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
+        bar.set_message("meshing and building bonds");
+        bar.enable_steady_tick(Duration::from_millis(200));
+        bar
+    };
+    let start = Instant::now();
+    let mut first_step: Option<(Instant, u64)> = None;
+    let mut report = |p: Progress| {
+        let (t0, s0) = *first_step.get_or_insert((Instant::now(), p.steps));
+        let rate = (p.steps - s0) as f64 / t0.elapsed().as_secs_f64().max(1e-9);
+        bar.set_length(p.frames as u64);
+        bar.set_position(p.frame as u64);
+        bar.set_message(format!("{} steps, {:.0} steps/s", p.steps, rate));
+    };
+    let result = run::run(scene, out, options, &mut report);
+    bar.finish_and_clear();
+    let manifest = result?;
+    if !quiet {
+        eprintln!(
+            "{}: {} particles, {} bonds, {} steps of {:.3e} s in {:.1} s; output in {}",
+            manifest.scene,
+            manifest.particles,
+            manifest.bonds,
+            manifest.steps,
+            manifest.dt,
+            start.elapsed().as_secs_f64(),
+            out.display()
+        );
+    }
+    Ok(())
+}
+
+/// MemAvailable from /proc/meminfo, in bytes.
+fn available_memory() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
+/// `perifrac check`: validates the scene and prints its cost.
+pub fn check(path: &Path) -> Result<(), Failure> {
+    let scene = Scene::load(path)?;
+    let disc = discretize(&scene)?;
+    let horizon: Vec<f64> = disc
+        .body
+        .iter()
+        .map(|&b| scene.bodies[b as usize].horizon * scene.bodies[b as usize].resolution)
+        .collect();
+    let bonds = family::count_bonds(&disc.position, &disc.body, &horizon)?;
+    let particles = disc.position.len();
+    let plastic = scene.materials.values().any(|m| m.yield_psi0.is_some() || m.yield_stretch.is_some());
+    let per_bond = family::BYTES_PER_BOND + if plastic { 12 } else { 0 };
+    let memory = (bonds * per_bond + particles * BYTES_PER_PARTICLE) as u64;
+    println!("scene {}: {}", scene.scene.name, path.display());
+    for (b, spec) in scene.bodies.iter().enumerate() {
+        let q = &disc.quality[b];
+        println!(
+            "  body {}: {} particles, mean edge {:.4} m, dihedral angles {:.1}°–{:.1}°",
+            spec.name,
+            disc.meshes[b].tets.len(),
+            q.mean_edge,
+            q.min_dihedral_deg,
+            q.max_dihedral_deg
+        );
+    }
+    println!("  particles: {particles}");
+    println!("  bonds:     {bonds} directed ({:.1} per particle)", bonds as f64 / particles.max(1) as f64);
+    println!("  memory:    {:.1} MiB ({per_bond} bytes a bond)", memory as f64 / (1 << 20) as f64);
+    if let Some(avail) = available_memory()
+        && memory > avail
+    {
+        return Err(Failure::input(anyhow::anyhow!(
+            "the run needs {:.1} GiB but {:.1} GiB are available: use a coarser resolution or a smaller horizon",
+            memory as f64 / (1u64 << 30) as f64,
+            avail as f64 / (1u64 << 30) as f64
+        )));
+    }
+    let mut prepared = run::prepare(&scene).context("preparing the scene")?;
+    let steps_total = prepared.steps_per_frame * scene.frame_count();
+    let t = Instant::now();
+    let probe = 3;
+    for _ in 0..probe {
+        prepared.sim.step().map_err(Failure::from)?;
+    }
+    let per_step = t.elapsed().as_secs_f64() / probe as f64;
+    println!(
+        "  stable dt: {:.3e} s (limited at particle {}); dt used: {:.3e} s",
+        prepared.stable_dt.0, prepared.stable_dt.1, prepared.sim.dt
+    );
+    println!(
+        "  steps:     {} frames × {} = {steps_total}",
+        scene.frame_count(),
+        prepared.steps_per_frame
+    );
+    println!(
+        "  estimate:  {:.3} s a step, {:.0} s for the run on {} threads",
+        per_step,
+        per_step * steps_total as f64,
+        rayon::current_num_threads()
+    );
+    Ok(())
+}

@@ -1,0 +1,33 @@
+//! The `perifrac` command: runs scenes through the pipeline. No physics here.
+//!
+//! Exit codes: 0 success, 1 a run failed (I/O, blow-up), 2 bad input (scene, flags).
+
+mod args;
+mod bench;
+mod commands;
+
+use std::process::ExitCode;
+
+use clap::Parser;
+
+use args::{Cli, Command};
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Run(run) => match args::RunConfig::try_from(run) {
+            Ok(config) => commands::run(&config, cli.quiet),
+            Err(message) => Err(commands::Failure::input(anyhow::anyhow!(message))),
+        },
+        Command::Check { scene } => commands::check(&scene),
+        Command::Demo { out, threads } => commands::demo(&out, threads, cli.quiet),
+        Command::Bench { which } => bench::run(which, cli.quiet),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(failure) => {
+            eprintln!("error: {:#}", failure.error);
+            ExitCode::from(failure.code)
+        }
+    }
+}

@@ -1,0 +1,81 @@
+//! The simulator's error type: every failure names what it was working on.
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong in the simulator, with enough context to fix it.
+#[derive(Debug, thiserror::Error)]
+pub enum SimError {
+    /// A scene file is malformed or has a value out of range.
+    #[error("{file}:{line}:{column}: {key}: {message}")]
+    Scene {
+        /// The scene file.
+        file: PathBuf,
+        /// 1-based line of the offending key or value.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// The dotted key, e.g. `materials.glass.density`.
+        key: String,
+        /// What is wrong and how to fix it.
+        message: String,
+    },
+    /// Reading or writing a file failed.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file or directory.
+        path: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// A cache file does not have the expected layout.
+    #[error("{path}: {message}")]
+    Cache {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong with it.
+        message: String,
+    },
+    /// A body could not be discretized.
+    #[error("body '{body}': {message}")]
+    Mesh {
+        /// The body's name.
+        body: String,
+        /// What went wrong.
+        message: String,
+    },
+    /// The run would not fit in memory or is otherwise not runnable as asked.
+    #[error("{0}")]
+    Refused(String),
+    /// The simulation became unstable.
+    #[error(
+        "blow-up at step {step} (t = {time:.6e} s): {what} at particle {particle} \
+         (position {position:?}); last good frame {last_good_frame} is on disk"
+    )]
+    BlowUp {
+        /// Step at which it was detected.
+        step: u64,
+        /// Simulation time.
+        time: f64,
+        /// What was detected (non-finite value, energy growth).
+        what: String,
+        /// The particle where it was seen first.
+        particle: usize,
+        /// That particle's position.
+        position: [f64; 3],
+        /// The last frame written before the blow-up.
+        last_good_frame: usize,
+    },
+}
+
+impl SimError {
+    /// An I/O error with the path it concerns.
+    pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+        SimError::Io {
+            path: path.into(),
+            source,
+        }
+    }
+}
+
+/// Shorthand for results in this crate.
+pub type Result<T, E = SimError> = std::result::Result<T, E>;

@@ -1,0 +1,106 @@
+//! Bodies to particles (Chen §5.2): each body is tetrahedralized to edge length ≈ λ
+//! and one particle is placed at each tet's barycentre with the tet's volume. All
+//! particles are then sorted along a Morton curve so that families sit close in
+//! memory.
+
+use rayon::prelude::*;
+
+use super::shape::to_sdf;
+use super::stuffing::stuff;
+use super::{MeshQuality, TetMesh};
+use crate::error::{Result, SimError};
+use crate::scene::{Scene, ShapeSpec};
+
+/// The particles of all bodies, sorted spatially.
+#[derive(Debug, Clone, Default)]
+pub struct Discretization {
+    /// Barycentres x.
+    pub position: Vec<[f64; 3]>,
+    /// Tet volumes V.
+    pub volume: Vec<f64>,
+    /// Body index of each particle.
+    pub body: Vec<u32>,
+    /// Index of each particle's tet in its body's mesh.
+    pub tet: Vec<u32>,
+    /// Each body's tet mesh.
+    pub meshes: Vec<TetMesh>,
+    /// Each body's mesh quality.
+    pub quality: Vec<MeshQuality>,
+}
+
+/// Meshes every body of the scene and places the particles.
+pub fn discretize(scene: &Scene) -> Result<Discretization> {
+    let meshes: Vec<TetMesh> = scene
+        .bodies
+        .par_iter()
+        .map(|b| {
+            let sdf = match &b.shape {
+                ShapeSpec::Mesh { path } => {
+                    return Err(SimError::Mesh {
+                        body: b.name.clone(),
+                        message: format!(
+                            "mesh input ({}) is not supported by this build yet: describe the body with \
+                             box, slab, sphere, cylinder, union and difference shapes",
+                            path.display()
+                        ),
+                    });
+                }
+                shape => to_sdf(shape).ok_or_else(|| SimError::Mesh {
+                    body: b.name.clone(),
+                    message: "a mesh file cannot be part of a union or difference".into(),
+                })?,
+            };
+            stuff(sdf.as_ref(), b.resolution).map_err(|e| SimError::Mesh {
+                body: b.name.clone(),
+                message: e.to_string(),
+            })
+        })
+        .collect::<Result<_>>()?;
+    let mut items: Vec<(u64, [f64; 3], f64, u32, u32)> = Vec::new();
+    let (lo, hi) = bounds(&meshes);
+    for (b, mesh) in meshes.iter().enumerate() {
+        for t in 0..mesh.tets.len() {
+            let c = mesh.barycentre(t);
+            items.push((morton(c, lo, hi), c, mesh.volume(t), b as u32, t as u32));
+        }
+    }
+    items.par_sort_unstable_by_key(|it| (it.0, it.3, it.4));
+    let quality = meshes.iter().map(TetMesh::quality).collect();
+    Ok(Discretization {
+        position: items.iter().map(|it| it.1).collect(),
+        volume: items.iter().map(|it| it.2).collect(),
+        body: items.iter().map(|it| it.3).collect(),
+        tet: items.iter().map(|it| it.4).collect(),
+        meshes,
+        quality,
+    })
+}
+
+fn bounds(meshes: &[TetMesh]) -> ([f64; 3], [f64; 3]) {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for v in meshes.iter().flat_map(|m| m.vertices.iter()) {
+        for a in 0..3 {
+            lo[a] = lo[a].min(v[a]);
+            hi[a] = hi[a].max(v[a]);
+        }
+    }
+    (lo, hi)
+}
+
+/// 63-bit Morton code of `p` in the box [lo, hi].
+fn morton(p: [f64; 3], lo: [f64; 3], hi: [f64; 3]) -> u64 {
+    let mut code = 0u64;
+    let q: Vec<u64> = (0..3)
+        .map(|a| {
+            let span = (hi[a] - lo[a]).max(1e-30);
+            (((p[a] - lo[a]) / span).clamp(0.0, 1.0) * ((1u64 << 21) - 1) as f64) as u64
+        })
+        .collect();
+    for bit in (0..21).rev() {
+        for &c in &q {
+            code = (code << 1) | ((c >> bit) & 1);
+        }
+    }
+    code
+}

@@ -1,0 +1,382 @@
+//! The state-based peridynamic elastoplastic model of Chen et al. 2018 (§4–5.1).
+//!
+//! With ω_ij = δ/|ξ| (Eq. 5, or δ/|Gξ| with anisotropy, Eq. 17) the force density on
+//! particle i is (Eq. 2–3)
+//!
+//! ```text
+//! f_i = Σ_j ½ (A_ij + A_ji) ŷ_ij V_j,     A = A_dil + A_dev
+//! A_dil = 4 ω a_ij q_ij Λ θ_i                              (Eq. 4)
+//! A_dev = 4 ω b p_ij (e_ij − (δ/4) q_ij Λ θ_i − e^p_ij)   (Eq. 8, 9, 12)
+//! θ_i   = 9/(4πδ⁴) Σ_j ω s_ij Λ |ξ| q_ij V_j               (Eq. 6, 7)
+//! ```
+//!
+//! where Λ = ŷ·ξ̂ as printed (`DilatationForm::Paper`) or 1 (`Objective`, the default:
+//! the printed factor makes a stretched body's forces depend on its orientation), and
+//! q_ij is the surface correction of [`crate::family`] (1 for a complete family).
+//! With a = 9κ/(8πδ⁴), b = 15μ/(2πδ⁵) (Eq. 10) this is the derivative of the energy
+//! density W_i = c θ_i² + b Σ_j p_ij ω (e − e^p)² V_j with c = (κ − 5μ/3)/2, which the
+//! solver uses to check energy; b is scaled per bond by the surface correction p_ij
+//! of [`crate::family`] (1 for a complete family), and Eq. 4's a by the matching
+//! a + (p_ij − 1) bδ/4 so that κ is kept.
+//!
+//! Plasticity (Eq. 13–16) and fracture (Eq. 18–19) are optional stages; a scene
+//! without them allocates no plastic state and runs kernels compiled without them.
+
+mod kernel;
+
+use rayon::prelude::*;
+
+use crate::family::{BROKEN, Bonds, INDEX};
+use crate::material::{Material, PdConstants};
+use crate::scene::DilatationForm;
+
+pub use kernel::StageTimes;
+
+/// Particle state that is saved in checkpoints.
+#[derive(Debug, Clone, Default)]
+pub struct Particles {
+    /// Current positions y.
+    pub position: Vec<[f64; 3]>,
+    /// Velocities.
+    pub velocity: Vec<[f64; 3]>,
+    /// Damage φ = 1 − n_i/N_i (Chen §5.1).
+    pub damage: Vec<f64>,
+}
+
+/// Per-particle data that does not change during a run.
+#[derive(Debug, Clone, Default)]
+pub struct Reference {
+    /// Reference positions x (tet barycentres).
+    pub position: Vec<[f64; 3]>,
+    /// Volumes V (tet volumes).
+    pub volume: Vec<f64>,
+    /// Body index of each particle.
+    pub body: Vec<u32>,
+    /// Initial bond count N_i (Chen §5.1).
+    pub initial_bonds: Vec<u32>,
+}
+
+/// Per-body constants and options of the model.
+#[derive(Debug, Clone)]
+pub struct BodyModel {
+    /// Material.
+    pub material: Material,
+    /// Chen's constants for this body's horizon.
+    pub constants: PdConstants,
+    /// a' = a − bδ/4 = 3c/(δ V_H∞): the dilatation coefficient of the energy form.
+    pub a_prime: f64,
+}
+
+impl BodyModel {
+    /// Builds the constants of a body of `material` with horizon δ = `delta`.
+    pub fn new(material: Material, delta: f64) -> BodyModel {
+        let constants = material.constants(delta);
+        let a_prime = constants.a - constants.b * delta / 4.0;
+        BodyModel {
+            material,
+            constants,
+            a_prime,
+        }
+    }
+}
+
+/// Plastic bond state, allocated only when a material yields.
+#[derive(Debug, Clone)]
+pub struct Plastic {
+    /// e^p per directed bond (Eq. 11).
+    pub extension: Vec<f64>,
+    /// Index of the reverse bond j→i of each bond i→j.
+    pub reverse: Vec<u32>,
+}
+
+/// What a scene needs of the model; picks the compiled kernel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Features {
+    /// Any material yields.
+    pub plastic: bool,
+    /// Any material can break.
+    pub fracture: bool,
+    /// Any material is anisotropic.
+    pub anisotropic: bool,
+    /// Λ = ŷ·ξ̂ as printed.
+    pub paper_form: bool,
+}
+
+/// The peridynamic model: particles, bonds and the stage kernels.
+#[derive(Debug, Clone)]
+pub struct PdModel {
+    /// Saved particle state.
+    pub particles: Particles,
+    /// Fixed per-particle data.
+    pub reference: Reference,
+    /// Families (CSR).
+    pub bonds: Bonds,
+    /// q_ji stored at bond i→j, so the force gather needs no reverse lookup.
+    pub weight_reverse: Vec<f32>,
+    /// p_ji stored at bond i→j.
+    pub dev_weight_reverse: Vec<f32>,
+    /// ω per bond, only for anisotropic materials (Eq. 17).
+    pub omega: Option<Vec<f32>>,
+    /// Plastic state, only when some material yields.
+    pub plastic: Option<Plastic>,
+    /// Per-body constants.
+    pub bodies: Vec<BodyModel>,
+    /// What the kernels do.
+    pub features: Features,
+    /// Dilatation θ (scratch, recomputed each step).
+    pub theta: Vec<f64>,
+    /// Internal force density f_i (scratch).
+    pub force: Vec<[f64; 3]>,
+    /// Time spent in each stage.
+    pub times: StageTimes,
+}
+
+/// V_H∞ = 4πδ³/3, the volume of a complete family.
+pub fn family_volume(delta: f64) -> f64 {
+    4.0 / 3.0 * std::f64::consts::PI * delta.powi(3)
+}
+
+impl PdModel {
+    /// Sets up the model from particles, bonds (with their surface corrections) and
+    /// per-body materials.
+    pub fn new(
+        reference_position: Vec<[f64; 3]>,
+        volume: Vec<f64>,
+        body: Vec<u32>,
+        bonds: Bonds,
+        bodies: Vec<BodyModel>,
+        form: DilatationForm,
+) -> PdModel {
+        let n = reference_position.len();
+        let features = Features {
+            plastic: bodies.iter().any(|b| b.material.is_plastic()),
+            fracture: bodies.iter().any(|b| b.material.critical_stretch.is_some()),
+            anisotropic: bodies.iter().any(|b| b.material.anisotropy.is_some()),
+            paper_form: form == DilatationForm::Paper,
+        };
+        let initial_bonds: Vec<u32> = (0..n).map(|i| bonds.range(i).len() as u32).collect();
+        let reverse = bonds.reverse_index();
+        let weight_reverse: Vec<f32> = reverse.par_iter().map(|&r| bonds.weight[r as usize]).collect();
+        let dev_weight_reverse: Vec<f32> = reverse.par_iter().map(|&r| bonds.dev_weight[r as usize]).collect();
+        let omega = features.anisotropic.then(|| {
+            (0..n)
+                .into_par_iter()
+                .flat_map_iter(|i| {
+                    let body_model = &bodies[body[i] as usize];
+                    let g = body_model.material.anisotropy;
+                    let delta = body_model.constants.delta;
+                    let bonds = &bonds;
+                    let reference_position = &reference_position;
+                    bonds.range(i).map(move |k| {
+                        let j = (bonds.neighbours[k] & INDEX) as usize;
+                        let xi = sub(reference_position[j], reference_position[i]);
+                        let gxi = match g {
+                            Some(g) => mat_vec(g, xi),
+                            None => xi,
+                        };
+                        (delta / norm(gxi)) as f32
+                    })
+                })
+                .collect()
+        });
+        let plastic = features.plastic.then(|| Plastic {
+            extension: vec![0.0f64; bonds.len()],
+            reverse,
+        });
+        PdModel {
+            particles: Particles {
+                position: reference_position.clone(),
+                velocity: vec![[0.0; 3]; n],
+                damage: vec![0.0; n],
+            },
+            reference: Reference {
+                position: reference_position,
+                volume,
+                body,
+                initial_bonds,
+            },
+            bonds,
+            weight_reverse,
+            dev_weight_reverse,
+            omega,
+            plastic,
+            bodies,
+            features,
+            theta: vec![0.0; n],
+            force: vec![[0.0; 3]; n],
+            times: StageTimes::default(),
+        }
+    }
+
+    /// Number of particles.
+    pub fn len(&self) -> usize {
+        self.reference.position.len()
+    }
+
+    /// Whether there are no particles.
+    pub fn is_empty(&self) -> bool {
+        self.reference.position.is_empty()
+    }
+
+    /// Mass of particle i.
+    pub fn mass(&self, i: usize) -> f64 {
+        self.reference.volume[i] * self.bodies[self.reference.body[i] as usize].material.density
+    }
+
+    /// Computes θ, updates plastic extensions and broken bonds, and fills `force`
+    /// with the internal force density at the current positions. Returns how many
+    /// bonds broke.
+    pub fn internal_forces(&mut self) -> usize {
+        kernel::dispatch(self)
+    }
+
+    /// Breaks every intact bond i→j for which `cut(i, j)` holds (the predicate should
+    /// be symmetric, so that j→i breaks too); returns the number of directed bonds
+    /// broken.
+    pub fn cut_bonds(&mut self, cut: impl Fn(usize, usize) -> bool + Sync) -> usize {
+        let offsets = &self.bonds.offsets;
+        let broken: usize = self
+            .bonds
+            .neighbours
+            .par_iter_mut()
+            .enumerate()
+            .map(|(k, nb)| {
+                let i = offsets.partition_point(|&o| o <= k) - 1;
+                let j = (*nb & INDEX) as usize;
+                if *nb & BROKEN == 0 && cut(i, j) {
+                    *nb |= BROKEN;
+                    1
+                } else {
+                    0
+                }
+            })
+            .sum();
+        self.update_damage();
+        broken
+    }
+
+    /// φ_i = 1 − n_i/N_i from the broken bits.
+    pub fn update_damage(&mut self) {
+        let bonds = &self.bonds;
+        let initial = &self.reference.initial_bonds;
+        self.particles.damage.par_iter_mut().enumerate().for_each(|(i, phi)| {
+            let total = initial[i];
+            if total == 0 {
+                *phi = 0.0;
+                return;
+            }
+            let intact = bonds.neighbours[bonds.range(i)].iter().filter(|&&nb| nb & BROKEN == 0).count();
+            *phi = 1.0 - intact as f64 / total as f64;
+        });
+    }
+
+    /// Total strain energy Σ_i V_i W_i (see the module doc); uses the current θ.
+    pub fn strain_energy(&self) -> f64 {
+        kernel::strain_energy(self)
+    }
+
+    /// Kinetic energy ½ Σ m v².
+    pub fn kinetic_energy(&self) -> f64 {
+        (0..self.len())
+            .into_par_iter()
+            .map(|i| {
+                let v = self.particles.velocity[i];
+                0.5 * self.mass(i) * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+            })
+            .sum::<f64>()
+    }
+
+    /// Connected components of intact bonds, numbered by their smallest particle
+    /// index in increasing order (deterministic).
+    pub fn fragments(&self) -> Vec<u32> {
+        let n = self.len();
+        let mut parent: Vec<u32> = (0..n as u32).collect();
+        fn find(parent: &mut [u32], mut i: u32) -> u32 {
+            while parent[i as usize] != i {
+                let p = parent[parent[i as usize] as usize];
+                parent[i as usize] = p;
+                i = p;
+            }
+            i
+        }
+        for i in 0..n {
+            for k in self.bonds.range(i) {
+                let nb = self.bonds.neighbours[k];
+                if nb & BROKEN != 0 {
+                    continue;
+                }
+                let (a, b) = (find(&mut parent, i as u32), find(&mut parent, nb & INDEX));
+                if a != b {
+                    let (lo, hi) = (a.min(b), a.max(b));
+                    parent[hi as usize] = lo;
+                }
+            }
+        }
+        let mut label = vec![u32::MAX; n];
+        let mut next = 0u32;
+        let mut out = vec![0u32; n];
+        for i in 0..n {
+            let root = find(&mut parent, i as u32) as usize;
+            if label[root] == u32::MAX {
+                label[root] = next;
+                next += 1;
+            }
+            out[i] = label[root];
+        }
+        out
+    }
+
+    /// Plastic strain measure per particle: mean |e^p|/|ξ| over its bonds (0 without
+    /// plasticity).
+    pub fn plastic_strain(&self) -> Vec<f64> {
+        let Some(plastic) = &self.plastic else {
+            return vec![0.0; self.len()];
+        };
+        (0..self.len())
+            .into_par_iter()
+            .map(|i| {
+                let r = self.bonds.range(i);
+                if r.is_empty() {
+                    return 0.0;
+                }
+                let n = r.len() as f64;
+                r.map(|k| plastic.extension[k].abs() / self.bonds.rest_length[k]).sum::<f64>() / n
+            })
+            .collect()
+    }
+
+    /// Bytes of bond storage in use (neighbours, lengths, weights, optional state).
+    pub fn bond_bytes(&self) -> usize {
+        let n = self.bonds.len();
+        let mut bytes = n * crate::family::BYTES_PER_BOND;
+        if self.omega.is_some() {
+            bytes += n * 4;
+        }
+        if self.plastic.is_some() {
+            bytes += n * (8 + 4);
+        }
+        bytes
+    }
+}
+
+#[inline]
+pub(crate) fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+#[inline]
+pub(crate) fn norm(a: [f64; 3]) -> f64 {
+    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
+}
+
+#[inline]
+pub(crate) fn mat_vec(m: [[f64; 3]; 3], v: [f64; 3]) -> [f64; 3] {
+    [
+        m[0][0] * v[0] + m[0][1] * v[1] + m[0][2] * v[2],
+        m[1][0] * v[0] + m[1][1] * v[1] + m[1][2] * v[2],
+        m[2][0] * v[0] + m[2][1] * v[1] + m[2][2] * v[2],
+    ]
+}
+
+#[cfg(test)]
+mod tests;

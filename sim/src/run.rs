@@ -1,0 +1,340 @@
+//! From a scene to frames on disk: discretize, build families, choose the time step,
+//! step frame by frame, write the cache, checkpoint, and stop cleanly on blow-up.
+
+use std::path::Path;
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use crate::cache::checkpoint;
+use crate::cache::manifest::{BodyInfo, Manifest, Timings};
+use crate::cache::ply::ParticleFrame;
+use crate::cache::{Layout, write_atomic};
+use crate::contact::{Anchor, Collider};
+use crate::error::{Result, SimError};
+use crate::family;
+use crate::geometry::discretize::{Discretization, discretize};
+use crate::geometry::shape::to_sdf;
+use crate::material::Material;
+use crate::pd::{BodyModel, PdModel};
+use crate::scene::Scene;
+use crate::step::{Simulation, stable_time_step};
+
+/// A scene made ready to step.
+#[derive(Debug, Clone)]
+pub struct Prepared {
+    /// The simulation at t = 0.
+    pub sim: Simulation,
+    /// Particles and meshes.
+    pub discretization: Discretization,
+    /// The stable time step bound (s) and the particle that limits it.
+    pub stable_dt: (f64, usize),
+    /// Steps per output frame.
+    pub steps_per_frame: usize,
+    /// Setup timings.
+    pub timings: Timings,
+}
+
+/// Bytes per particle of state and scratch (positions, velocities, reference data,
+/// θ, forces, accelerations, masses, flags).
+pub const BYTES_PER_PARTICLE: usize = 8 * 3 * 5 + 8 * 5 + 4 * 3 + 2;
+
+/// Builds the particles, bonds, colliders and anchors of a scene and picks the time
+/// step (refusing a `dt` above the stable bound unless `force_dt`).
+pub fn prepare(scene: &Scene) -> Result<Prepared> {
+    let t0 = Instant::now();
+    let disc = discretize(scene)?;
+    let t_disc = t0.elapsed().as_secs_f64();
+    let t1 = Instant::now();
+    let horizon: Vec<f64> = disc
+        .body
+        .iter()
+        .map(|&b| {
+            let spec = &scene.bodies[b as usize];
+            spec.horizon * spec.resolution
+        })
+        .collect();
+    let bonds = family::build(&disc.position, &disc.volume, &disc.body, &horizon, scene.scene.surface_correction)?;
+    let bodies: Vec<BodyModel> = scene
+        .bodies
+        .iter()
+        .map(|b| BodyModel::new(Material::from_spec(&scene.materials[&b.material]), b.horizon * b.resolution))
+        .collect();
+    let mut model = PdModel::new(
+        disc.position.clone(),
+        disc.volume.clone(),
+        disc.body.clone(),
+        bonds,
+        bodies,
+        scene.scene.dilatation,
+    );
+    initial_velocities(scene, &mut model);
+    for (b, spec) in scene.bodies.iter().enumerate() {
+        for crack in &spec.cracks {
+            let Some(region) = to_sdf(&crack.region) else { continue };
+            let (p, n) = (crack.point, crack.normal);
+            let side = |x: [f64; 3]| (x[0] - p[0]) * n[0] + (x[1] - p[1]) * n[1] + (x[2] - p[2]) * n[2];
+            let body = model.reference.body.clone();
+            let x = model.reference.position.clone();
+            model.cut_bonds(|i, j| {
+                let (xi, xj) = (x[i], x[j]);
+                let mid = [(xi[0] + xj[0]) / 2.0, (xi[1] + xj[1]) / 2.0, (xi[2] + xj[2]) / 2.0];
+                body[i] == b as u32 && side(xi) * side(xj) < 0.0 && region.distance(mid) <= 0.0
+            });
+        }
+    }
+    let stable = stable_time_step(&model);
+    let t_fam = t1.elapsed().as_secs_f64();
+    let dt = match scene.scene.dt {
+        Some(dt) if dt > stable.0 && !scene.scene.force_dt => {
+            return Err(SimError::Refused(format!(
+                "dt = {dt:e} s is above the stable time step {:e} s (limited at particle {}); \
+                 use dt ≤ {:e} or set force_dt = true in [scene] to run anyway",
+                stable.0, stable.1, stable.0
+            )));
+        }
+        Some(dt) => dt,
+        None => scene.scene.dt_safety * stable.0,
+    };
+    let frame_time = scene.frame_time();
+    let steps_per_frame = (frame_time / dt).ceil().max(1.0) as usize;
+    let dt = frame_time / steps_per_frame as f64;
+    let anchors = anchors(scene, &model);
+    let colliders = scene.colliders.iter().map(Collider::from_spec).collect();
+    let sim = Simulation::new(
+        model,
+        colliders,
+        anchors,
+        scene.scene.gravity,
+        dt,
+        scene.scene.duration,
+        scene.scene.blowup_energy_growth,
+    );
+    Ok(Prepared {
+        sim,
+        discretization: disc,
+        stable_dt: stable,
+        steps_per_frame,
+        timings: Timings {
+            discretize: t_disc,
+            families: t_fam,
+            ..Timings::default()
+        },
+    })
+}
+
+fn initial_velocities(scene: &Scene, model: &mut PdModel) {
+    for (b, spec) in scene.bodies.iter().enumerate() {
+        let members: Vec<usize> = (0..model.len()).filter(|&i| model.reference.body[i] == b as u32).collect();
+        let c = centroid(&model.reference.position, &model.reference.volume, &members);
+        let w = spec.angular_velocity;
+        for &i in &members {
+            let r = model.reference.position[i];
+            let r = [r[0] - c[0], r[1] - c[1], r[2] - c[2]];
+            model.particles.velocity[i] = [
+                spec.velocity[0] + w[1] * r[2] - w[2] * r[1],
+                spec.velocity[1] + w[2] * r[0] - w[0] * r[2],
+                spec.velocity[2] + w[0] * r[1] - w[1] * r[0],
+            ];
+        }
+    }
+}
+
+fn centroid(x: &[[f64; 3]], v: &[f64], members: &[usize]) -> [f64; 3] {
+    let mut c = [0.0; 3];
+    let mut total = 0.0;
+    for &i in members {
+        for a in 0..3 {
+            c[a] += x[i][a] * v[i];
+        }
+        total += v[i];
+    }
+    if total > 0.0 {
+        c.map(|s| s / total)
+    } else {
+        c
+    }
+}
+
+fn anchors(scene: &Scene, model: &PdModel) -> Vec<Anchor> {
+    let mut out = Vec::new();
+    for (b, spec) in scene.bodies.iter().enumerate() {
+        for a in &spec.anchors {
+            let Some(region) = to_sdf(&a.region) else { continue };
+            let members: Vec<usize> = (0..model.len())
+                .into_par_iter()
+                .filter(|&i| model.reference.body[i] == b as u32 && region.distance(model.reference.position[i]) <= 0.0)
+                .collect();
+            let center = a
+                .center
+                .unwrap_or_else(|| centroid(&model.reference.position, &model.reference.volume, &members));
+            out.push(Anchor {
+                particles: members.iter().map(|&i| i as u32).collect(),
+                velocity: a.velocity,
+                angular_velocity: a.angular_velocity,
+                center,
+                until: a.until,
+            });
+        }
+    }
+    out
+}
+
+/// FNV-1a of the resolved scene: ties checkpoints to their scene.
+pub fn scene_hash(scene: &Scene) -> u64 {
+    scene.to_toml().bytes().fold(0xcbf29ce484222325u64, |h, b| (h ^ b as u64).wrapping_mul(0x100000001b3))
+}
+
+/// Options of a run.
+#[derive(Debug, Clone, Default)]
+pub struct RunOptions {
+    /// Stop after this many frames (after the initial one).
+    pub frames: Option<usize>,
+    /// Continue from the checkpoint in the output directory.
+    pub resume: bool,
+}
+
+/// Progress of a run, reported after each frame.
+#[derive(Debug, Clone, Copy)]
+pub struct Progress {
+    /// Frames written (including the initial one).
+    pub frame: usize,
+    /// Frames the run will write.
+    pub frames: usize,
+    /// Steps taken.
+    pub steps: u64,
+    /// Steps per frame.
+    pub steps_per_frame: usize,
+}
+
+/// The frame of the current state, for the cache.
+pub fn snapshot(sim: &Simulation, frame: usize) -> ParticleFrame {
+    let m = &sim.model;
+    let p = &m.particles;
+    let f32x3 = |v: &[f64; 3]| [v[0] as f32, v[1] as f32, v[2] as f32];
+    ParticleFrame {
+        frame,
+        time: sim.time,
+        position: p.position.iter().map(f32x3).collect(),
+        velocity: p.velocity.iter().map(f32x3).collect(),
+        damage: p.damage.iter().map(|&d| d as f32).collect(),
+        plastic: m.plastic_strain().into_iter().map(|s| s as f32).collect(),
+        material: m.reference.body.iter().map(|&b| b as f32).collect(),
+        fragment: m.fragments().into_iter().map(|f| f as f32).collect(),
+    }
+}
+
+/// Runs a scene into `out`; `progress` is called after each frame. On a blow-up the
+/// frames written so far stay on disk, the manifest records what happened and the
+/// error names the step, the particle and the last good frame.
+pub fn run(scene: &Scene, out: &Path, options: &RunOptions, progress: &mut dyn FnMut(Progress)) -> Result<Manifest> {
+    let start = Instant::now();
+    let layout = Layout::new(out);
+    layout.create()?;
+    write_atomic(&layout.scene(), scene.to_toml().as_bytes())?;
+    let mut prepared = prepare(scene)?;
+    let hash = scene_hash(scene);
+    let frames = options.frames.unwrap_or_else(|| scene.frame_count()).min(scene.frame_count());
+    let mut first = 1;
+    let mut broken_total = 0u64;
+    let mut manifest = manifest_for(scene, &prepared);
+    if options.resume && layout.checkpoint().is_file() {
+        let resume = checkpoint::restore(&layout.checkpoint(), &mut prepared.sim, hash)?;
+        first = resume.frame + 1;
+        broken_total = resume.broken_bonds;
+        if let Ok(old) = Manifest::read(&layout.manifest()) {
+            manifest.frame_times = old.frame_times.into_iter().take(resume.frame).collect();
+        }
+    }
+    let sim = &mut prepared.sim;
+    let mut output_time = 0.0;
+    for frame in first..=frames + 1 {
+        if frame > 1 {
+            for _ in 0..prepared.steps_per_frame {
+                match sim.step() {
+                    Ok(broken) => broken_total += broken as u64,
+                    Err(SimError::BlowUp { step, time, what, particle, position, .. }) => {
+                        let err = SimError::BlowUp { step, time, what, particle, position, last_good_frame: frame - 1 };
+                        manifest.status = err.to_string();
+                        finish(&mut manifest, sim, broken_total, start, output_time, &prepared.timings);
+                        manifest.write(&layout.manifest())?;
+                        return Err(err);
+                    }
+                    Err(e) => return Err(e),
+                }
+            }
+            if let Err(SimError::BlowUp { step, time, what, particle, position, .. }) = sim.check_blowup() {
+                let err = SimError::BlowUp { step, time, what, particle, position, last_good_frame: frame - 1 };
+                manifest.status = err.to_string();
+                finish(&mut manifest, sim, broken_total, start, output_time, &prepared.timings);
+                manifest.write(&layout.manifest())?;
+                return Err(err);
+            }
+        }
+        let t = Instant::now();
+        if scene.output.particles {
+            snapshot(sim, frame).write(&layout.particles(frame))?;
+        }
+        manifest.frame_times.push(sim.time);
+        manifest.status = if frame == frames + 1 { "complete".into() } else { "running".into() };
+        finish(&mut manifest, sim, broken_total, start, output_time, &prepared.timings);
+        manifest.write(&layout.manifest())?;
+        let every = scene.output.checkpoint_every;
+        if every > 0 && frame % every == 0 && frame <= frames {
+            write_atomic(&layout.checkpoint(), &checkpoint::encode(sim, frame, broken_total, hash))?;
+        }
+        output_time += t.elapsed().as_secs_f64();
+        progress(Progress {
+            frame,
+            frames: frames + 1,
+            steps: sim.steps,
+            steps_per_frame: prepared.steps_per_frame,
+        });
+    }
+    finish(&mut manifest, sim, broken_total, start, output_time, &prepared.timings);
+    manifest.write(&layout.manifest())?;
+    Ok(manifest)
+}
+
+fn manifest_for(scene: &Scene, p: &Prepared) -> Manifest {
+    let d = &p.discretization;
+    Manifest {
+        scene: scene.scene.name.clone(),
+        units: "SI: m, kg, s, Pa; y up".into(),
+        tool_version: env!("CARGO_PKG_VERSION").into(),
+        dt: p.sim.dt,
+        stable_dt: p.stable_dt.0,
+        fps: scene.scene.fps,
+        particles: p.sim.model.len(),
+        bonds: p.sim.model.bonds.len(),
+        bodies: scene
+            .bodies
+            .iter()
+            .enumerate()
+            .map(|(b, spec)| BodyInfo {
+                name: spec.name.clone(),
+                material: spec.material.clone(),
+                particles: d.meshes[b].tets.len(),
+                vertices: d.meshes[b].vertices.len(),
+                min_dihedral_deg: d.quality[b].min_dihedral_deg,
+                max_dihedral_deg: d.quality[b].max_dihedral_deg,
+                mean_edge: d.quality[b].mean_edge,
+            })
+            .collect(),
+        status: "running".into(),
+        ..Manifest::default()
+    }
+}
+
+fn finish(m: &mut Manifest, sim: &Simulation, broken: u64, start: Instant, output: f64, setup: &Timings) {
+    m.steps = sim.steps;
+    m.broken_bonds = broken;
+    m.timings = Timings {
+        discretize: setup.discretize,
+        families: setup.families,
+        stages: sim.model.times,
+        integrate_contact: sim.other_time,
+        output,
+        total: start.elapsed().as_secs_f64(),
+    };
+}

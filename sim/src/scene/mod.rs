@@ -1,0 +1,472 @@
+//! The scene file: TOML in SI units (m, kg, s, Pa), y up.
+//!
+//! [`Scene::load`] reads a file, fills in defaults, checks every value and returns
+//! a [`Scene`]; any problem is a [`SimError::Scene`] naming the file, the line and
+//! the dotted key. Unknown keys are errors. The resolved scene (defaults filled in)
+//! is written next to the cache by [`Scene::to_toml`].
+
+mod locate;
+mod validate;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Result, SimError};
+
+/// A whole scene: global settings, materials, bodies, colliders and outputs.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Global settings (`[scene]`).
+    pub scene: Settings,
+    /// Named materials (`[materials.NAME]`).
+    #[serde(default)]
+    pub materials: BTreeMap<String, MaterialSpec>,
+    /// Deformable bodies (`[[body]]`).
+    #[serde(default, rename = "body")]
+    pub bodies: Vec<BodySpec>,
+    /// Rigid colliders (`[[collider]]`).
+    #[serde(default, rename = "collider")]
+    pub colliders: Vec<ColliderSpec>,
+    /// What to write (`[output]`).
+    #[serde(default)]
+    pub output: OutputSpec,
+    /// The directory mesh paths are relative to (the scene file's directory).
+    #[serde(skip)]
+    pub base_dir: PathBuf,
+}
+
+/// `[scene]`: name, timing, gravity.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Settings {
+    /// Scene name, used in the manifest and for the output directory. Default `"scene"`.
+    #[serde(default = "default_name")]
+    pub name: String,
+    /// Simulated time in seconds. Default 1.0.
+    #[serde(default = "default_duration")]
+    pub duration: f64,
+    /// Output frames per second. Default 24.
+    #[serde(default = "default_fps")]
+    pub fps: f64,
+    /// Gravity acceleration in m/s². Default `[0, -9.81, 0]`.
+    #[serde(default = "default_gravity")]
+    pub gravity: [f64; 3],
+    /// Seed for anything random (jitter); the same seed gives the same bytes. Default 0.
+    #[serde(default)]
+    pub seed: u64,
+    /// Time step in seconds. Default: `dt_safety` × the stable time step.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dt: Option<f64>,
+    /// Fraction of the stable time step used when `dt` is not given. Default 0.7.
+    #[serde(default = "default_dt_safety")]
+    pub dt_safety: f64,
+    /// Run with a `dt` above the stable bound instead of refusing. Default false.
+    #[serde(default)]
+    pub force_dt: bool,
+    /// The projection factor ŷ·ξ̂ in Chen Eq. 4, 6, 8: `"objective"` (taken as 1, as in
+    /// the linear peridynamic solid; objective under rotation) or `"paper"` (as printed).
+    /// Default `"objective"`.
+    #[serde(default)]
+    pub dilatation: DilatationForm,
+    /// Correct dilatation and force constants of particles with incomplete families
+    /// (near free surfaces). Default true.
+    #[serde(default = "default_true")]
+    pub surface_correction: bool,
+    /// Relative growth of total energy over its initial value (plus the work of
+    /// gravity, anchors and colliders) that counts as a blow-up. Default 10.
+    #[serde(default = "default_energy_growth")]
+    pub blowup_energy_growth: f64,
+}
+
+/// How the bond-projection factor ŷ·ξ̂ of Chen Eq. 4, 6, 8 is taken.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum DilatationForm {
+    /// ŷ·ξ̂ = 1: objective (Silling et al. 2007, linear peridynamic solid).
+    #[default]
+    Objective,
+    /// ŷ·ξ̂ as printed in Chen et al. 2018 (after Madenci & Oterkus).
+    Paper,
+}
+
+/// `[materials.NAME]`: elastic constants, plasticity, fracture, anisotropy, damping.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialSpec {
+    /// Mass density ρ in kg/m³ (required).
+    pub density: f64,
+    /// Bulk modulus κ in Pa (with `shear_modulus`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bulk_modulus: Option<f64>,
+    /// Shear modulus μ in Pa (with `bulk_modulus`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shear_modulus: Option<f64>,
+    /// Young's modulus E in Pa (with `poisson_ratio`, instead of κ and μ).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub youngs_modulus: Option<f64>,
+    /// Poisson ratio ν, in (−1, 0.5) (with `youngs_modulus`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub poisson_ratio: Option<f64>,
+    /// Yield parameter Ψ0 of Chen Eq. 13 in SI units ((N/m⁶)²/2). It depends on δ;
+    /// prefer `yield_stretch`. Default: none (no plasticity).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub yield_psi0: Option<f64>,
+    /// Deviatoric bond stretch at yield, s_y = √(2Ψ0)/(4δb): Ψ0 without its dependence
+    /// on the horizon. Default: none (no plasticity).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub yield_stretch: Option<f64>,
+    /// Plastic limit γ/|ξ| of Chen Eq. 16 (Table 1). Default: unlimited.
+    #[serde(default = "default_inf")]
+    pub plastic_limit: f64,
+    /// Critical weighted stretch s^ω of Chen Eq. 19 (Table 1). Default: none (unbreakable).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub critical_stretch: Option<f64>,
+    /// Anti-shatter parameter α of Chen Eq. 19. Default 0.
+    #[serde(default)]
+    pub alpha: f64,
+    /// Anisotropy matrix G of Chen Eq. 17 (rows). Default: none (isotropic).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub anisotropy: Option<[[f64; 3]; 3]>,
+    /// Air damping rate in 1/s: v ← (1 − rate·Δt) v each step (Chen §6, λa = rate·Δt).
+    /// Default 0.
+    #[serde(default)]
+    pub air_damping: f64,
+    /// Laplacian velocity smoothing rate in 1/s: v ← v + rate·Δt·L(v) (Chen §6,
+    /// λl = rate·Δt). Default 0.
+    #[serde(default)]
+    pub laplacian_damping: f64,
+}
+
+/// A shape given by a signed distance function, or a CSG combination of shapes.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
+pub enum ShapeSpec {
+    /// Axis-aligned box: centre and full size in m.
+    Box {
+        /// Centre.
+        center: [f64; 3],
+        /// Full extents along x, y, z.
+        size: [f64; 3],
+    },
+    /// A thin axis-aligned slab (a box; named for intent). Its thinnest side must be at
+    /// least about 1.5 resolutions.
+    Slab {
+        /// Centre.
+        center: [f64; 3],
+        /// Full extents along x, y, z.
+        size: [f64; 3],
+    },
+    /// Sphere.
+    Sphere {
+        /// Centre.
+        center: [f64; 3],
+        /// Radius.
+        radius: f64,
+    },
+    /// Capped cylinder along a coordinate axis.
+    Cylinder {
+        /// Centre.
+        center: [f64; 3],
+        /// Radius.
+        radius: f64,
+        /// Full height along `axis`.
+        height: f64,
+        /// `"x"`, `"y"` or `"z"`. Default `"y"`.
+        #[serde(default)]
+        axis: Axis,
+    },
+    /// Union of shapes.
+    Union {
+        /// The parts.
+        parts: Vec<ShapeSpec>,
+    },
+    /// `base` minus `minus` (notches, holes).
+    Difference {
+        /// The shape to cut from.
+        base: Box<ShapeSpec>,
+        /// The shape removed.
+        minus: Box<ShapeSpec>,
+    },
+    /// A closed triangle mesh file, relative to the scene file.
+    Mesh {
+        /// The mesh file (OBJ, PLY, glTF).
+        path: PathBuf,
+    },
+}
+
+/// A coordinate axis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Axis {
+    /// x.
+    X,
+    /// y.
+    #[default]
+    Y,
+    /// z.
+    Z,
+}
+
+impl Axis {
+    /// 0, 1 or 2.
+    pub fn index(self) -> usize {
+        match self {
+            Axis::X => 0,
+            Axis::Y => 1,
+            Axis::Z => 2,
+        }
+    }
+}
+
+/// The simulation model of a body.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ModelKind {
+    /// State-based peridynamics of Chen et al. 2018.
+    #[default]
+    Peridynamics,
+}
+
+/// `[[body]]`: a deformable body.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodySpec {
+    /// Name, for messages. Default `body<N>`.
+    #[serde(default)]
+    pub name: String,
+    /// The material's name in `[materials]` (required).
+    pub material: String,
+    /// The shape (required).
+    pub shape: ShapeSpec,
+    /// Resolution λ: the target mean tet edge length in m (required).
+    pub resolution: f64,
+    /// Horizon δ in units of λ, at least 1.0. Default 1.45 (Chen Table 1).
+    #[serde(default = "default_horizon")]
+    pub horizon: f64,
+    /// Simulation model. Default `"peridynamics"`.
+    #[serde(default)]
+    pub model: ModelKind,
+    /// Initial velocity in m/s. Default 0.
+    #[serde(default)]
+    pub velocity: [f64; 3],
+    /// Initial angular velocity in rad/s about the body's centroid. Default 0.
+    #[serde(default)]
+    pub angular_velocity: [f64; 3],
+    /// Regions held at prescribed motion (`[[body.anchor]]`).
+    #[serde(default, rename = "anchor")]
+    pub anchors: Vec<AnchorSpec>,
+    /// Initial cracks (`[[body.crack]]`): bonds cut before the run starts.
+    #[serde(default, rename = "crack")]
+    pub cracks: Vec<CrackSpec>,
+}
+
+/// `[[body.anchor]]`: particles inside `region` move rigidly with the given velocity.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AnchorSpec {
+    /// The region (a shape; particles with signed distance ≤ 0 are held).
+    pub region: ShapeSpec,
+    /// Linear velocity in m/s. Default 0 (fixed).
+    #[serde(default)]
+    pub velocity: [f64; 3],
+    /// Angular velocity in rad/s about `center`. Default 0.
+    #[serde(default)]
+    pub angular_velocity: [f64; 3],
+    /// Centre of rotation. Default: the region's particles' centroid.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub center: Option<[f64; 3]>,
+    /// Time in s after which the anchor releases. Default: never.
+    #[serde(default = "default_inf")]
+    pub until: f64,
+}
+
+/// `[[body.crack]]`: bonds crossing the plane through `point` with `normal`, whose
+/// midpoints lie in `region`, are broken before the first step.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CrackSpec {
+    /// A point on the crack plane.
+    pub point: [f64; 3],
+    /// The crack plane's normal.
+    pub normal: [f64; 3],
+    /// Where on the plane the crack is.
+    pub region: ShapeSpec,
+}
+
+/// `[[collider]]`: a rigid obstacle or projectile.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
+pub enum ColliderSpec {
+    /// An infinite ground plane y = `height`.
+    Ground {
+        /// Height of the plane. Default 0.
+        #[serde(default)]
+        height: f64,
+        /// Coulomb friction coefficient. Default 0.5.
+        #[serde(default = "default_friction")]
+        friction: f64,
+    },
+    /// A rigid sphere: kinematic (moves at `velocity`) or, with a `mass`, dynamic.
+    Sphere {
+        /// Centre at t = 0.
+        center: [f64; 3],
+        /// Radius.
+        radius: f64,
+        /// Velocity at t = 0 in m/s. Default 0.
+        #[serde(default)]
+        velocity: [f64; 3],
+        /// Mass in kg: the sphere is pushed back by what it hits. Default: kinematic.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        mass: Option<f64>,
+        /// Whether gravity acts on a dynamic collider. Default true.
+        #[serde(default = "default_true")]
+        gravity: bool,
+        /// Coulomb friction coefficient. Default 0.2.
+        #[serde(default = "default_collider_friction")]
+        friction: f64,
+    },
+    /// A rigid axis-aligned box: kinematic or, with a `mass`, dynamic.
+    Box {
+        /// Centre at t = 0.
+        center: [f64; 3],
+        /// Full size.
+        size: [f64; 3],
+        /// Velocity at t = 0 in m/s. Default 0.
+        #[serde(default)]
+        velocity: [f64; 3],
+        /// Mass in kg. Default: kinematic.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        mass: Option<f64>,
+        /// Whether gravity acts on a dynamic collider. Default true.
+        #[serde(default = "default_true")]
+        gravity: bool,
+        /// Coulomb friction coefficient. Default 0.2.
+        #[serde(default = "default_collider_friction")]
+        friction: f64,
+    },
+}
+
+/// `[output]`: which files the run writes.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSpec {
+    /// Write `particles/NNNN.ply` each frame. Default true.
+    #[serde(default = "default_true")]
+    pub particles: bool,
+    /// Write a checkpoint every this many frames (0: never). Default 10.
+    #[serde(default = "default_checkpoint_every")]
+    pub checkpoint_every: usize,
+}
+
+impl Default for OutputSpec {
+    fn default() -> Self {
+        OutputSpec {
+            particles: true,
+            checkpoint_every: default_checkpoint_every(),
+        }
+    }
+}
+
+fn default_name() -> String {
+    "scene".into()
+}
+fn default_duration() -> f64 {
+    1.0
+}
+fn default_fps() -> f64 {
+    24.0
+}
+fn default_gravity() -> [f64; 3] {
+    [0.0, -9.81, 0.0]
+}
+fn default_dt_safety() -> f64 {
+    0.7
+}
+fn default_true() -> bool {
+    true
+}
+fn default_energy_growth() -> f64 {
+    10.0
+}
+fn default_inf() -> f64 {
+    f64::INFINITY
+}
+fn default_horizon() -> f64 {
+    1.45
+}
+fn default_friction() -> f64 {
+    0.5
+}
+fn default_collider_friction() -> f64 {
+    0.2
+}
+fn default_checkpoint_every() -> usize {
+    10
+}
+
+impl Scene {
+    /// Reads, resolves and validates a scene file.
+    pub fn load(path: &Path) -> Result<Scene> {
+        let text = std::fs::read_to_string(path).map_err(|e| SimError::io(path, e))?;
+        let base_dir = path
+            .parent()
+            .map(Path::to_path_buf)
+            .unwrap_or_else(|| PathBuf::from("."));
+        Scene::parse(&text, path, &base_dir)
+    }
+
+    /// Parses and validates scene text; `file` names it in messages and `base_dir`
+    /// resolves mesh paths.
+    pub fn parse(text: &str, file: &Path, base_dir: &Path) -> Result<Scene> {
+        let mut scene: Scene = toml::from_str(text).map_err(|e| {
+            let (line, column) = e
+                .span()
+                .map(|s| locate::line_column(text, s.start))
+                .unwrap_or((1, 1));
+            let key = locate::key_at(text, e.span().map_or(0, |s| s.start));
+            SimError::Scene {
+                file: file.to_path_buf(),
+                line,
+                column,
+                key,
+                message: e.message().trim().to_string(),
+            }
+        })?;
+        scene.base_dir = base_dir.to_path_buf();
+        for (i, body) in scene.bodies.iter_mut().enumerate() {
+            if body.name.is_empty() {
+                body.name = format!("body{i}");
+            }
+        }
+        validate::validate(&scene).map_err(|issue| {
+            let span = locate::span_of(text, &issue.path);
+            let (line, column) = locate::line_column(text, span.map_or(0, |s| s.start));
+            SimError::Scene {
+                file: file.to_path_buf(),
+                line,
+                column,
+                key: issue.path.join("."),
+                message: issue.message,
+            }
+        })?;
+        Ok(scene)
+    }
+
+    /// The scene as resolved, with every default written out.
+    pub fn to_toml(&self) -> String {
+        toml::to_string(self).unwrap_or_else(|e| format!("# could not serialize: {e}\n"))
+    }
+
+    /// Seconds between output frames.
+    pub fn frame_time(&self) -> f64 {
+        1.0 / self.scene.fps
+    }
+
+    /// Number of output frames after the initial one.
+    pub fn frame_count(&self) -> usize {
+        (self.scene.duration * self.scene.fps).round().max(1.0) as usize
+    }
+}
