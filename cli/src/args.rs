@@ -134,7 +134,19 @@ mod tests {
 
     #[test]
     fn run_flags() {
-        let c = parse(&["perifrac", "run", "a.toml", "-o", "x", "--frames", "3", "--threads", "2", "--resume"]).unwrap();
+        let c = parse(&[
+            "perifrac",
+            "run",
+            "a.toml",
+            "-o",
+            "x",
+            "--frames",
+            "3",
+            "--threads",
+            "2",
+            "--resume",
+        ])
+        .unwrap();
         assert_eq!(c.frames, Some(3));
         assert_eq!(c.threads, Some(2));
         assert_eq!(c.out, Some(PathBuf::from("x")));
@@ -143,8 +155,16 @@ mod tests {
 
     #[test]
     fn bad_numbers_are_refused() {
-        assert!(parse(&["perifrac", "run", "a.toml", "--frames", "0"]).unwrap_err().contains("--frames"));
-        assert!(parse(&["perifrac", "run", "a.toml", "--threads", "two"]).unwrap_err().contains("--threads"));
+        assert!(
+            parse(&["perifrac", "run", "a.toml", "--frames", "0"])
+                .unwrap_err()
+                .contains("--frames")
+        );
+        assert!(
+            parse(&["perifrac", "run", "a.toml", "--threads", "two"])
+                .unwrap_err()
+                .contains("--threads")
+        );
         assert!(parse(&["perifrac", "run"]).is_err());
     }
 

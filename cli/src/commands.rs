@@ -34,7 +34,10 @@ impl From<SimError> for Failure {
             SimError::Scene { .. } | SimError::Refused(_) | SimError::Mesh { .. } => 2,
             _ => 1,
         };
-        Failure { error: e.into(), code }
+        Failure {
+            error: e.into(),
+            code,
+        }
     }
 }
 
@@ -66,18 +69,39 @@ pub fn run(config: &RunConfig, quiet: bool) -> Result<(), Failure> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from("out").join(&scene.scene.name));
-    simulate(&scene, &out, &RunOptions { frames: config.frames, resume: config.resume }, quiet)
+    simulate(
+        &scene,
+        &out,
+        &RunOptions {
+            frames: config.frames,
+            resume: config.resume,
+        },
+        quiet,
+    )
 }
 
 /// `perifrac demo`.
 pub fn demo(out: &Path, threads: Option<usize>, quiet: bool) -> Result<(), Failure> {
     set_threads(threads)?;
-    let scene = Scene::parse(DEMO_SCENE, Path::new("demo.toml (built in)"), Path::new("."))?;
+    let scene = Scene::parse(
+        DEMO_SCENE,
+        Path::new("demo.toml (built in)"),
+        Path::new("."),
+    )?;
     simulate(&scene, out, &RunOptions::default(), quiet)?;
     println!("demo outputs:");
-    println!("  particles (PLY, one per frame): {}", out.join("particles").display());
-    println!("  manifest:                       {}", out.join("manifest.json").display());
-    println!("  resolved scene:                 {}", out.join("scene.toml").display());
+    println!(
+        "  particles (PLY, one per frame): {}",
+        out.join("particles").display()
+    );
+    println!(
+        "  manifest:                       {}",
+        out.join("manifest.json").display()
+    );
+    println!(
+        "  resolved scene:                 {}",
+        out.join("scene.toml").display()
+    );
     Ok(())
 }
 
@@ -87,8 +111,10 @@ fn simulate(scene: &Scene, out: &Path, options: &RunOptions, quiet: bool) -> Res
     } else {
         let bar = ProgressBar::new(scene.frame_count() as u64 + 1);
         bar.set_style(
-            ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:30} frame {pos}/{len} {msg} ETA {eta}")
-                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+            ProgressStyle::with_template(
+                "{spinner} [{elapsed_precise}] {bar:30} frame {pos}/{len} {msg} ETA {eta}",
+            )
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
         );
         bar.set_message("meshing and building bonds");
         bar.enable_steady_tick(Duration::from_millis(200));
@@ -140,7 +166,10 @@ pub fn check(path: &Path) -> Result<(), Failure> {
         .collect();
     let bonds = family::count_bonds(&disc.position, &disc.body, &horizon)?;
     let particles = disc.position.len();
-    let plastic = scene.materials.values().any(|m| m.yield_psi0.is_some() || m.yield_stretch.is_some());
+    let plastic = scene
+        .materials
+        .values()
+        .any(|m| m.yield_psi0.is_some() || m.yield_stretch.is_some());
     let per_bond = family::BYTES_PER_BOND + if plastic { 12 } else { 0 };
     let memory = (bonds * per_bond + particles * BYTES_PER_PARTICLE) as u64;
     println!("scene {}: {}", scene.scene.name, path.display());
@@ -156,8 +185,14 @@ pub fn check(path: &Path) -> Result<(), Failure> {
         );
     }
     println!("  particles: {particles}");
-    println!("  bonds:     {bonds} directed ({:.1} per particle)", bonds as f64 / particles.max(1) as f64);
-    println!("  memory:    {:.1} MiB ({per_bond} bytes a bond)", memory as f64 / (1 << 20) as f64);
+    println!(
+        "  bonds:     {bonds} directed ({:.1} per particle)",
+        bonds as f64 / particles.max(1) as f64
+    );
+    println!(
+        "  memory:    {:.1} MiB ({per_bond} bytes a bond)",
+        memory as f64 / (1 << 20) as f64
+    );
     if let Some(avail) = available_memory()
         && memory > avail
     {

@@ -50,7 +50,14 @@ impl Collider {
                 gravity: false,
                 friction,
             },
-            ColliderSpec::Sphere { center, radius, velocity, mass, gravity, friction } => Collider {
+            ColliderSpec::Sphere {
+                center,
+                radius,
+                velocity,
+                mass,
+                gravity,
+                friction,
+            } => Collider {
                 shape: ColliderShape::Sphere(radius),
                 center,
                 velocity,
@@ -58,7 +65,14 @@ impl Collider {
                 gravity,
                 friction,
             },
-            ColliderSpec::Box { center, size, velocity, mass, gravity, friction } => Collider {
+            ColliderSpec::Box {
+                center,
+                size,
+                velocity,
+                mass,
+                gravity,
+                friction,
+            } => Collider {
                 shape: ColliderShape::Box([size[0] / 2.0, size[1] / 2.0, size[2] / 2.0]),
                 center,
                 velocity,
@@ -77,12 +91,20 @@ impl Collider {
                 (depth > 0.0).then_some(([0.0, 1.0, 0.0], depth))
             }
             ColliderShape::Sphere(radius) => {
-                let d = [p[0] - self.center[0], p[1] - self.center[1], p[2] - self.center[2]];
+                let d = [
+                    p[0] - self.center[0],
+                    p[1] - self.center[1],
+                    p[2] - self.center[2],
+                ];
                 let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
                 if l >= radius {
                     return None;
                 }
-                let n = if l > 0.0 { [d[0] / l, d[1] / l, d[2] / l] } else { [0.0, 1.0, 0.0] };
+                let n = if l > 0.0 {
+                    [d[0] / l, d[1] / l, d[2] / l]
+                } else {
+                    [0.0, 1.0, 0.0]
+                };
                 Some((n, radius - l))
             }
             ColliderShape::Box(half) => {
@@ -106,7 +128,8 @@ impl Collider {
 
     /// Kinetic energy ½ M v² (zero for kinematic colliders).
     pub fn kinetic_energy(&self) -> f64 {
-        self.mass.map_or(0.0, |m| 0.5 * m * dot(self.velocity, self.velocity))
+        self.mass
+            .map_or(0.0, |m| 0.5 * m * dot(self.velocity, self.velocity))
     }
 }
 
@@ -135,18 +158,28 @@ pub fn resolve(
                 return out;
             }
             for (c, col) in colliders.iter().enumerate() {
-                let Some((n, depth)) = col.penetration(*p) else { continue };
+                let Some((n, depth)) = col.penetration(*p) else {
+                    continue;
+                };
                 for a in 0..3 {
                     p[a] += depth * n[a];
                 }
-                let rel = [v[0] - col.velocity[0], v[1] - col.velocity[1], v[2] - col.velocity[2]];
+                let rel = [
+                    v[0] - col.velocity[0],
+                    v[1] - col.velocity[1],
+                    v[2] - col.velocity[2],
+                ];
                 let vn = dot(rel, n);
                 if vn >= 0.0 {
                     continue;
                 }
                 let tangential = [rel[0] - vn * n[0], rel[1] - vn * n[1], rel[2] - vn * n[2]];
                 let vt = dot(tangential, tangential).sqrt();
-                let keep = if vt > 0.0 { (1.0 - col.friction * (-vn) / vt).max(0.0) } else { 0.0 };
+                let keep = if vt > 0.0 {
+                    (1.0 - col.friction * (-vn) / vt).max(0.0)
+                } else {
+                    0.0
+                };
                 let new = [
                     col.velocity[0] + keep * tangential[0],
                     col.velocity[1] + keep * tangential[1],
@@ -203,7 +236,15 @@ impl Anchor {
     /// Position and velocity at time `t` of a particle that was at `x0` at t = 0:
     /// y = c0 + v t + R(ω t)(x0 − c0), ẏ = v + ω × (y − c(t)).
     pub fn motion(&self, x0: [f64; 3], t: f64) -> ([f64; 3], [f64; 3]) {
-        let r = rotate(self.angular_velocity, t, [x0[0] - self.center[0], x0[1] - self.center[1], x0[2] - self.center[2]]);
+        let r = rotate(
+            self.angular_velocity,
+            t,
+            [
+                x0[0] - self.center[0],
+                x0[1] - self.center[1],
+                x0[2] - self.center[2],
+            ],
+        );
         let c = [
             self.center[0] + self.velocity[0] * t,
             self.center[1] + self.velocity[1] * t,
@@ -229,7 +270,11 @@ pub fn rotate(omega: [f64; 3], t: f64, v: [f64; 3]) -> [f64; 3] {
     let l = dot(omega, omega).sqrt();
     let k = [omega[0] / l, omega[1] / l, omega[2] / l];
     let (s, c) = angle.sin_cos();
-    let kxv = [k[1] * v[2] - k[2] * v[1], k[2] * v[0] - k[0] * v[2], k[0] * v[1] - k[1] * v[0]];
+    let kxv = [
+        k[1] * v[2] - k[2] * v[1],
+        k[2] * v[0] - k[0] * v[2],
+        k[0] * v[1] - k[1] * v[0],
+    ];
     let kv = dot(k, v);
     [
         v[0] * c + kxv[0] * s + k[0] * kv * (1.0 - c),
@@ -249,13 +294,19 @@ mod tests {
 
     #[test]
     fn ground_stops_and_frictions() {
-        let ground = Collider::from_spec(&ColliderSpec::Ground { height: 0.0, friction: 0.5 });
+        let ground = Collider::from_spec(&ColliderSpec::Ground {
+            height: 0.0,
+            friction: 0.5,
+        });
         let mut p = vec![[0.0, -0.01, 0.0]];
         let mut v = vec![[1.0, -1.0, 0.0]];
         resolve(&[ground], &mut p, &mut v, &[1.0], &[false]);
         assert_eq!(p[0][1], 0.0);
         assert_eq!(v[0][1], 0.0);
-        assert!((v[0][0] - 0.5).abs() < 1e-12, "friction removes μ|Δv_n| = 0.5");
+        assert!(
+            (v[0][0] - 0.5).abs() < 1e-12,
+            "friction removes μ|Δv_n| = 0.5"
+        );
     }
 
     #[test]
@@ -275,7 +326,10 @@ mod tests {
         assert!((v[0][0] - 1.0).abs() < 1e-12);
         advance(&mut cols, &j, [0.0; 3], 0.0);
         let momentum = 2.0 * v[0][0] + 10.0 * cols[0].velocity[0];
-        assert!((momentum - 10.0).abs() < 1e-12, "momentum conserved: {momentum}");
+        assert!(
+            (momentum - 10.0).abs() < 1e-12,
+            "momentum conserved: {momentum}"
+        );
     }
 
     #[test]

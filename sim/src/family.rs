@@ -33,10 +33,16 @@ pub struct Bonds {
     pub neighbours: Vec<u32>,
     /// Reference bond length |ξ| = |x_j − x_i|.
     pub rest_length: Vec<f64>,
-    /// Dilatation weight q_ij (1 for a complete continuum family; see the module doc).
-    pub weight: Vec<f32>,
-    /// Deviatoric weight p_ij multiplying b (1 for a complete continuum family).
-    pub dev_weight: Vec<f32>,
+}
+
+/// The surface corrections of each directed bond (see the module doc); 1 for a
+/// complete continuum family.
+#[derive(Debug, Clone)]
+pub struct Corrections {
+    /// Dilatation weight q_ij.
+    pub dilatation: Vec<f32>,
+    /// Deviatoric weight p_ij multiplying b.
+    pub deviatoric: Vec<f32>,
 }
 
 impl Bonds {
@@ -76,8 +82,8 @@ impl Bonds {
     }
 }
 
-/// Bytes a bond costs in the elastic model (neighbour, rest length, q_ij, q_ji,
-/// p_ij, p_ji).
+/// Bytes a bond costs in the elastic model (neighbour, rest length, and the four
+/// coefficients of [`crate::pd::Coefficients`]).
 pub const BYTES_PER_BOND: usize = 4 + 8 + 4 * 4;
 
 /// Counts bonds without storing them (for `perifrac check`).
@@ -131,10 +137,12 @@ pub fn build(
     body: &[u32],
     horizon: &[f64],
     surface_correction: bool,
-) -> Result<Bonds> {
+) -> Result<(Bonds, Corrections)> {
     let n = positions.len();
     if n >= INDEX as usize {
-        return Err(SimError::Refused(format!("{n} particles: at most {INDEX} are supported")));
+        return Err(SimError::Refused(format!(
+            "{n} particles: at most {INDEX} are supported"
+        )));
     }
     let tree = build_tree(positions)?;
     let families: Vec<Vec<u32>> = (0..n)
@@ -150,11 +158,17 @@ pub fn build(
         .par_iter()
         .enumerate()
         .map(|(i, family)| {
-            let lengths: Vec<f64> = family.iter().map(|&j| distance(positions[i], positions[j as usize])).collect();
+            let lengths: Vec<f64> = family
+                .iter()
+                .map(|&j| distance(positions[i], positions[j as usize]))
+                .collect();
             if !surface_correction {
                 return (lengths, vec![1.0; family.len()], vec![1.0; family.len()]);
             }
-            let dirs: Vec<[f64; 3]> = family.iter().map(|&j| unit(positions[i], positions[j as usize])).collect();
+            let dirs: Vec<[f64; 3]> = family
+                .iter()
+                .map(|&j| unit(positions[i], positions[j as usize]))
+                .collect();
             let vols: Vec<f64> = family.iter().map(|&j| volumes[j as usize]).collect();
             let q = dilatation_weights(&dirs, &vols, horizon[i]);
             let p = deviatoric_weights(&dirs, &vols, &lengths, horizon[i]);
@@ -170,13 +184,17 @@ pub fn build(
         weight.extend(q);
         dev_weight.extend(p);
     }
-    Ok(Bonds {
-        offsets,
-        neighbours,
-        rest_length,
-        weight,
-        dev_weight,
-    })
+    Ok((
+        Bonds {
+            offsets,
+            neighbours,
+            rest_length,
+        },
+        Corrections {
+            dilatation: weight,
+            deviatoric: dev_weight,
+        },
+    ))
 }
 
 fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
@@ -210,7 +228,14 @@ fn sphere_moment(e: [u32; 3]) -> f64 {
         return 0.0;
     }
     // 2 Γ((a+1)/2) Γ((b+1)/2) Γ((c+1)/2) / Γ((a+b+c+3)/2), via double factorials.
-    let df = |k: i64| -> f64 { (1..=k).rev().step_by(2).map(|x| x as f64).product::<f64>().max(1.0) };
+    let df = |k: i64| -> f64 {
+        (1..=k)
+            .rev()
+            .step_by(2)
+            .map(|x| x as f64)
+            .product::<f64>()
+            .max(1.0)
+    };
     let [a, b, c] = e.map(|x| x as i64);
     4.0 * std::f64::consts::PI * df(a - 1) * df(b - 1) * df(c - 1) / df(a + b + c + 1)
 }
@@ -218,7 +243,12 @@ fn sphere_moment(e: [u32; 3]) -> f64 {
 /// Per-bond weights w_j (a polynomial of degree `degree` in ξ̂, which includes the
 /// constant for even degrees) that make Σ_j w_j m_j ξ̂^⊗degree equal `target` times the
 /// unit-sphere moments, checked to stay within [0.1, 10]; `None` otherwise.
-fn moment_weights(dirs: &[[f64; 3]], measure: &[f64], degree: u32, target: f64) -> Option<Vec<f32>> {
+fn moment_weights(
+    dirs: &[[f64; 3]],
+    measure: &[f64],
+    degree: u32,
+    target: f64,
+) -> Option<Vec<f32>> {
     let basis = monomials(degree);
     let k = basis.len();
     let mut mat = vec![vec![0.0f64; k]; k];
@@ -234,9 +264,17 @@ fn moment_weights(dirs: &[[f64; 3]], measure: &[f64], degree: u32, target: f64) 
     let coef = solve(mat, rhs)?;
     let w: Vec<f64> = dirs
         .iter()
-        .map(|n| basis.iter().zip(&coef).map(|(&e, c)| c * monomial(*n, e)).sum())
+        .map(|n| {
+            basis
+                .iter()
+                .zip(&coef)
+                .map(|(&e, c)| c * monomial(*n, e))
+                .sum()
+        })
         .collect();
-    w.iter().all(|&x| x > 0.1 && x < 10.0).then(|| w.into_iter().map(|x| x as f32).collect())
+    w.iter()
+        .all(|&x| x > 0.1 && x < 10.0)
+        .then(|| w.into_iter().map(|x| x as f32).collect())
 }
 
 /// Dilatation weights q_j: Σ_j q_j V_j ξ̂⊗ξ̂ = (V_H∞/3) I, V_H∞ = 4πδ³/3, so θ is exact
@@ -261,13 +299,20 @@ fn dilatation_weights(dirs: &[[f64; 3]], vols: &[f64], delta: f64) -> Vec<f32> {
     }
     let diag = solve(k.iter().map(|r| r.to_vec()).collect(), vec![full / 3.0; 3]);
     if let Some(d) = diag {
-        let q: Vec<f64> = dirs.iter().map(|n| d[0] * n[0] * n[0] + d[1] * n[1] * n[1] + d[2] * n[2] * n[2]).collect();
+        let q: Vec<f64> = dirs
+            .iter()
+            .map(|n| d[0] * n[0] * n[0] + d[1] * n[1] * n[1] + d[2] * n[2] * n[2])
+            .collect();
         if q.iter().all(|&x| x > 0.1 && x < 10.0) {
             return q.into_iter().map(|x| x as f32).collect();
         }
     }
     let family_volume: f64 = vols.iter().sum();
-    let scalar = if family_volume > 0.0 { full / family_volume } else { 1.0 };
+    let scalar = if family_volume > 0.0 {
+        full / family_volume
+    } else {
+        1.0
+    };
     vec![scalar as f32; dirs.len()]
 }
 
@@ -282,7 +327,11 @@ fn deviatoric_weights(dirs: &[[f64; 3]], vols: &[f64], lengths: &[f64], delta: f
         return p;
     }
     let m: f64 = measure.iter().sum();
-    let scalar = if m > 0.0 { std::f64::consts::PI * delta.powi(4) / m } else { 1.0 };
+    let scalar = if m > 0.0 {
+        std::f64::consts::PI * delta.powi(4) / m
+    } else {
+        1.0
+    };
     vec![scalar as f32; dirs.len()]
 }
 

@@ -69,12 +69,14 @@ impl Material {
 
     /// Young's modulus E = 9κμ/(3κ + μ).
     pub fn youngs_modulus(&self) -> f64 {
-        9.0 * self.bulk_modulus * self.shear_modulus / (3.0 * self.bulk_modulus + self.shear_modulus)
+        9.0 * self.bulk_modulus * self.shear_modulus
+            / (3.0 * self.bulk_modulus + self.shear_modulus)
     }
 
     /// Poisson ratio ν = (3κ − 2μ)/(2(3κ + μ)).
     pub fn poisson_ratio(&self) -> f64 {
-        (3.0 * self.bulk_modulus - 2.0 * self.shear_modulus) / (2.0 * (3.0 * self.bulk_modulus + self.shear_modulus))
+        (3.0 * self.bulk_modulus - 2.0 * self.shear_modulus)
+            / (2.0 * (3.0 * self.bulk_modulus + self.shear_modulus))
     }
 
     /// P-wave speed √((κ + 4μ/3)/ρ), the fastest signal in the solid.

@@ -54,31 +54,50 @@ pub fn prepare(scene: &Scene) -> Result<Prepared> {
             spec.horizon * spec.resolution
         })
         .collect();
-    let bonds = family::build(&disc.position, &disc.volume, &disc.body, &horizon, scene.scene.surface_correction)?;
+    let (bonds, corrections) = family::build(
+        &disc.position,
+        &disc.volume,
+        &disc.body,
+        &horizon,
+        scene.scene.surface_correction,
+    )?;
     let bodies: Vec<BodyModel> = scene
         .bodies
         .iter()
-        .map(|b| BodyModel::new(Material::from_spec(&scene.materials[&b.material]), b.horizon * b.resolution))
+        .map(|b| {
+            BodyModel::new(
+                Material::from_spec(&scene.materials[&b.material]),
+                b.horizon * b.resolution,
+            )
+        })
         .collect();
     let mut model = PdModel::new(
         disc.position.clone(),
         disc.volume.clone(),
         disc.body.clone(),
         bonds,
+        corrections,
         bodies,
         scene.scene.dilatation,
     );
     initial_velocities(scene, &mut model);
     for (b, spec) in scene.bodies.iter().enumerate() {
         for crack in &spec.cracks {
-            let Some(region) = to_sdf(&crack.region) else { continue };
+            let Some(region) = to_sdf(&crack.region) else {
+                continue;
+            };
             let (p, n) = (crack.point, crack.normal);
-            let side = |x: [f64; 3]| (x[0] - p[0]) * n[0] + (x[1] - p[1]) * n[1] + (x[2] - p[2]) * n[2];
+            let side =
+                |x: [f64; 3]| (x[0] - p[0]) * n[0] + (x[1] - p[1]) * n[1] + (x[2] - p[2]) * n[2];
             let body = model.reference.body.clone();
             let x = model.reference.position.clone();
             model.cut_bonds(|i, j| {
                 let (xi, xj) = (x[i], x[j]);
-                let mid = [(xi[0] + xj[0]) / 2.0, (xi[1] + xj[1]) / 2.0, (xi[2] + xj[2]) / 2.0];
+                let mid = [
+                    (xi[0] + xj[0]) / 2.0,
+                    (xi[1] + xj[1]) / 2.0,
+                    (xi[2] + xj[2]) / 2.0,
+                ];
                 body[i] == b as u32 && side(xi) * side(xj) < 0.0 && region.distance(mid) <= 0.0
             });
         }
@@ -125,7 +144,9 @@ pub fn prepare(scene: &Scene) -> Result<Prepared> {
 
 fn initial_velocities(scene: &Scene, model: &mut PdModel) {
     for (b, spec) in scene.bodies.iter().enumerate() {
-        let members: Vec<usize> = (0..model.len()).filter(|&i| model.reference.body[i] == b as u32).collect();
+        let members: Vec<usize> = (0..model.len())
+            .filter(|&i| model.reference.body[i] == b as u32)
+            .collect();
         let c = centroid(&model.reference.position, &model.reference.volume, &members);
         let w = spec.angular_velocity;
         for &i in &members {
@@ -149,25 +170,26 @@ fn centroid(x: &[[f64; 3]], v: &[f64], members: &[usize]) -> [f64; 3] {
         }
         total += v[i];
     }
-    if total > 0.0 {
-        c.map(|s| s / total)
-    } else {
-        c
-    }
+    if total > 0.0 { c.map(|s| s / total) } else { c }
 }
 
 fn anchors(scene: &Scene, model: &PdModel) -> Vec<Anchor> {
     let mut out = Vec::new();
     for (b, spec) in scene.bodies.iter().enumerate() {
         for a in &spec.anchors {
-            let Some(region) = to_sdf(&a.region) else { continue };
+            let Some(region) = to_sdf(&a.region) else {
+                continue;
+            };
             let members: Vec<usize> = (0..model.len())
                 .into_par_iter()
-                .filter(|&i| model.reference.body[i] == b as u32 && region.distance(model.reference.position[i]) <= 0.0)
+                .filter(|&i| {
+                    model.reference.body[i] == b as u32
+                        && region.distance(model.reference.position[i]) <= 0.0
+                })
                 .collect();
-            let center = a
-                .center
-                .unwrap_or_else(|| centroid(&model.reference.position, &model.reference.volume, &members));
+            let center = a.center.unwrap_or_else(|| {
+                centroid(&model.reference.position, &model.reference.volume, &members)
+            });
             out.push(Anchor {
                 particles: members.iter().map(|&i| i as u32).collect(),
                 velocity: a.velocity,
@@ -182,7 +204,9 @@ fn anchors(scene: &Scene, model: &PdModel) -> Vec<Anchor> {
 
 /// FNV-1a of the resolved scene: ties checkpoints to their scene.
 pub fn scene_hash(scene: &Scene) -> u64 {
-    scene.to_toml().bytes().fold(0xcbf29ce484222325u64, |h, b| (h ^ b as u64).wrapping_mul(0x100000001b3))
+    scene.to_toml().bytes().fold(0xcbf29ce484222325u64, |h, b| {
+        (h ^ b as u64).wrapping_mul(0x100000001b3)
+    })
 }
 
 /// Options of a run.
@@ -227,14 +251,22 @@ pub fn snapshot(sim: &Simulation, frame: usize) -> ParticleFrame {
 /// Runs a scene into `out`; `progress` is called after each frame. On a blow-up the
 /// frames written so far stay on disk, the manifest records what happened and the
 /// error names the step, the particle and the last good frame.
-pub fn run(scene: &Scene, out: &Path, options: &RunOptions, progress: &mut dyn FnMut(Progress)) -> Result<Manifest> {
+pub fn run(
+    scene: &Scene,
+    out: &Path,
+    options: &RunOptions,
+    progress: &mut dyn FnMut(Progress),
+) -> Result<Manifest> {
     let start = Instant::now();
     let layout = Layout::new(out);
     layout.create()?;
     write_atomic(&layout.scene(), scene.to_toml().as_bytes())?;
     let mut prepared = prepare(scene)?;
     let hash = scene_hash(scene);
-    let frames = options.frames.unwrap_or_else(|| scene.frame_count()).min(scene.frame_count());
+    let frames = options
+        .frames
+        .unwrap_or_else(|| scene.frame_count())
+        .min(scene.frame_count());
     let mut first = 1;
     let mut broken_total = 0u64;
     let mut manifest = manifest_for(scene, &prepared);
@@ -253,20 +285,63 @@ pub fn run(scene: &Scene, out: &Path, options: &RunOptions, progress: &mut dyn F
             for _ in 0..prepared.steps_per_frame {
                 match sim.step() {
                     Ok(broken) => broken_total += broken as u64,
-                    Err(SimError::BlowUp { step, time, what, particle, position, .. }) => {
-                        let err = SimError::BlowUp { step, time, what, particle, position, last_good_frame: frame - 1 };
+                    Err(SimError::BlowUp {
+                        step,
+                        time,
+                        what,
+                        particle,
+                        position,
+                        ..
+                    }) => {
+                        let err = SimError::BlowUp {
+                            step,
+                            time,
+                            what,
+                            particle,
+                            position,
+                            last_good_frame: frame - 1,
+                        };
                         manifest.status = err.to_string();
-                        finish(&mut manifest, sim, broken_total, start, output_time, &prepared.timings);
+                        finish(
+                            &mut manifest,
+                            sim,
+                            broken_total,
+                            start,
+                            output_time,
+                            &prepared.timings,
+                        );
                         manifest.write(&layout.manifest())?;
                         return Err(err);
                     }
                     Err(e) => return Err(e),
                 }
             }
-            if let Err(SimError::BlowUp { step, time, what, particle, position, .. }) = sim.check_blowup() {
-                let err = SimError::BlowUp { step, time, what, particle, position, last_good_frame: frame - 1 };
+            if let Err(SimError::BlowUp {
+                step,
+                time,
+                what,
+                particle,
+                position,
+                ..
+            }) = sim.check_blowup()
+            {
+                let err = SimError::BlowUp {
+                    step,
+                    time,
+                    what,
+                    particle,
+                    position,
+                    last_good_frame: frame - 1,
+                };
                 manifest.status = err.to_string();
-                finish(&mut manifest, sim, broken_total, start, output_time, &prepared.timings);
+                finish(
+                    &mut manifest,
+                    sim,
+                    broken_total,
+                    start,
+                    output_time,
+                    &prepared.timings,
+                );
                 manifest.write(&layout.manifest())?;
                 return Err(err);
             }
@@ -276,12 +351,26 @@ pub fn run(scene: &Scene, out: &Path, options: &RunOptions, progress: &mut dyn F
             snapshot(sim, frame).write(&layout.particles(frame))?;
         }
         manifest.frame_times.push(sim.time);
-        manifest.status = if frame == frames + 1 { "complete".into() } else { "running".into() };
-        finish(&mut manifest, sim, broken_total, start, output_time, &prepared.timings);
+        manifest.status = if frame == frames + 1 {
+            "complete".into()
+        } else {
+            "running".into()
+        };
+        finish(
+            &mut manifest,
+            sim,
+            broken_total,
+            start,
+            output_time,
+            &prepared.timings,
+        );
         manifest.write(&layout.manifest())?;
         let every = scene.output.checkpoint_every;
         if every > 0 && frame % every == 0 && frame <= frames {
-            write_atomic(&layout.checkpoint(), &checkpoint::encode(sim, frame, broken_total, hash))?;
+            write_atomic(
+                &layout.checkpoint(),
+                &checkpoint::encode(sim, frame, broken_total, hash),
+            )?;
         }
         output_time += t.elapsed().as_secs_f64();
         progress(Progress {
@@ -291,7 +380,14 @@ pub fn run(scene: &Scene, out: &Path, options: &RunOptions, progress: &mut dyn F
             steps_per_frame: prepared.steps_per_frame,
         });
     }
-    finish(&mut manifest, sim, broken_total, start, output_time, &prepared.timings);
+    finish(
+        &mut manifest,
+        sim,
+        broken_total,
+        start,
+        output_time,
+        &prepared.timings,
+    );
     manifest.write(&layout.manifest())?;
     Ok(manifest)
 }
@@ -326,7 +422,14 @@ fn manifest_for(scene: &Scene, p: &Prepared) -> Manifest {
     }
 }
 
-fn finish(m: &mut Manifest, sim: &Simulation, broken: u64, start: Instant, output: f64, setup: &Timings) {
+fn finish(
+    m: &mut Manifest,
+    sim: &Simulation,
+    broken: u64,
+    start: Instant,
+    output: f64,
+    setup: &Timings,
+) {
     m.steps = sim.steps;
     m.broken_bonds = broken;
     m.timings = Timings {

@@ -1,8 +1,8 @@
 //! Time stepping: velocity Verlet with contact, anchors and damping; the stable time
 //! step; blow-up detection.
 //!
-//! One step is the list of stages `kick → drift → anchors → dilatation → plasticity →
-//! fracture → forces → kick → damping → contact`, each timed.
+//! One step is the list of stages `kick → drift → anchors → dilatation (+ plasticity) →
+//! forces (+ fracture) → kick → damping → contact`, each timed.
 
 use std::time::Instant;
 
@@ -46,7 +46,7 @@ pub struct Simulation {
 
 /// Σ over the times of the stages, for reports.
 pub fn total_time(t: &StageTimes) -> f64 {
-    t.dilatation + t.plasticity + t.fracture + t.forces
+    t.dilatation + t.forces
 }
 
 impl Simulation {
@@ -94,7 +94,11 @@ impl Simulation {
         sim.energy_budget = sim.model.kinetic_energy()
             + sim.model.strain_energy()
             + 0.5 * total_mass * (g * duration).powi(2)
-            + sim.colliders.iter().map(Collider::kinetic_energy).sum::<f64>()
+            + sim
+                .colliders
+                .iter()
+                .map(Collider::kinetic_energy)
+                .sum::<f64>()
             + 0.5 * total_mass * (2.0 * fastest).powi(2)
             + 1e-12;
         sim
@@ -110,11 +114,15 @@ impl Simulation {
     fn update_acceleration(&mut self) {
         let m = &self.model;
         let g = self.gravity;
-        self.acceleration.par_iter_mut().enumerate().with_min_len(1024).for_each(|(i, a)| {
-            let rho = m.bodies[m.reference.body[i] as usize].material.density;
-            let f = m.force[i];
-            *a = [f[0] / rho + g[0], f[1] / rho + g[1], f[2] / rho + g[2]];
-        });
+        self.acceleration
+            .par_iter_mut()
+            .enumerate()
+            .with_min_len(1024)
+            .for_each(|(i, a)| {
+                let rho = m.bodies[m.reference.body[i] as usize].material.density;
+                let f = m.force[i];
+                *a = [f[0] / rho + g[0], f[1] / rho + g[1], f[2] / rho + g[2]];
+            });
     }
 
     fn apply_anchors(&mut self) {
@@ -153,7 +161,7 @@ impl Simulation {
                     }
                 });
         }
-        self.time += dt;
+        self.time = (self.steps + 1) as f64 * dt;
         self.apply_anchors();
         self.other_time += t0.elapsed().as_secs_f64();
         let broken = self.model.internal_forces();
@@ -162,11 +170,15 @@ impl Simulation {
         {
             let p = &mut self.model.particles;
             let acc = &self.acceleration;
-            p.velocity.par_iter_mut().zip(acc.par_iter()).with_min_len(1024).for_each(|(v, a)| {
-                for k in 0..3 {
-                    v[k] += 0.5 * dt * a[k];
-                }
-            });
+            p.velocity
+                .par_iter_mut()
+                .zip(acc.par_iter())
+                .with_min_len(1024)
+                .for_each(|(v, a)| {
+                    for k in 0..3 {
+                        v[k] += 0.5 * dt * a[k];
+                    }
+                });
         }
         self.apply_anchors();
         self.damping();
@@ -243,7 +255,8 @@ impl Simulation {
     pub fn check_blowup(&self) -> Result<()> {
         let p = &self.model.particles;
         let bad = (0..self.model.len()).into_par_iter().find_first(|&i| {
-            !(p.position[i].iter().all(|x| x.is_finite()) && p.velocity[i].iter().all(|x| x.is_finite()))
+            !(p.position[i].iter().all(|x| x.is_finite())
+                && p.velocity[i].iter().all(|x| x.is_finite()))
         });
         if let Some(i) = bad {
             return Err(self.blowup("non-finite position or velocity".into(), i));
@@ -308,16 +321,16 @@ fn norm(v: [f64; 3]) -> f64 {
 pub fn stable_time_step(m: &PdModel) -> (f64, usize) {
     let n = m.len();
     let bonds = &m.bonds;
-    let omega = |k: usize, delta: f64| -> f64 {
-        m.omega.as_ref().map_or(delta / bonds.rest_length[k], |w| w[k] as f64)
-    };
     let h: Vec<f64> = (0..n)
         .into_par_iter()
         .map(|i| {
             let delta = m.bodies[m.reference.body[i] as usize].constants.delta;
             let s: f64 = bonds
                 .range(i)
-                .map(|k| omega(k, delta) * bonds.weight[k] as f64 * m.reference.volume[(bonds.neighbours[k] & INDEX) as usize])
+                .map(|k| {
+                    m.coef.dil[k] as f64
+                        * m.reference.volume[(bonds.neighbours[k] & INDEX) as usize]
+                })
                 .sum();
             3.0 * s / (delta * family_volume(delta))
         })
@@ -326,24 +339,23 @@ pub fn stable_time_step(m: &PdModel) -> (f64, usize) {
         .into_par_iter()
         .map(|i| {
             let body = &m.bodies[m.reference.body[i] as usize];
-            let delta = body.constants.delta;
             let ap = body.a_prime.abs();
             let (mut dev, mut dil_i, mut dil_j) = (0.0, 0.0, 0.0);
             for k in bonds.range(i) {
                 let j = (bonds.neighbours[k] & INDEX) as usize;
-                let w = omega(k, delta) * m.reference.volume[j];
-                dev += w * body.constants.b * (bonds.dev_weight[k] + m.dev_weight_reverse[k]) as f64;
-                dil_i += w * ap * bonds.weight[k] as f64;
-                dil_j += w * ap * m.weight_reverse[k] as f64 * h[j];
+                let v = m.reference.volume[j];
+                dev += v * (m.coef.dev[k] + m.coef.dev_rev[k]) as f64;
+                dil_i += v * ap * m.coef.dil[k] as f64;
+                dil_j += v * ap * m.coef.dil_rev[k] as f64 * h[j];
             }
             4.0 * (dev + h[i] * dil_i + dil_j) / body.material.density
         })
         .collect();
-    let (worst, lambda) = rate
-        .iter()
-        .copied()
-        .enumerate()
-        .fold((0, 0.0f64), |(bi, bl), (i, l)| if l > bl { (i, l) } else { (bi, bl) });
+    let (worst, lambda) =
+        rate.iter().copied().enumerate().fold(
+            (0, 0.0f64),
+            |(bi, bl), (i, l)| if l > bl { (i, l) } else { (bi, bl) },
+        );
     if lambda <= 0.0 {
         return (f64::INFINITY, worst);
     }

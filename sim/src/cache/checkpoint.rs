@@ -23,7 +23,15 @@ pub fn encode(sim: &Simulation, frame: usize, broken_bonds: u64, scene_hash: u64
     let m = &sim.model;
     let mut out = Vec::new();
     out.extend_from_slice(MAGIC);
-    for v in [scene_hash, m.len() as u64, m.bonds.len() as u64, sim.colliders.len() as u64, frame as u64, sim.steps, broken_bonds] {
+    for v in [
+        scene_hash,
+        m.len() as u64,
+        m.bonds.len() as u64,
+        sim.colliders.len() as u64,
+        frame as u64,
+        sim.steps,
+        broken_bonds,
+    ] {
         out.extend_from_slice(&v.to_le_bytes());
     }
     out.extend_from_slice(&sim.time.to_le_bytes());
@@ -55,7 +63,10 @@ struct Reader<'a> {
 
 impl Reader<'_> {
     fn take<const N: usize>(&mut self) -> std::result::Result<[u8; N], String> {
-        let s = self.bytes.get(self.at..self.at + N).ok_or("checkpoint is truncated")?;
+        let s = self
+            .bytes
+            .get(self.at..self.at + N)
+            .ok_or("checkpoint is truncated")?;
         self.at += N;
         let mut a = [0u8; N];
         a.copy_from_slice(s);
@@ -72,12 +83,21 @@ impl Reader<'_> {
 /// Restores a checkpoint into `sim` (built from the same scene).
 pub fn restore(path: &Path, sim: &mut Simulation, scene_hash: u64) -> Result<Resume> {
     let bytes = std::fs::read(path).map_err(|e| SimError::io(path, e))?;
-    let fail = |message: String| SimError::Cache { path: path.to_path_buf(), message };
+    let fail = |message: String| SimError::Cache {
+        path: path.to_path_buf(),
+        message,
+    };
     if bytes.get(..8) != Some(MAGIC.as_slice()) {
         return Err(fail("not a perifrac checkpoint".into()));
     }
-    let mut r = Reader { bytes: &bytes, at: 8 };
-    let header: Vec<u64> = (0..7).map(|_| r.u64()).collect::<std::result::Result<_, _>>().map_err(fail)?;
+    let mut r = Reader {
+        bytes: &bytes,
+        at: 8,
+    };
+    let header: Vec<u64> = (0..7)
+        .map(|_| r.u64())
+        .collect::<std::result::Result<_, _>>()
+        .map_err(fail)?;
     let [hash, n, bonds, colliders, frame, steps, broken] = header[..] else {
         return Err(fail("checkpoint header is incomplete".into()));
     };
@@ -85,7 +105,10 @@ pub fn restore(path: &Path, sim: &mut Simulation, scene_hash: u64) -> Result<Res
         return Err(fail("the checkpoint was written for a different scene (or different settings); run without --resume".into()));
     }
     let m = &mut sim.model;
-    if n as usize != m.len() || bonds as usize != m.bonds.len() || colliders as usize != sim.colliders.len() {
+    if n as usize != m.len()
+        || bonds as usize != m.bonds.len()
+        || colliders as usize != sim.colliders.len()
+    {
         return Err(fail(format!(
             "checkpoint has {n} particles, {bonds} bonds, {colliders} colliders; the scene gives {}, {}, {}",
             m.len(),
@@ -95,7 +118,12 @@ pub fn restore(path: &Path, sim: &mut Simulation, scene_hash: u64) -> Result<Res
     }
     let mut read = || -> std::result::Result<(), String> {
         sim.time = r.f64()?;
-        for p in m.particles.position.iter_mut().chain(m.particles.velocity.iter_mut()) {
+        for p in m
+            .particles
+            .position
+            .iter_mut()
+            .chain(m.particles.velocity.iter_mut())
+        {
             for x in p.iter_mut() {
                 *x = r.f64()?;
             }

@@ -48,7 +48,11 @@ impl Layout {
 
     /// Creates the directories the simulator writes into.
     pub fn create(&self) -> Result<()> {
-        for dir in [self.root.clone(), self.root.join("particles"), self.root.join("checkpoint")] {
+        for dir in [
+            self.root.clone(),
+            self.root.join("particles"),
+            self.root.join("checkpoint"),
+        ] {
             std::fs::create_dir_all(&dir).map_err(|e| SimError::io(&dir, e))?;
         }
         Ok(())
@@ -58,7 +62,10 @@ impl Layout {
 /// Writes `bytes` to `path` atomically (temporary file, then rename).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     let dir = path.parent().unwrap_or_else(|| Path::new("."));
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
     let tmp = dir.join(format!(".{name}.tmp-{}", std::process::id()));
     let write = || -> std::io::Result<()> {
         let mut f = std::fs::File::create(&tmp)?;

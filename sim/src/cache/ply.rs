@@ -7,7 +7,9 @@ use std::path::Path;
 use crate::error::{Result, SimError};
 
 /// The vertex properties of a particle frame, in file order.
-pub const PROPERTIES: [&str; 10] = ["x", "y", "z", "vx", "vy", "vz", "damage", "plastic", "material", "fragment"];
+pub const PROPERTIES: [&str; 10] = [
+    "x", "y", "z", "vx", "vy", "vz", "damage", "plastic", "material", "fragment",
+];
 
 /// One frame of particles (structure of arrays).
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -97,7 +99,8 @@ impl ParticleFrame {
             .position(|w| w == end)
             .ok_or("not a PLY file: no end_header line")?
             + end.len();
-        let header = std::str::from_utf8(&bytes[..header_len]).map_err(|_| "PLY header is not text")?;
+        let header =
+            std::str::from_utf8(&bytes[..header_len]).map_err(|_| "PLY header is not text")?;
         let mut lines = header.lines();
         if lines.next() != Some("ply") {
             return Err("not a PLY file: the first line is not 'ply'".into());
@@ -110,15 +113,26 @@ impl ParticleFrame {
             let words: Vec<&str> = line.split_whitespace().collect();
             match words.as_slice() {
                 ["format", "binary_little_endian", _] => {}
-                ["format", other, _] => return Err(format!("PLY format '{other}' is not supported; expected binary_little_endian")),
+                ["format", other, _] => {
+                    return Err(format!(
+                        "PLY format '{other}' is not supported; expected binary_little_endian"
+                    ));
+                }
                 ["comment", "perifrac", "particles", "frame", f, "time", t] => {
                     frame = f.parse().unwrap_or(0);
                     time = t.parse().unwrap_or(0.0);
                 }
-                ["element", "vertex", n] => count = Some(n.parse::<usize>().map_err(|_| format!("bad vertex count '{n}'"))?),
+                ["element", "vertex", n] => {
+                    count = Some(
+                        n.parse::<usize>()
+                            .map_err(|_| format!("bad vertex count '{n}'"))?,
+                    )
+                }
                 ["element", other, _] => return Err(format!("unexpected PLY element '{other}'")),
                 ["property", "float", name] => props.push(name.to_string()),
-                ["property", ty, name] => return Err(format!("property '{name}' has type {ty}; expected float")),
+                ["property", ty, name] => {
+                    return Err(format!("property '{name}' has type {ty}; expected float"));
+                }
                 _ => {}
             }
         }
@@ -126,10 +140,16 @@ impl ParticleFrame {
         let stride = props.len() * 4;
         let body = &bytes[header_len..];
         if body.len() < n * stride {
-            return Err(format!("PLY body is truncated: {} bytes for {n} vertices of {stride} bytes", body.len()));
+            return Err(format!(
+                "PLY body is truncated: {} bytes for {n} vertices of {stride} bytes",
+                body.len()
+            ));
         }
         let column = |name: &str| -> std::result::Result<Vec<f32>, String> {
-            let c = props.iter().position(|p| p == name).ok_or(format!("PLY has no '{name}' property"))?;
+            let c = props
+                .iter()
+                .position(|p| p == name)
+                .ok_or(format!("PLY has no '{name}' property"))?;
             Ok((0..n)
                 .map(|i| {
                     let o = i * stride + c * 4;
@@ -138,7 +158,11 @@ impl ParticleFrame {
                 .collect())
         };
         let zip3 = |a: Vec<f32>, b: Vec<f32>, c: Vec<f32>| -> Vec<[f32; 3]> {
-            a.into_iter().zip(b).zip(c).map(|((a, b), c)| [a, b, c]).collect()
+            a.into_iter()
+                .zip(b)
+                .zip(c)
+                .map(|((a, b), c)| [a, b, c])
+                .collect()
         };
         Ok(ParticleFrame {
             frame,

@@ -2,10 +2,10 @@
 //! signed distance functions ([`sdf`]), the isosurface-stuffing tetrahedral
 //! mesher that fills them ([`stuffing`]), and the [`TetMesh`] it produces.
 
-pub mod sdf;
-pub mod stuffing;
-pub mod shape;
 pub mod discretize;
+pub mod sdf;
+pub mod shape;
+pub mod stuffing;
 
 use std::fmt;
 

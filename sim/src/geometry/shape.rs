@@ -15,14 +15,23 @@ pub fn to_sdf(shape: &ShapeSpec) -> Option<Box<dyn Sdf>> {
             center: *center,
             radius: *radius,
         }),
-        ShapeSpec::Cylinder { center, radius, height, axis } => Box::new(Cylinder {
+        ShapeSpec::Cylinder {
+            center,
+            radius,
+            height,
+            axis,
+        } => Box::new(Cylinder {
             center: *center,
             axis: axis.index(),
             radius: *radius,
             half_height: height / 2.0,
         }),
-        ShapeSpec::Union { parts } => Box::new(Union(parts.iter().map(to_sdf).collect::<Option<Vec<_>>>()?)),
-        ShapeSpec::Difference { base, minus } => Box::new(Difference(to_sdf(base)?, to_sdf(minus)?)),
+        ShapeSpec::Union { parts } => {
+            Box::new(Union(parts.iter().map(to_sdf).collect::<Option<Vec<_>>>()?))
+        }
+        ShapeSpec::Difference { base, minus } => {
+            Box::new(Difference(to_sdf(base)?, to_sdf(minus)?))
+        }
         ShapeSpec::Mesh { .. } => return None,
     })
 }

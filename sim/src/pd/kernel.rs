@@ -1,5 +1,5 @@
 //! The per-step stages of the peridynamic model, monomorphized on what a scene needs:
-//! `dilatation → plasticity → fracture → forces`. Each particle gathers over its own
+//! `dilatation (+ plasticity) → forces (+ fracture)`. Each particle gathers over its own
 //! family in a fixed order, so results do not depend on the thread count.
 
 use std::time::Instant;
@@ -12,13 +12,11 @@ use crate::family::{BROKEN, INDEX};
 /// Wall time spent in each stage, in seconds, accumulated over a run.
 #[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct StageTimes {
-    /// θ (Eq. 6).
+    /// θ (Eq. 6), with the return mapping (Eq. 13–16) in the same pass when a
+    /// material yields.
     pub dilatation: f64,
-    /// Return mapping (Eq. 13–16).
-    pub plasticity: f64,
-    /// Bond breaking and damage (Eq. 18–19).
-    pub fracture: f64,
-    /// Force densities (Eq. 2–4, 8, 12).
+    /// Force densities (Eq. 2–4, 8, 12), with bond breaking and damage
+    /// (Eq. 18–19) in the same pass when the scene can fracture.
     pub forces: f64,
 }
 
@@ -31,7 +29,11 @@ pub(crate) fn det_sum(n: usize, f: impl Fn(usize) -> f64 + Sync) -> f64 {
     let chunks = n.div_ceil(REDUCE_CHUNK);
     let partial: Vec<f64> = (0..chunks)
         .into_par_iter()
-        .map(|c| (c * REDUCE_CHUNK..((c + 1) * REDUCE_CHUNK).min(n)).map(&f).sum())
+        .map(|c| {
+            (c * REDUCE_CHUNK..((c + 1) * REDUCE_CHUNK).min(n))
+                .map(&f)
+                .sum()
+        })
         .collect();
     partial.into_iter().sum()
 }
@@ -65,23 +67,14 @@ pub(super) fn dispatch(m: &mut PdModel) -> usize {
         true true false false, true true false true, true true true false, true true true true)
 }
 
-fn step_stages<const P: bool, const F: bool, const A: bool, const L: bool>(m: &mut PdModel) -> usize {
+fn step_stages<const P: bool, const F: bool, const A: bool, const L: bool>(
+    m: &mut PdModel,
+) -> usize {
     let t = Instant::now();
-    dilatation::<F, A, L>(m);
+    dilatation_plasticity::<P, F, A, L>(m);
     m.times.dilatation += t.elapsed().as_secs_f64();
-    if P {
-        let t = Instant::now();
-        plasticity::<F, A, L>(m);
-        m.times.plasticity += t.elapsed().as_secs_f64();
-    }
-    let mut broken = 0;
-    if F {
-        let t = Instant::now();
-        broken = fracture::<P, A>(m);
-        m.times.fracture += t.elapsed().as_secs_f64();
-    }
     let t = Instant::now();
-    forces::<P, F, A, L>(m);
+    let broken = forces::<P, F, A, L>(m);
     m.times.forces += t.elapsed().as_secs_f64();
     broken
 }
@@ -98,40 +91,62 @@ fn projection<const L: bool>(m: &PdModel, i: usize, j: usize, d: [f64; 3], l: f6
     }
 }
 
-/// θ_i = 3/(δ V_H∞) Σ_j ω_ij q_ij Λ e_ij V_j (Chen Eq. 6 with ω|ξ| s = ω e).
-fn dilatation<const F: bool, const A: bool, const L: bool>(m: &mut PdModel) {
+/// θ_i for every particle (Chen Eq. 6) and, when a material yields, the return mapping
+/// of its bonds right after (the family's data is still in cache).
+fn dilatation_plasticity<const P: bool, const F: bool, const A: bool, const L: bool>(
+    m: &mut PdModel,
+) {
     let mut theta = std::mem::take(&mut m.theta);
+    let mut plastic = if P { m.plastic.take() } else { None };
     {
         let m = &*m;
-        let y = &m.particles.position;
-        let v = &m.reference.volume;
-        let bonds = &m.bonds;
-        theta.par_iter_mut().enumerate().with_min_len(64).for_each(|(i, th)| {
-            let delta = m.bodies[m.reference.body[i] as usize].constants.delta;
-            let yi = y[i];
-            let mut sum = 0.0;
-            for k in bonds.range(i) {
-                let nb = bonds.neighbours[k];
-                if F && nb & BROKEN != 0 {
-                    continue;
-                }
-                let j = (nb & INDEX) as usize;
-                let d = [y[j][0] - yi[0], y[j][1] - yi[1], y[j][2] - yi[2]];
-                let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-                let r = bonds.rest_length[k];
-                let e = l - r;
-                let lam = projection::<L>(m, i, j, d, l, r);
-                let omega_e = if A {
-                    m.omega.as_ref().map_or(0.0, |w| w[k] as f64) * e
-                } else {
-                    delta * e / r
-                };
-                sum += omega_e * bonds.weight[k] as f64 * lam * v[j];
+        match plastic.as_mut() {
+            Some(p) => {
+                let rows = rows_mut(&mut p.extension, &m.bonds.offsets);
+                theta
+                    .par_iter_mut()
+                    .zip(rows)
+                    .enumerate()
+                    .with_min_len(64)
+                    .for_each(|(i, (th, ext))| {
+                        *th = dilatation::<F, L>(m, i);
+                        return_mapping::<F, A, L>(m, i, *th, ext);
+                    });
             }
-            *th = 3.0 * sum / (delta * family_volume(delta));
-        });
+            None => theta
+                .par_iter_mut()
+                .enumerate()
+                .with_min_len(64)
+                .for_each(|(i, th)| *th = dilatation::<F, L>(m, i)),
+        }
     }
     m.theta = theta;
+    m.plastic = plastic;
+}
+
+/// θ_i = 3/(δ V_H∞) Σ_j ω_ij q_ij Λ e_ij V_j (Chen Eq. 6 with ω|ξ| s = ω e).
+#[inline(always)]
+fn dilatation<const F: bool, const L: bool>(m: &PdModel, i: usize) -> f64 {
+    let y = &m.particles.position;
+    let v = &m.reference.volume;
+    let bonds = &m.bonds;
+    let delta = m.bodies[m.reference.body[i] as usize].constants.delta;
+    let yi = y[i];
+    let mut sum = 0.0;
+    for k in bonds.range(i) {
+        let nb = bonds.neighbours[k];
+        if F && nb & BROKEN != 0 {
+            continue;
+        }
+        let j = (nb & INDEX) as usize;
+        let d = [y[j][0] - yi[0], y[j][1] - yi[1], y[j][2] - yi[2]];
+        let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        let r = bonds.rest_length[k];
+        let e = l - r;
+        let lam = projection::<L>(m, i, j, d, l, r);
+        sum += m.coef.dil[k] as f64 * e * lam * v[j];
+    }
+    3.0 * sum / (delta * family_volume(delta))
 }
 
 /// Return mapping of Chen Eq. 13–16 on each bond i→j:
@@ -140,117 +155,64 @@ fn dilatation<const F: bool, const A: bool, const L: bool>(m: &mut PdModel) {
 /// sign(A_dev). (Eq. 15 prints 1/(2b); that leaves |A_dev| off the surface by a
 /// factor that depends on ω — the test `return_mapping_lands_on_yield_surface`
 /// shows 1/(4ωb) is the one that lands on it.) Eq. 16 then caps |e^p| at γ.
-fn plasticity<const F: bool, const A: bool, const L: bool>(m: &mut PdModel) {
-    let Some(mut plastic) = m.plastic.take() else { return };
-    {
-        let m = &*m;
-        let y = &m.particles.position;
-        let bonds = &m.bonds;
-        let rows = rows_mut(&mut plastic.extension, &bonds.offsets);
-        rows.into_par_iter().enumerate().with_min_len(64).for_each(|(i, ext)| {
-            let body = &m.bodies[m.reference.body[i] as usize];
-            let c = &body.constants;
-            if !c.psi0.is_finite() {
-                return;
-            }
-            let critical = (2.0 * c.psi0).sqrt();
-            let yi = y[i];
-            let theta = m.theta[i];
-            for (slot, k) in bonds.range(i).enumerate() {
-                let nb = bonds.neighbours[k];
-                if F && nb & BROKEN != 0 {
-                    continue;
-                }
-                let j = (nb & INDEX) as usize;
-                let d = [y[j][0] - yi[0], y[j][1] - yi[1], y[j][2] - yi[2]];
-                let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-                let r = bonds.rest_length[k];
-                let lam = projection::<L>(m, i, j, d, l, r);
-                let omega = if A {
-                    m.omega.as_ref().map_or(0.0, |w| w[k] as f64)
-                } else {
-                    c.delta / r
-                };
-                let ep = ext[slot];
-                let e_dev = l - r - 0.25 * c.delta * bonds.weight[k] as f64 * lam * theta;
-                let b = c.b * bonds.dev_weight[k] as f64;
-                let a_dev = 4.0 * omega * b * (e_dev - ep);
-                if 0.5 * a_dev * a_dev > c.psi0 {
-                    let a_c = critical.copysign(a_dev);
-                    let trial = ep + (a_dev - a_c) / (4.0 * omega * b);
-                    let limit = c.plastic_limit * r;
-                    let capped = if trial.abs() > limit { limit.copysign(trial) } else { trial };
-                    ext[slot] = capped;
-                }
-            }
-        });
+#[inline(always)]
+fn return_mapping<const F: bool, const A: bool, const L: bool>(
+    m: &PdModel,
+    i: usize,
+    theta: f64,
+    ext: &mut [f64],
+) {
+    let y = &m.particles.position;
+    let bonds = &m.bonds;
+    let c = &m.bodies[m.reference.body[i] as usize].constants;
+    if !c.psi0.is_finite() {
+        return;
     }
-    m.plastic = Some(plastic);
-}
-
-/// Breaks bonds whose weighted elastic stretch s^ω = (1 + αφ)(e − e^p)/(ω|ξ|)
-/// (Chen Eq. 18–19) exceeds the material's critical value, in either direction of
-/// the bond (so both ends agree); then updates the damage φ. Returns the number of
-/// directed bonds broken.
-fn fracture<const P: bool, const A: bool>(m: &mut PdModel) -> usize {
-    let mut neighbours = std::mem::take(&mut m.bonds.neighbours);
-    let broken: usize = {
-        let m = &*m;
-        let y = &m.particles.position;
-        let phi = &m.particles.damage;
-        let bonds = &m.bonds;
-        let rows = rows_mut(&mut neighbours, &bonds.offsets);
-        rows.into_par_iter()
-            .enumerate()
-            .with_min_len(64)
-            .map(|(i, row)| {
-                let c = &m.bodies[m.reference.body[i] as usize].constants;
-                if !c.critical_stretch.is_finite() {
-                    return 0;
-                }
-                let yi = y[i];
-                let mut count = 0;
-                for (slot, nb) in row.iter_mut().enumerate() {
-                    if *nb & BROKEN != 0 {
-                        continue;
-                    }
-                    let k = bonds.offsets[i] + slot;
-                    let j = (*nb & INDEX) as usize;
-                    let d = [y[j][0] - yi[0], y[j][1] - yi[1], y[j][2] - yi[2]];
-                    let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-                    let r = bonds.rest_length[k];
-                    let e = l - r;
-                    let omega_r = if A {
-                        m.omega.as_ref().map_or(1.0, |w| w[k] as f64) * r
-                    } else {
-                        c.delta
-                    };
-                    let (ep_ij, ep_ji) = match (&m.plastic, P) {
-                        (Some(p), true) => (p.extension[k], p.extension[p.reverse[k] as usize]),
-                        _ => (0.0, 0.0),
-                    };
-                    let s_ij = (1.0 + c.alpha * phi[i]) * (e - ep_ij) / omega_r;
-                    let s_ji = (1.0 + c.alpha * phi[j]) * (e - ep_ji) / omega_r;
-                    if s_ij.max(s_ji) > c.critical_stretch {
-                        *nb |= BROKEN;
-                        count += 1;
-                    }
-                }
-                count
-            })
-            .sum()
-    };
-    m.bonds.neighbours = neighbours;
-    if broken > 0 {
-        m.update_damage();
+    let critical = (2.0 * c.psi0).sqrt();
+    let yi = y[i];
+    for (slot, k) in bonds.range(i).enumerate() {
+        let nb = bonds.neighbours[k];
+        if F && nb & BROKEN != 0 {
+            continue;
+        }
+        let j = (nb & INDEX) as usize;
+        let d = [y[j][0] - yi[0], y[j][1] - yi[1], y[j][2] - yi[2]];
+        let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        let r = bonds.rest_length[k];
+        let lam = projection::<L>(m, i, j, d, l, r);
+        let omega = if A {
+            m.omega.as_ref().map_or(0.0, |w| w[k] as f64)
+        } else {
+            c.delta / r
+        };
+        let ep = ext[slot];
+        // q_ij = (ω q_ij)/ω; 4ω b p_ij = 4 × the deviatoric coefficient.
+        let q = m.coef.dil[k] as f64 / omega;
+        let e_dev = l - r - 0.25 * c.delta * q * lam * theta;
+        let stiffness = 4.0 * m.coef.dev[k] as f64;
+        let a_dev = stiffness * (e_dev - ep);
+        if 0.5 * a_dev * a_dev > c.psi0 {
+            let a_c = critical.copysign(a_dev);
+            let trial = ep + (a_dev - a_c) / stiffness;
+            let limit = c.plastic_limit * r;
+            ext[slot] = if trial.abs() > limit {
+                limit.copysign(trial)
+            } else {
+                trial
+            };
+        }
     }
-    broken
 }
 
 /// f_i = Σ_j ½(A_ij + A_ji) ŷ_ij V_j (Chen Eq. 2–3) with
 /// A_ij = 4ω[a'_i q_ij Λ θ_i + b p_ij (e − e^p_ij)], the sum of Eq. 4 and Eq. 12 written
 /// with a' = a − bδ/4 (see the module doc of [`super`]).
-fn forces<const P: bool, const F: bool, const A: bool, const L: bool>(m: &mut PdModel) {
+///
+/// With fracture, the same pass then breaks each bond whose weighted elastic stretch
+/// s^ω = (1 + αφ)(e − e^p)/(ω|ξ|) (Eq. 18–19) exceeds the critical value in either
+/// direction (so both ends agree, reading φ of the previous step), and updates φ.
+/// Returns the number of directed bonds broken.
+fn forces<const P: bool, const F: bool, const A: bool, const L: bool>(m: &mut PdModel) -> usize {
     let n = m.len();
     // a'_j θ_j: one gather per neighbour.
     let packed: Vec<f64> = (0..n)
@@ -258,55 +220,120 @@ fn forces<const P: bool, const F: bool, const A: bool, const L: bool>(m: &mut Pd
         .map(|j| m.bodies[m.reference.body[j] as usize].a_prime * m.theta[j])
         .collect();
     let mut force = std::mem::take(&mut m.force);
-    {
+    let mut neighbours = std::mem::take(&mut m.bonds.neighbours);
+    let mut damage = if F {
+        m.particles.damage.clone()
+    } else {
+        Vec::new()
+    };
+    let broken = {
         let m = &*m;
-        let y = &m.particles.position;
-        let v = &m.reference.volume;
-        let bonds = &m.bonds;
-        let packed = &packed;
-        force.par_iter_mut().enumerate().with_min_len(64).for_each(|(i, fi)| {
-            let c = &m.bodies[m.reference.body[i] as usize].constants;
-            let (delta, b) = (c.delta, c.b);
-            let yi = y[i];
-            let pti = packed[i];
-            let mut f = [0.0f64; 3];
-            for k in bonds.range(i) {
-                let nb = bonds.neighbours[k];
-                if F && nb & BROKEN != 0 {
-                    continue;
-                }
-                let j = (nb & INDEX) as usize;
-                let d = [y[j][0] - yi[0], y[j][1] - yi[1], y[j][2] - yi[2]];
-                let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-                if l == 0.0 {
-                    continue;
-                }
-                let r = bonds.rest_length[k];
-                let e = l - r;
-                let lam = projection::<L>(m, i, j, d, l, r);
-                let omega = if A {
-                    m.omega.as_ref().map_or(0.0, |w| w[k] as f64)
-                } else {
-                    delta / r
-                };
-                let (ep_ij, ep_ji) = match (&m.plastic, P) {
-                    (Some(p), true) => (p.extension[k], p.extension[p.reverse[k] as usize]),
-                    _ => (0.0, 0.0),
-                };
-                let ptj = packed[j];
-                let a_sum = 4.0
-                    * omega
-                    * (lam * (pti * bonds.weight[k] as f64 + ptj * m.weight_reverse[k] as f64)
-                        + b * (bonds.dev_weight[k] as f64 * (e - ep_ij) + m.dev_weight_reverse[k] as f64 * (e - ep_ji)));
-                let s = 0.5 * a_sum * v[j] / l;
-                f[0] += s * d[0];
-                f[1] += s * d[1];
-                f[2] += s * d[2];
-            }
-            *fi = f;
-        });
-    }
+        let rows = rows_mut(&mut neighbours, &m.bonds.offsets);
+        if F {
+            rows.into_par_iter()
+                .zip(force.par_iter_mut())
+                .zip(damage.par_iter_mut())
+                .enumerate()
+                .with_min_len(64)
+                .map(|(i, ((row, fi), phi))| {
+                    let (f, broken, intact) = particle_force::<P, F, A, L>(m, &packed, i, row);
+                    *fi = f;
+                    if broken > 0 {
+                        *phi = 1.0 - intact as f64 / m.reference.initial_bonds[i].max(1) as f64;
+                    }
+                    broken
+                })
+                .sum()
+        } else {
+            rows.into_par_iter()
+                .zip(force.par_iter_mut())
+                .enumerate()
+                .with_min_len(64)
+                .for_each(|(i, (row, fi))| {
+                    *fi = particle_force::<P, F, A, L>(m, &packed, i, row).0
+                });
+            0
+        }
+    };
+    m.bonds.neighbours = neighbours;
     m.force = force;
+    if F {
+        m.particles.damage = damage;
+    }
+    broken
+}
+
+/// The force density on particle i, and (with fracture) how many of its bonds broke
+/// and how many stay intact.
+#[inline(always)]
+fn particle_force<const P: bool, const F: bool, const A: bool, const L: bool>(
+    m: &PdModel,
+    packed: &[f64],
+    i: usize,
+    row: &mut [u32],
+) -> ([f64; 3], usize, usize) {
+    let y = &m.particles.position;
+    let v = &m.reference.volume;
+    let bonds = &m.bonds;
+    let coef = &m.coef;
+    let c = &m.bodies[m.reference.body[i] as usize].constants;
+    let delta = c.delta;
+    let phi = &m.particles.damage;
+    let yi = y[i];
+    let pti = packed[i];
+    let gi = 1.0 + c.alpha * phi[i];
+    let start = bonds.offsets[i];
+    let mut f = [0.0f64; 3];
+    let (mut broken, mut intact) = (0, 0);
+    for (slot, nb) in row.iter_mut().enumerate() {
+        if F && *nb & BROKEN != 0 {
+            continue;
+        }
+        let k = start + slot;
+        let j = (*nb & INDEX) as usize;
+        let d = [y[j][0] - yi[0], y[j][1] - yi[1], y[j][2] - yi[2]];
+        let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        let r = bonds.rest_length[k];
+        let e = l - r;
+        let (ep_ij, ep_ji) = match (&m.plastic, P) {
+            (Some(p), true) => (p.extension[k], p.extension[p.reverse[k] as usize]),
+            _ => (0.0, 0.0),
+        };
+        if l > 0.0 {
+            let lam = projection::<L>(m, i, j, d, l, r);
+            let ptj = packed[j];
+            // ½ (A_ij + A_ji) = 2 [Λ (a'θ_i ω q_ij + a'θ_j ω q_ji) + ω b p_ij (e − e^p_ij) + ω b p_ji (e − e^p_ji)]
+            let half_a = 2.0
+                * (lam * (pti * coef.dil[k] as f64 + ptj * coef.dil_rev[k] as f64)
+                    + coef.dev[k] as f64 * (e - ep_ij)
+                    + coef.dev_rev[k] as f64 * (e - ep_ji));
+            let s = half_a * v[j] / l;
+            f[0] += s * d[0];
+            f[1] += s * d[1];
+            f[2] += s * d[2];
+        }
+        if F {
+            // s^ω > s_c ⟺ (1 + αφ)(e − e^p) > s_c ω|ξ|, and ω|ξ| = δ when isotropic.
+            let omega_r = if A {
+                m.omega.as_ref().map_or(0.0, |w| w[k] as f64) * r
+            } else {
+                delta
+            };
+            let threshold = c.critical_stretch * omega_r;
+            let gj = if c.alpha != 0.0 {
+                1.0 + c.alpha * phi[j]
+            } else {
+                1.0
+            };
+            if (gi * (e - ep_ij)).max(gj * (e - ep_ji)) > threshold {
+                *nb |= BROKEN;
+                broken += 1;
+            } else {
+                intact += 1;
+            }
+        }
+    }
+    (f, broken, intact)
 }
 
 /// Σ_i V_i (c θ_i² + b Σ_j p_ij ω (e − e^p)² V_j), c = a'δV_H∞/3 = (κ − 5μ/3)/2.
@@ -330,10 +357,9 @@ pub(super) fn strain_energy(m: &PdModel) -> f64 {
             let d = [y[j][0] - yi[0], y[j][1] - yi[1], y[j][2] - yi[2]];
             let r = bonds.rest_length[k];
             let e = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() - r;
-            let omega = m.omega.as_ref().map_or(delta / r, |w| w[k] as f64);
             let ep = m.plastic.as_ref().map_or(0.0, |p| p.extension[k]);
-            dev += omega * bonds.dev_weight[k] as f64 * (e - ep) * (e - ep) * v[j];
+            dev += m.coef.dev[k] as f64 * (e - ep) * (e - ep) * v[j];
         }
-        v[i] * (c * m.theta[i] * m.theta[i] + body.constants.b * dev)
+        v[i] * (c * m.theta[i] * m.theta[i] + dev)
     })
 }

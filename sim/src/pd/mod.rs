@@ -26,7 +26,7 @@ mod kernel;
 
 use rayon::prelude::*;
 
-use crate::family::{BROKEN, Bonds, INDEX};
+use crate::family::{BROKEN, Bonds, Corrections, INDEX};
 use crate::material::{Material, PdConstants};
 use crate::scene::DilatationForm;
 
@@ -80,6 +80,22 @@ impl BodyModel {
     }
 }
 
+/// Per-bond coefficients with ω, the surface corrections and b folded in, so the
+/// kernels divide by nothing but the deformed length. The `_rev` arrays hold, at bond
+/// i→j, the value of bond j→i: the force gather needs no reverse lookup, and both
+/// ends of a bond use the very same numbers (momentum is conserved exactly).
+#[derive(Debug, Clone, Default)]
+pub struct Coefficients {
+    /// ω_ij q_ij (Eq. 4, 6).
+    pub dil: Vec<f32>,
+    /// ω_ji q_ji.
+    pub dil_rev: Vec<f32>,
+    /// ω_ij b p_ij (Eq. 8, 12).
+    pub dev: Vec<f32>,
+    /// ω_ji b p_ji.
+    pub dev_rev: Vec<f32>,
+}
+
 /// Plastic bond state, allocated only when a material yields.
 #[derive(Debug, Clone)]
 pub struct Plastic {
@@ -111,11 +127,10 @@ pub struct PdModel {
     pub reference: Reference,
     /// Families (CSR).
     pub bonds: Bonds,
-    /// q_ji stored at bond i→j, so the force gather needs no reverse lookup.
-    pub weight_reverse: Vec<f32>,
-    /// p_ji stored at bond i→j.
-    pub dev_weight_reverse: Vec<f32>,
-    /// ω per bond, only for anisotropic materials (Eq. 17).
+    /// Per-bond coefficients of the kernels.
+    pub coef: Coefficients,
+    /// ω per bond, only for anisotropic materials (Eq. 17): fracture and return
+    /// mapping need it apart from the coefficients.
     pub omega: Option<Vec<f32>>,
     /// Plastic state, only when some material yields.
     pub plastic: Option<Plastic>,
@@ -144,9 +159,10 @@ impl PdModel {
         volume: Vec<f64>,
         body: Vec<u32>,
         bonds: Bonds,
+        corrections: Corrections,
         bodies: Vec<BodyModel>,
         form: DilatationForm,
-) -> PdModel {
+    ) -> PdModel {
         let n = reference_position.len();
         let features = Features {
             plastic: bodies.iter().any(|b| b.material.is_plastic()),
@@ -156,29 +172,52 @@ impl PdModel {
         };
         let initial_bonds: Vec<u32> = (0..n).map(|i| bonds.range(i).len() as u32).collect();
         let reverse = bonds.reverse_index();
-        let weight_reverse: Vec<f32> = reverse.par_iter().map(|&r| bonds.weight[r as usize]).collect();
-        let dev_weight_reverse: Vec<f32> = reverse.par_iter().map(|&r| bonds.dev_weight[r as usize]).collect();
-        let omega = features.anisotropic.then(|| {
-            (0..n)
-                .into_par_iter()
-                .flat_map_iter(|i| {
-                    let body_model = &bodies[body[i] as usize];
-                    let g = body_model.material.anisotropy;
-                    let delta = body_model.constants.delta;
-                    let bonds = &bonds;
-                    let reference_position = &reference_position;
-                    bonds.range(i).map(move |k| {
+        // ω per bond: δ/|ξ| (Eq. 5) or δ/|Gξ| (Eq. 17).
+        let omega_all: Vec<f64> = (0..n)
+            .into_par_iter()
+            .flat_map_iter(|i| {
+                let body_model = &bodies[body[i] as usize];
+                let g = body_model.material.anisotropy;
+                let delta = body_model.constants.delta;
+                let bonds = &bonds;
+                let reference_position = &reference_position;
+                bonds.range(i).map(move |k| match g {
+                    Some(g) => {
                         let j = (bonds.neighbours[k] & INDEX) as usize;
-                        let xi = sub(reference_position[j], reference_position[i]);
-                        let gxi = match g {
-                            Some(g) => mat_vec(g, xi),
-                            None => xi,
-                        };
-                        (delta / norm(gxi)) as f32
-                    })
+                        delta
+                            / norm(mat_vec(
+                                g,
+                                sub(reference_position[j], reference_position[i]),
+                            ))
+                    }
+                    None => delta / bonds.rest_length[k],
                 })
-                .collect()
-        });
+            })
+            .collect();
+        let b_of_bond: Vec<f64> = (0..n)
+            .into_par_iter()
+            .flat_map_iter(|i| {
+                let b = bodies[body[i] as usize].constants.b;
+                bonds.range(i).map(move |_| b)
+            })
+            .collect();
+        let dil: Vec<f32> = (0..bonds.len())
+            .into_par_iter()
+            .map(|k| (omega_all[k] * corrections.dilatation[k] as f64) as f32)
+            .collect();
+        let dev: Vec<f32> = (0..bonds.len())
+            .into_par_iter()
+            .map(|k| (omega_all[k] * b_of_bond[k] * corrections.deviatoric[k] as f64) as f32)
+            .collect();
+        let coef = Coefficients {
+            dil_rev: reverse.par_iter().map(|&r| dil[r as usize]).collect(),
+            dev_rev: reverse.par_iter().map(|&r| dev[r as usize]).collect(),
+            dil,
+            dev,
+        };
+        let omega = features
+            .anisotropic
+            .then(|| omega_all.iter().map(|&w| w as f32).collect());
         let plastic = features.plastic.then(|| Plastic {
             extension: vec![0.0f64; bonds.len()],
             reverse,
@@ -196,8 +235,7 @@ impl PdModel {
                 initial_bonds,
             },
             bonds,
-            weight_reverse,
-            dev_weight_reverse,
+            coef,
             omega,
             plastic,
             bodies,
@@ -220,7 +258,10 @@ impl PdModel {
 
     /// Mass of particle i.
     pub fn mass(&self, i: usize) -> f64 {
-        self.reference.volume[i] * self.bodies[self.reference.body[i] as usize].material.density
+        self.reference.volume[i]
+            * self.bodies[self.reference.body[i] as usize]
+                .material
+                .density
     }
 
     /// Computes θ, updates plastic extensions and broken bonds, and fills `force`
@@ -259,15 +300,22 @@ impl PdModel {
     pub fn update_damage(&mut self) {
         let bonds = &self.bonds;
         let initial = &self.reference.initial_bonds;
-        self.particles.damage.par_iter_mut().enumerate().for_each(|(i, phi)| {
-            let total = initial[i];
-            if total == 0 {
-                *phi = 0.0;
-                return;
-            }
-            let intact = bonds.neighbours[bonds.range(i)].iter().filter(|&&nb| nb & BROKEN == 0).count();
-            *phi = 1.0 - intact as f64 / total as f64;
-        });
+        self.particles
+            .damage
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(i, phi)| {
+                let total = initial[i];
+                if total == 0 {
+                    *phi = 0.0;
+                    return;
+                }
+                let intact = bonds.neighbours[bonds.range(i)]
+                    .iter()
+                    .filter(|&&nb| nb & BROKEN == 0)
+                    .count();
+                *phi = 1.0 - intact as f64 / total as f64;
+            });
     }
 
     /// Total strain energy Σ_i V_i W_i (see the module doc); uses the current θ.
@@ -340,7 +388,9 @@ impl PdModel {
                     return 0.0;
                 }
                 let n = r.len() as f64;
-                r.map(|k| plastic.extension[k].abs() / self.bonds.rest_length[k]).sum::<f64>() / n
+                r.map(|k| plastic.extension[k].abs() / self.bonds.rest_length[k])
+                    .sum::<f64>()
+                    / n
             })
             .collect()
     }

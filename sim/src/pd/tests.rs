@@ -26,7 +26,14 @@ fn material(e: f64, nu: f64) -> MaterialSpec {
 }
 
 /// A box of `size` centred at the origin, meshed at λ, with horizon `horizon`·λ.
-fn block(size: [f64; 3], lambda: f64, horizon: f64, spec: &MaterialSpec, form: DilatationForm, correction: bool) -> PdModel {
+fn block(
+    size: [f64; 3],
+    lambda: f64,
+    horizon: f64,
+    spec: &MaterialSpec,
+    form: DilatationForm,
+    correction: bool,
+) -> PdModel {
     let mesh = stuff(
         &Cuboid {
             center: [0.0; 3],
@@ -39,9 +46,10 @@ fn block(size: [f64; 3], lambda: f64, horizon: f64, spec: &MaterialSpec, form: D
     let v: Vec<f64> = (0..mesh.tets.len()).map(|t| mesh.volume(t)).collect();
     let body = vec![0u32; x.len()];
     let delta = horizon * lambda;
-    let bonds = family::build(&x, &v, &body, &vec![delta; x.len()], correction).expect("bonds");
+    let (bonds, corrections) =
+        family::build(&x, &v, &body, &vec![delta; x.len()], correction).expect("bonds");
     let bodies = vec![BodyModel::new(Material::from_spec(spec), delta)];
-    PdModel::new(x, v, body, bonds, bodies, form)
+    PdModel::new(x, v, body, bonds, corrections, bodies, form)
 }
 
 /// Particles whose whole horizon lies inside the box.
@@ -75,17 +83,17 @@ fn mat_mul(a: [[f64; 3]; 3], b: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
 /// Σ_j |½(A_ij + A_ji)| V_j, the scale of the forces acting on particle i.
 fn force_scale(m: &PdModel, i: usize) -> f64 {
     let y = &m.particles.position;
-    let delta = m.bodies[0].constants.delta;
+    let a_prime = m.bodies[0].a_prime;
+    let c = &m.coef;
     m.bonds
         .range(i)
         .map(|k| {
             let j = (m.bonds.neighbours[k] & INDEX) as usize;
-            let r = m.bonds.rest_length[k];
-            let e = norm(sub(y[j], y[i])) - r;
-            let w = delta / r;
-            let b = m.bodies[0].constants.b * (m.bonds.dev_weight[k] + m.dev_weight_reverse[k]) as f64;
-            let a = 2.0 * w * (m.bodies[0].a_prime * (m.theta[i] + m.theta[j]) + b * e);
-            a.abs() * m.reference.volume[j]
+            let e = norm(sub(y[j], y[i])) - m.bonds.rest_length[k];
+            let half_a = 2.0
+                * (a_prime * (m.theta[i] * c.dil[k] as f64 + m.theta[j] * c.dil_rev[k] as f64)
+                    + (c.dev[k] + c.dev_rev[k]) as f64 * e);
+            half_a.abs() * m.reference.volume[j]
         })
         .sum()
 }
@@ -94,7 +102,14 @@ fn force_scale(m: &PdModel, i: usize) -> f64 {
 fn patch_test_dilatation_and_equilibrium() {
     let size = [0.3, 0.3, 0.3];
     let lambda = 0.025;
-    let mut m = block(size, lambda, 1.45, &material(1e6, 0.25), DilatationForm::Objective, true);
+    let mut m = block(
+        size,
+        lambda,
+        1.45,
+        &material(1e6, 0.25),
+        DilatationForm::Objective,
+        true,
+    );
     let eps = 1e-4;
     // A general small strain with shear: F = I + ε G.
     let g = [[1.0, 0.4, -0.3], [0.4, -0.5, 0.2], [-0.3, 0.2, 0.7]];
@@ -111,14 +126,26 @@ fn patch_test_dilatation_and_equilibrium() {
     // Complete families: θ = tr ε and no net force.
     let inner = interior(&m, size, delta);
     assert!(inner.len() > 50, "{} interior particles", inner.len());
-    let worst_theta = inner.iter().map(|&i| theta_error(&m, i, trace)).fold(0.0, f64::max);
-    assert!(worst_theta < 0.01, "θ deviates from tr ε by {worst_theta:.2e} (relative)");
+    let worst_theta = inner
+        .iter()
+        .map(|&i| theta_error(&m, i, trace))
+        .fold(0.0, f64::max);
+    assert!(
+        worst_theta < 0.01,
+        "θ deviates from tr ε by {worst_theta:.2e} (relative)"
+    );
     // Families cut by the surface: the correction keeps θ exact on faces; near edges
     // and corners positive weights cannot be exact for shear (see family.rs), so
     // count how many particles in all are exact.
-    let exact = (0..m.len()).filter(|&i| theta_error(&m, i, trace) < 0.01).count();
+    let exact = (0..m.len())
+        .filter(|&i| theta_error(&m, i, trace) < 0.01)
+        .count();
     let exact_fraction = exact as f64 / m.len() as f64;
-    assert!(exact_fraction > 0.9, "θ exact for only {:.1}% of all particles", 100.0 * exact_fraction);
+    assert!(
+        exact_fraction > 0.9,
+        "θ exact for only {:.1}% of all particles",
+        100.0 * exact_fraction
+    );
     // Tet barycentres are not centres of symmetry of the BCC lattice (it has 12
     // particle sites per cell), so under a homogeneous deformation each site feels a
     // residual force that an inner relaxation of the sublattices would remove (as in
@@ -137,37 +164,74 @@ fn patch_test_dilatation_and_equilibrium() {
             net[a] += m.force[i][a] * m.reference.volume[i];
         }
     }
-    let scale: f64 = deep.iter().map(|&i| force_scale(&m, i) * m.reference.volume[i]).sum();
+    let scale: f64 = deep
+        .iter()
+        .map(|&i| force_scale(&m, i) * m.reference.volume[i])
+        .sum();
     let net = norm(net) / scale;
     // Stretches along the axes (and isotropic expansion): exact for every particle.
     let mut worst_axis = 0.0f64;
-    for stretch in [[eps, 0.0, 0.0], [0.0, eps, 0.0], [0.0, 0.0, eps], [eps, eps, eps], [eps, -0.5 * eps, 0.3 * eps]] {
-        deform(&mut m, [[1.0 + stretch[0], 0.0, 0.0], [0.0, 1.0 + stretch[1], 0.0], [0.0, 0.0, 1.0 + stretch[2]]]);
+    for stretch in [
+        [eps, 0.0, 0.0],
+        [0.0, eps, 0.0],
+        [0.0, 0.0, eps],
+        [eps, eps, eps],
+        [eps, -0.5 * eps, 0.3 * eps],
+    ] {
+        deform(
+            &mut m,
+            [
+                [1.0 + stretch[0], 0.0, 0.0],
+                [0.0, 1.0 + stretch[1], 0.0],
+                [0.0, 0.0, 1.0 + stretch[2]],
+            ],
+        );
         m.internal_forces();
         let tr: f64 = stretch.iter().sum();
-        worst_axis = (0..m.len()).map(|i| theta_error(&m, i, tr)).fold(worst_axis, f64::max);
+        worst_axis = (0..m.len())
+            .map(|i| theta_error(&m, i, tr))
+            .fold(worst_axis, f64::max);
     }
-    assert!(worst_axis < 0.01, "θ under axis stretches deviates by {worst_axis:.2e}");
+    assert!(
+        worst_axis < 0.01,
+        "θ under axis stretches deviates by {worst_axis:.2e}"
+    );
     println!(
         "patch test: θ error {worst_theta:.2e} (complete), {worst_axis:.2e} (axis stretches, all), exact for {:.1}% (general F); \
          per-particle residual ≤ {worst:.3e}, net force {net:.2e} of the bond force scale over {} particles",
         100.0 * exact_fraction,
         deep.len()
     );
-    assert!(worst < 0.06, "residual force on complete families: {worst:.3e} of the bond force scale");
-    assert!(net < 1e-3, "net force over complete families: {net:.3e} of the bond force scale");
+    assert!(
+        worst < 0.06,
+        "residual force on complete families: {worst:.3e} of the bond force scale"
+    );
+    assert!(
+        net < 1e-3,
+        "net force over complete families: {net:.3e} of the bond force scale"
+    );
 }
 
 #[test]
 fn rigid_rotation_has_no_ghost_forces() {
     for form in [DilatationForm::Objective, DilatationForm::Paper] {
-        let mut m = block([0.2, 0.1, 0.1], 0.025, 1.45, &material(1e6, 0.3), form, true);
+        let mut m = block(
+            [0.2, 0.1, 0.1],
+            0.025,
+            1.45,
+            &material(1e6, 0.3),
+            form,
+            true,
+        );
         deform(&mut m, rot_z(std::f64::consts::FRAC_PI_2));
         m.internal_forces();
         let worst = m.force.iter().map(|f| norm(*f)).fold(0.0, f64::max);
         // Force density scale of a 1e-4 strain, for comparison: E ε / λ.
         let scale = 1e6 * 1e-4 / 0.025;
-        assert!(worst < 1e-9 * scale, "{form:?}: ghost force {worst:e} vs {scale:e}");
+        assert!(
+            worst < 1e-9 * scale,
+            "{form:?}: ghost force {worst:e} vs {scale:e}"
+        );
     }
 }
 
@@ -176,7 +240,14 @@ fn objectivity_of_a_stretched_rotated_block() {
     let stretch = [[1.001, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     let r = rot_z(std::f64::consts::FRAC_PI_2);
     let error = |form: DilatationForm| -> f64 {
-        let mut a = block([0.2, 0.1, 0.1], 0.025, 1.45, &material(1e6, 0.3), form, true);
+        let mut a = block(
+            [0.2, 0.1, 0.1],
+            0.025,
+            1.45,
+            &material(1e6, 0.3),
+            form,
+            true,
+        );
         let mut b = a.clone();
         deform(&mut a, stretch);
         a.internal_forces();
@@ -191,12 +262,22 @@ fn objectivity_of_a_stretched_rotated_block() {
     let paper = error(DilatationForm::Paper);
     println!("objectivity: objective form {objective:.2e}, paper form {paper:.2e}");
     assert!(objective < 1e-6, "objective form: {objective:e}");
-    assert!(paper > 1e-2, "the paper's ŷ·ξ̂ should break objectivity visibly: {paper:e}");
+    assert!(
+        paper > 1e-2,
+        "the paper's ŷ·ξ̂ should break objectivity visibly: {paper:e}"
+    );
 }
 
 /// Energy of an affine deformation diag(1 + ε, 1 + t, 1 + t).
 fn uniaxial_energy(m: &mut PdModel, eps: f64, t: f64) -> f64 {
-    deform(m, [[1.0 + eps, 0.0, 0.0], [0.0, 1.0 + t, 0.0], [0.0, 0.0, 1.0 + t]]);
+    deform(
+        m,
+        [
+            [1.0 + eps, 0.0, 0.0],
+            [0.0, 1.0 + t, 0.0],
+            [0.0, 0.0, 1.0 + t],
+        ],
+    );
     m.internal_forces();
     m.strain_energy()
 }
@@ -206,7 +287,10 @@ fn uniaxial_energy(m: &mut PdModel, eps: f64, t: f64) -> f64 {
 fn poisson_of_bar(m: &mut PdModel) -> f64 {
     let eps = 1e-4;
     let h = 2e-5;
-    let e: Vec<f64> = [-h, 0.0, h].iter().map(|&t| uniaxial_energy(m, eps, -0.25 * eps + t)).collect();
+    let e: Vec<f64> = [-h, 0.0, h]
+        .iter()
+        .map(|&t| uniaxial_energy(m, eps, -0.25 * eps + t))
+        .collect();
     let t_min = -0.25 * eps - h * (e[2] - e[0]) / (2.0 * (e[2] - 2.0 * e[1] + e[0]));
     -t_min / eps
 }
@@ -214,10 +298,20 @@ fn poisson_of_bar(m: &mut PdModel) -> f64 {
 #[test]
 fn poisson_ratio_is_recovered() {
     for nu in [0.1, 0.25, 0.4] {
-        let mut m = block([0.4, 0.1, 0.1], 0.02, 1.45, &material(1e6, nu), DilatationForm::Objective, true);
+        let mut m = block(
+            [0.4, 0.1, 0.1],
+            0.02,
+            1.45,
+            &material(1e6, nu),
+            DilatationForm::Objective,
+            true,
+        );
         let measured = poisson_of_bar(&mut m);
         println!("ν = {nu}: measured {measured:.4}");
-        assert!((measured - nu).abs() < 0.05 * nu, "ν = {nu}: measured {measured}");
+        assert!(
+            (measured - nu).abs() < 0.05 * nu,
+            "ν = {nu}: measured {measured}"
+        );
     }
 }
 
@@ -226,7 +320,14 @@ fn poisson_ratio_is_recovered() {
 fn youngs_of_block(horizon: f64, correction: bool) -> f64 {
     let size = [0.2, 0.2, 0.2];
     let nu = 0.25;
-    let mut m = block(size, 0.025, horizon, &material(1e6, nu), DilatationForm::Objective, correction);
+    let mut m = block(
+        size,
+        0.025,
+        horizon,
+        &material(1e6, nu),
+        DilatationForm::Objective,
+        correction,
+    );
     let eps = 1e-4;
     let w = uniaxial_energy(&mut m, eps, -nu * eps);
     let volume: f64 = m.reference.volume.iter().sum();
@@ -236,25 +337,51 @@ fn youngs_of_block(horizon: f64, correction: bool) -> f64 {
 #[test]
 fn surface_correction_makes_stiffness_independent_of_horizon() {
     // A 0.2 m cube at λ = 0.025: 8 particles across, so most families are cut.
-    let corrected: Vec<f64> = [1.0, 1.45, 2.0, 3.0].iter().map(|&h| youngs_of_block(h, true)).collect();
-    let raw: Vec<f64> = [1.0, 1.45, 2.0, 3.0].iter().map(|&h| youngs_of_block(h, false)).collect();
+    let corrected: Vec<f64> = [1.0, 1.45, 2.0, 3.0]
+        .iter()
+        .map(|&h| youngs_of_block(h, true))
+        .collect();
+    let raw: Vec<f64> = [1.0, 1.45, 2.0, 3.0]
+        .iter()
+        .map(|&h| youngs_of_block(h, false))
+        .collect();
     let spread = |v: &[f64]| {
-        let (lo, hi) = v.iter().fold((f64::MAX, f64::MIN), |(l, h), &x| (l.min(x), h.max(x)));
+        let (lo, hi) = v
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(l, h), &x| (l.min(x), h.max(x)));
         (hi - lo) / hi
     };
     println!("E of a block for δ = 1, 1.45, 2, 3 λ: corrected {corrected:?}, uncorrected {raw:?}");
-    assert!(spread(&corrected) < 0.05, "corrected stiffness varies by {:.1}%", 100.0 * spread(&corrected));
+    assert!(
+        spread(&corrected) < 0.05,
+        "corrected stiffness varies by {:.1}%",
+        100.0 * spread(&corrected)
+    );
     for e in &corrected {
-        assert!((e / 1e6 - 1.0).abs() < 0.05, "corrected E = {e:e}, expected 1e6");
+        assert!(
+            (e / 1e6 - 1.0).abs() < 0.05,
+            "corrected E = {e:e}, expected 1e6"
+        );
     }
-    assert!(spread(&raw) > 0.1, "without correction δ should matter: {:.1}%", 100.0 * spread(&raw));
+    assert!(
+        spread(&raw) > 0.1,
+        "without correction δ should matter: {:.1}%",
+        100.0 * spread(&raw)
+    );
 }
 
 #[test]
 fn return_mapping_lands_on_yield_surface() {
     let mut spec = material(1e6, 0.3);
     spec.yield_stretch = Some(1e-4);
-    let mut m = block([0.2, 0.1, 0.1], 0.025, 1.45, &spec, DilatationForm::Objective, true);
+    let mut m = block(
+        [0.2, 0.1, 0.1],
+        0.025,
+        1.45,
+        &spec,
+        DilatationForm::Objective,
+        true,
+    );
     let c = m.bodies[0].constants;
     // Pure shear well past yield.
     let g = 1e-3;
@@ -273,14 +400,17 @@ fn return_mapping_lands_on_yield_surface() {
             let j = (m.bonds.neighbours[k] & INDEX) as usize;
             let r = m.bonds.rest_length[k];
             let e = norm(sub(y[j], y[i])) - r;
-            let omega = c.delta / r;
-            let a_dev = 4.0 * omega * c.b * m.bonds.dev_weight[k] as f64 * (e - 0.25 * c.delta * m.bonds.weight[k] as f64 * m.theta[i] - ext[k]);
+            let q = m.coef.dil[k] as f64 * r / c.delta;
+            let a_dev = 4.0 * m.coef.dev[k] as f64 * (e - 0.25 * c.delta * q * m.theta[i] - ext[k]);
             worst = worst.max((a_dev.abs() - critical).abs() / critical);
         }
     }
     println!("return mapping: {yielded} bonds yielded, worst |A_dev| error {worst:.2e}");
     assert!(yielded > 100);
-    assert!(worst < 1e-6, "|A_dev| after return mapping is off the yield surface by {worst:e}");
+    assert!(
+        worst < 1e-6,
+        "|A_dev| after return mapping is off the yield surface by {worst:e}"
+    );
     // The factor printed in Eq. 15, 1/(2b), would leave A_dev at A_c + (1 − 2ω)(A − A_c):
     // off the surface unless ω = ½. Check that our test would see that.
     let omega = c.delta / (0.9 * c.delta);
@@ -296,7 +426,6 @@ fn stretch_energy(m: &mut PdModel, axis: usize, eps: f64, only: &[usize]) -> f64
     let y = &m.particles.position;
     let delta = m.bodies[0].constants.delta;
     let c = m.bodies[0].a_prime * delta * family_volume(delta) / 3.0;
-    let w = m.omega.as_ref().expect("anisotropic");
     only.iter()
         .map(|&i| {
             let dev: f64 = m
@@ -305,10 +434,10 @@ fn stretch_energy(m: &mut PdModel, axis: usize, eps: f64, only: &[usize]) -> f64
                 .map(|k| {
                     let j = (m.bonds.neighbours[k] & INDEX) as usize;
                     let e = norm(sub(y[j], y[i])) - m.bonds.rest_length[k];
-                    w[k] as f64 * m.bonds.dev_weight[k] as f64 * e * e * m.reference.volume[j]
+                    m.coef.dev[k] as f64 * e * e * m.reference.volume[j]
                 })
                 .sum();
-            c * m.theta[i] * m.theta[i] + m.bodies[0].constants.b * dev
+            c * m.theta[i] * m.theta[i] + dev
         })
         .sum()
 }
@@ -328,7 +457,11 @@ fn quadrature_energy(g: [[f64; 3]; 3], mat: &Material, delta: f64, axis: usize, 
             for ip in 0..np {
                 let phi = 2.0 * std::f64::consts::PI * (ip as f64 + 0.5) / np as f64;
                 let n = [st * phi.cos(), st * phi.sin(), ct];
-                let dv = r * r * (delta / nr as f64) * (2.0 / nt as f64) * (2.0 * std::f64::consts::PI / np as f64);
+                let dv = r
+                    * r
+                    * (delta / nr as f64)
+                    * (2.0 / nt as f64)
+                    * (2.0 * std::f64::consts::PI / np as f64);
                 let omega = delta / norm(mat_vec(g, [r * n[0], r * n[1], r * n[2]]));
                 let e = r * eps * n[axis] * n[axis];
                 theta += 3.0 / (delta * family_volume(delta)) * omega * e * dv;
@@ -352,9 +485,12 @@ fn anisotropy_stiffens_as_eq17_predicts() {
     let measured = stretch_energy(&mut m, 0, eps, &inner) / stretch_energy(&mut m, 1, eps, &inner);
     let mat = Material::from_spec(&spec);
     let delta = 1.45 * lambda;
-    let predicted = quadrature_energy(g, &mat, delta, 0, eps) / quadrature_energy(g, &mat, delta, 1, eps);
+    let predicted =
+        quadrature_energy(g, &mat, delta, 0, eps) / quadrature_energy(g, &mat, delta, 1, eps);
     println!("anisotropy: x/y stiffness measured {measured:.4}, predicted {predicted:.4}");
     assert!(predicted > 1.2, "G should stiffen x: {predicted}");
-    assert!((measured / predicted - 1.0).abs() < 0.05, "measured {measured}, predicted {predicted}");
+    assert!(
+        (measured / predicted - 1.0).abs() < 0.05,
+        "measured {measured}, predicted {predicted}"
+    );
 }
-

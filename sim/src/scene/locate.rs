@@ -9,7 +9,12 @@ pub(super) fn line_column(text: &str, offset: usize) -> (usize, usize) {
     let offset = offset.min(text.len());
     let before = &text.as_bytes()[..offset];
     let line = before.iter().filter(|&&b| b == b'\n').count() + 1;
-    let column = offset - before.iter().rposition(|&b| b == b'\n').map_or(0, |p| p + 1) + 1;
+    let column = offset
+        - before
+            .iter()
+            .rposition(|&b| b == b'\n')
+            .map_or(0, |p| p + 1)
+        + 1;
     (line, column)
 }
 
@@ -26,7 +31,9 @@ pub(super) fn span_of(text: &str, path: &[String]) -> Option<Range<usize>> {
                 .iter()
                 .find(|(k, _)| k.get_ref().as_ref() == part.as_str())
                 .map(|(_, v)| v),
-            (None, Some(DeValue::Array(items))) => part.parse::<usize>().ok().and_then(|i| items.get(i)),
+            (None, Some(DeValue::Array(items))) => {
+                part.parse::<usize>().ok().and_then(|i| items.get(i))
+            }
             _ => None,
         };
         let Some(next) = next else { break };
@@ -68,7 +75,11 @@ mod tests {
     #[test]
     fn finds_nested_keys_and_array_items() {
         let text = "[scene]\nname = \"a\"\n\n[materials.glass]\ndensity = -1\n\n[[body]]\nresolution = 0.1\n[[body]]\nresolution = 0.2\n";
-        let span = span_of(text, &["materials".into(), "glass".into(), "density".into()]).unwrap();
+        let span = span_of(
+            text,
+            &["materials".into(), "glass".into(), "density".into()],
+        )
+        .unwrap();
         assert_eq!(line_column(text, span.start).0, 5);
         let span = span_of(text, &["body".into(), "1".into(), "resolution".into()]).unwrap();
         assert_eq!(line_column(text, span.start).0, 10);

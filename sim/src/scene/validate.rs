@@ -21,7 +21,10 @@ fn positive(path: &[&str], value: f64, what: &str) -> Check {
     if value.is_finite() && value > 0.0 {
         Ok(())
     } else {
-        Err(issue(path, format!("{what} must be a positive finite number, got {value}")))
+        Err(issue(
+            path,
+            format!("{what} must be a positive finite number, got {value}"),
+        ))
     }
 }
 
@@ -29,13 +32,20 @@ fn finite3(path: &[&str], v: [f64; 3]) -> Check {
     if v.iter().all(|x| x.is_finite()) {
         Ok(())
     } else {
-        Err(issue(path, format!("every component must be finite, got {v:?}")))
+        Err(issue(
+            path,
+            format!("every component must be finite, got {v:?}"),
+        ))
     }
 }
 
 pub(super) fn validate(scene: &Scene) -> Check {
     let s = &scene.scene;
-    positive(&["scene", "duration"], s.duration, "the duration in seconds")?;
+    positive(
+        &["scene", "duration"],
+        s.duration,
+        "the duration in seconds",
+    )?;
     positive(&["scene", "fps"], s.fps, "frames per second")?;
     finite3(&["scene", "gravity"], s.gravity)?;
     if let Some(dt) = s.dt {
@@ -47,12 +57,19 @@ pub(super) fn validate(scene: &Scene) -> Check {
             format!("must be in (0, 1], got {}", s.dt_safety),
         ));
     }
-    positive(&["scene", "blowup_energy_growth"], s.blowup_energy_growth, "the energy growth factor")?;
+    positive(
+        &["scene", "blowup_energy_growth"],
+        s.blowup_energy_growth,
+        "the energy growth factor",
+    )?;
     for (name, m) in &scene.materials {
         material(name, m)?;
     }
     if scene.bodies.is_empty() {
-        return Err(issue(&["body"], "the scene has no [[body]]: add at least one"));
+        return Err(issue(
+            &["body"],
+            "the scene has no [[body]]: add at least one",
+        ));
     }
     for (i, b) in scene.bodies.iter().enumerate() {
         body(scene, &i.to_string(), b)?;
@@ -66,13 +83,21 @@ pub(super) fn validate(scene: &Scene) -> Check {
 fn material(name: &str, m: &MaterialSpec) -> Check {
     let p = |key: &'static str| ["materials", name, key];
     positive(&p("density"), m.density, "density (kg/m³)")?;
-    match (m.bulk_modulus, m.shear_modulus, m.youngs_modulus, m.poisson_ratio) {
+    match (
+        m.bulk_modulus,
+        m.shear_modulus,
+        m.youngs_modulus,
+        m.poisson_ratio,
+    ) {
         (Some(k), Some(mu), None, None) => {
             positive(&p("bulk_modulus"), k, "the bulk modulus (Pa)")?;
             positive(&p("shear_modulus"), mu, "the shear modulus (Pa)")?;
             let nu = (3.0 * k - 2.0 * mu) / (2.0 * (3.0 * k + mu));
             if nu <= -1.0 || nu >= 0.5 {
-                return Err(issue(&p("shear_modulus"), format!("κ and μ give a Poisson ratio of {nu}, outside (−1, 0.5)")));
+                return Err(issue(
+                    &p("shear_modulus"),
+                    format!("κ and μ give a Poisson ratio of {nu}, outside (−1, 0.5)"),
+                ));
             }
         }
         (None, None, Some(e), Some(nu)) => {
@@ -80,7 +105,9 @@ fn material(name: &str, m: &MaterialSpec) -> Check {
             if !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
                 return Err(issue(
                     &p("poisson_ratio"),
-                    format!("the Poisson ratio must be in (−1, 0.5) (0.5 is incompressible, which an explicit solver cannot step), got {nu}"),
+                    format!(
+                        "the Poisson ratio must be in (−1, 0.5) (0.5 is incompressible, which an explicit solver cannot step), got {nu}"
+                    ),
                 ));
             }
         }
@@ -92,31 +119,51 @@ fn material(name: &str, m: &MaterialSpec) -> Check {
         }
     }
     match (m.yield_psi0, m.yield_stretch) {
-        (Some(_), Some(_)) => return Err(issue(&p("yield_stretch"), "give yield_psi0 or yield_stretch, not both")),
+        (Some(_), Some(_)) => {
+            return Err(issue(
+                &p("yield_stretch"),
+                "give yield_psi0 or yield_stretch, not both",
+            ));
+        }
         (Some(v), None) => positive(&p("yield_psi0"), v, "Ψ0")?,
         (None, Some(v)) => positive(&p("yield_stretch"), v, "the yield stretch")?,
         (None, None) => {}
     }
     if !(m.plastic_limit >= 0.0) {
-        return Err(issue(&p("plastic_limit"), format!("γ/|ξ| must be ≥ 0 (or inf), got {}", m.plastic_limit)));
+        return Err(issue(
+            &p("plastic_limit"),
+            format!("γ/|ξ| must be ≥ 0 (or inf), got {}", m.plastic_limit),
+        ));
     }
     if let Some(s) = m.critical_stretch {
         positive(&p("critical_stretch"), s, "the critical stretch")?;
     }
     if !(m.alpha.is_finite() && m.alpha >= 0.0) {
-        return Err(issue(&p("alpha"), format!("α must be ≥ 0, got {}", m.alpha)));
+        return Err(issue(
+            &p("alpha"),
+            format!("α must be ≥ 0, got {}", m.alpha),
+        ));
     }
     if let Some(g) = m.anisotropy {
         let det = g[0][0] * (g[1][1] * g[2][2] - g[1][2] * g[2][1])
             - g[0][1] * (g[1][0] * g[2][2] - g[1][2] * g[2][0])
             + g[0][2] * (g[1][0] * g[2][1] - g[1][1] * g[2][0]);
         if !(det.is_finite() && det.abs() > 1e-12) {
-            return Err(issue(&p("anisotropy"), "the anisotropy matrix G must be finite and invertible"));
+            return Err(issue(
+                &p("anisotropy"),
+                "the anisotropy matrix G must be finite and invertible",
+            ));
         }
     }
-    for (key, v) in [("air_damping", m.air_damping), ("laplacian_damping", m.laplacian_damping)] {
+    for (key, v) in [
+        ("air_damping", m.air_damping),
+        ("laplacian_damping", m.laplacian_damping),
+    ] {
         if !(v.is_finite() && v >= 0.0) {
-            return Err(issue(&p(key), format!("a damping rate (1/s) must be ≥ 0, got {v}")));
+            return Err(issue(
+                &p(key),
+                format!("a damping rate (1/s) must be ≥ 0, got {v}"),
+            ));
         }
     }
     Ok(())
@@ -135,7 +182,10 @@ fn body(scene: &Scene, i: &str, b: &BodySpec) -> Check {
     if !(b.horizon.is_finite() && b.horizon >= 1.0) {
         return Err(issue(
             &p("horizon"),
-            format!("the horizon δ/λ must be at least 1.0 (a smaller family has too few bonds to hold the body together), got {}", b.horizon),
+            format!(
+                "the horizon δ/λ must be at least 1.0 (a smaller family has too few bonds to hold the body together), got {}",
+                b.horizon
+            ),
         ));
     }
     finite3(&p("velocity"), b.velocity)?;
@@ -145,13 +195,19 @@ fn body(scene: &Scene, i: &str, b: &BodySpec) -> Check {
         let k = k.to_string();
         shape(scene, &["body", i, "anchor", &k, "region"], &a.region)?;
         finite3(&["body", i, "anchor", &k, "velocity"], a.velocity)?;
-        finite3(&["body", i, "anchor", &k, "angular_velocity"], a.angular_velocity)?;
+        finite3(
+            &["body", i, "anchor", &k, "angular_velocity"],
+            a.angular_velocity,
+        )?;
     }
     for (k, c) in b.cracks.iter().enumerate() {
         let k = k.to_string();
         let n = c.normal;
         if !(n.iter().all(|x| x.is_finite()) && n.iter().map(|x| x * x).sum::<f64>() > 0.0) {
-            return Err(issue(&["body", i, "crack", &k, "normal"], "the crack normal must be a finite non-zero vector"));
+            return Err(issue(
+                &["body", i, "crack", &k, "normal"],
+                "the crack normal must be a finite non-zero vector",
+            ));
         }
         shape(scene, &["body", i, "crack", &k, "region"], &c.region)?;
     }
@@ -168,14 +224,22 @@ fn shape(scene: &Scene, path: &[&str], s: &ShapeSpec) -> Check {
         ShapeSpec::Box { center, size } | ShapeSpec::Slab { center, size } => {
             finite3(&with("center"), *center)?;
             if !size.iter().all(|x| x.is_finite() && *x > 0.0) {
-                return Err(issue(&with("size"), format!("every side must be positive, got {size:?}")));
+                return Err(issue(
+                    &with("size"),
+                    format!("every side must be positive, got {size:?}"),
+                ));
             }
         }
         ShapeSpec::Sphere { center, radius } => {
             finite3(&with("center"), *center)?;
             positive(&with("radius"), *radius, "the radius")?;
         }
-        ShapeSpec::Cylinder { center, radius, height, .. } => {
+        ShapeSpec::Cylinder {
+            center,
+            radius,
+            height,
+            ..
+        } => {
             finite3(&with("center"), *center)?;
             positive(&with("radius"), *radius, "the radius")?;
             positive(&with("height"), *height, "the height")?;
@@ -200,7 +264,10 @@ fn shape(scene: &Scene, path: &[&str], s: &ShapeSpec) -> Check {
             if !full.is_file() {
                 return Err(issue(
                     &with("path"),
-                    format!("mesh file {} does not exist (paths are relative to the scene file)", full.display()),
+                    format!(
+                        "mesh file {} does not exist (paths are relative to the scene file)",
+                        full.display()
+                    ),
                 ));
             }
         }
@@ -217,7 +284,14 @@ fn collider(i: &str, c: &ColliderSpec) -> Check {
             }
             *friction
         }
-        ColliderSpec::Sphere { center, radius, velocity, mass, friction, .. } => {
+        ColliderSpec::Sphere {
+            center,
+            radius,
+            velocity,
+            mass,
+            friction,
+            ..
+        } => {
             finite3(&p("center"), *center)?;
             finite3(&p("velocity"), *velocity)?;
             positive(&p("radius"), *radius, "the radius")?;
@@ -226,11 +300,21 @@ fn collider(i: &str, c: &ColliderSpec) -> Check {
             }
             *friction
         }
-        ColliderSpec::Box { center, size, velocity, mass, friction, .. } => {
+        ColliderSpec::Box {
+            center,
+            size,
+            velocity,
+            mass,
+            friction,
+            ..
+        } => {
             finite3(&p("center"), *center)?;
             finite3(&p("velocity"), *velocity)?;
             if !size.iter().all(|x| x.is_finite() && *x > 0.0) {
-                return Err(issue(&p("size"), format!("every side must be positive, got {size:?}")));
+                return Err(issue(
+                    &p("size"),
+                    format!("every side must be positive, got {size:?}"),
+                ));
             }
             if let Some(m) = mass {
                 positive(&p("mass"), *m, "the mass (kg)")?;
@@ -239,7 +323,10 @@ fn collider(i: &str, c: &ColliderSpec) -> Check {
         }
     };
     if !(friction.is_finite() && friction >= 0.0) {
-        return Err(issue(&p("friction"), format!("friction must be ≥ 0, got {friction}")));
+        return Err(issue(
+            &p("friction"),
+            format!("friction must be ≥ 0, got {friction}"),
+        ));
     }
     Ok(())
 }
