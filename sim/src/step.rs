@@ -40,6 +40,8 @@ pub struct Simulation {
     energy_budget: f64,
     /// Growth factor over the budget that counts as a blow-up.
     energy_growth: f64,
+    /// Σ |power| dt of the anchors' forces so far (J): work they may have put in.
+    pub anchor_work: f64,
     /// Seconds spent outside the model's stages (integration, contact, damping).
     pub other_time: f64,
 }
@@ -75,40 +77,83 @@ impl Simulation {
             anchored: vec![false; n],
             energy_budget: 0.0,
             energy_growth,
+            anchor_work: 0.0,
             other_time: 0.0,
         };
         sim.apply_anchors();
         sim.model.internal_forces();
         sim.update_acceleration();
-        let total_mass: f64 = sim.mass.iter().sum();
+        sim.energy_budget = sim.initial_energy_budget(duration);
+        sim
+    }
+
+    /// Sets every particle's velocity from its reference position (initial conditions
+    /// given in code) and recomputes the energy budget of the blow-up check.
+    pub fn set_velocity(&mut self, velocity: impl Fn([f64; 3]) -> [f64; 3] + Sync, duration: f64) {
+        let x = &self.model.reference.position;
+        self.model
+            .particles
+            .velocity
+            .par_iter_mut()
+            .zip(x.par_iter())
+            .for_each(|(v, x)| *v = velocity(*x));
+        self.apply_anchors();
+        self.energy_budget = self.initial_energy_budget(duration);
+    }
+
+    /// The most energy the scene can hold over `duration`: kinetic and strain energy
+    /// now, free fall, dynamic colliders' kinetic energy, and what kinematic colliders
+    /// and anchors can impart (twice their speed to every particle).
+    fn initial_energy_budget(&self, duration: f64) -> f64 {
+        let gravity = self.gravity;
+        let total_mass: f64 = self.mass.iter().sum();
         let g = (gravity[0].powi(2) + gravity[1].powi(2) + gravity[2].powi(2)).sqrt();
+        let extent = self
+            .model
+            .reference
+            .position
+            .iter()
+            .fold(0.0f64, |m, x| m.max(norm(*x)));
         let mut fastest = 0.0f64;
-        for c in &sim.colliders {
+        for c in &self.colliders {
             if c.mass.is_none() {
                 fastest = fastest.max(norm(c.velocity));
             }
         }
-        for a in &sim.anchors {
-            fastest = fastest.max(norm(a.velocity) + norm(a.angular_velocity) * 1.0);
+        for a in &self.anchors {
+            fastest = fastest
+                .max(norm(a.velocity) + norm(a.angular_velocity) * (extent + norm(a.center)));
         }
-        sim.energy_budget = sim.model.kinetic_energy()
-            + sim.model.strain_energy()
+        self.model.kinetic_energy()
+            + self.model.strain_energy()
             + 0.5 * total_mass * (g * duration).powi(2)
-            + sim
+            + self
                 .colliders
                 .iter()
                 .map(Collider::kinetic_energy)
                 .sum::<f64>()
             + 0.5 * total_mass * (2.0 * fastest).powi(2)
-            + 1e-12;
-        sim
+            + 1e-12
     }
 
-    /// Restores Verlet's acceleration after the state was replaced (checkpoints).
-    pub fn refresh(&mut self) {
-        self.apply_anchors();
-        self.model.internal_forces();
-        self.update_acceleration();
+    /// Verlet's acceleration at the current positions (saved in checkpoints: after a
+    /// step's contact projection it is not the acceleration of the new positions).
+    pub fn acceleration(&self) -> &[[f64; 3]] {
+        &self.acceleration
+    }
+
+    /// Replaces the saved state's acceleration (restoring a checkpoint).
+    pub fn restore_acceleration(&mut self, acceleration: Vec<[f64; 3]>) {
+        self.acceleration = acceleration;
+        self.anchored.iter_mut().for_each(|a| *a = false);
+        let t = self.time;
+        for anchor in &self.anchors {
+            if t <= anchor.until {
+                for &p in &anchor.particles {
+                    self.anchored[p as usize] = true;
+                }
+            }
+        }
     }
 
     fn update_acceleration(&mut self) {
@@ -123,6 +168,23 @@ impl Simulation {
                 let f = m.force[i];
                 *a = [f[0] / rho + g[0], f[1] / rho + g[1], f[2] / rho + g[2]];
             });
+    }
+
+    /// Adds the anchors' work this step: an anchor cancels the free acceleration of
+    /// the particles it holds, so it acts with −m a and its power is −m a·v.
+    fn account_anchor_work(&mut self) {
+        if self.anchors.is_empty() {
+            return;
+        }
+        let v = &self.model.particles.velocity;
+        let power: f64 = (0..self.anchored.len())
+            .filter(|&i| self.anchored[i])
+            .map(|i| {
+                let a = self.acceleration[i];
+                (self.mass[i] * (a[0] * v[i][0] + a[1] * v[i][1] + a[2] * v[i][2])).abs()
+            })
+            .sum();
+        self.anchor_work += power * self.dt;
     }
 
     fn apply_anchors(&mut self) {
@@ -167,6 +229,7 @@ impl Simulation {
         let broken = self.model.internal_forces();
         let t1 = Instant::now();
         self.update_acceleration();
+        self.account_anchor_work();
         {
             let p = &mut self.model.particles;
             let acc = &self.acceleration;
@@ -262,7 +325,8 @@ impl Simulation {
             return Err(self.blowup("non-finite position or velocity".into(), i));
         }
         let kinetic = self.model.kinetic_energy();
-        if kinetic > self.energy_growth * self.energy_budget {
+        let budget = self.energy_budget + self.anchor_work;
+        if kinetic > self.energy_growth * budget {
             let fastest = (0..self.model.len())
                 .max_by(|&a, &b| norm(p.velocity[a]).total_cmp(&norm(p.velocity[b])))
                 .unwrap_or(0);
@@ -271,7 +335,7 @@ impl Simulation {
                     "kinetic energy {kinetic:.3e} J exceeds {}× the energy the scene can supply ({:.3e} J); \
                      fastest particle moves at {:.3e} m/s",
                     self.energy_growth,
-                    self.energy_budget,
+                    budget,
                     norm(p.velocity[fastest])
                 ),
                 fastest,

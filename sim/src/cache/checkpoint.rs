@@ -1,6 +1,7 @@
 //! Checkpoints: the saved state (positions, velocities, bonds, plastic extensions,
-//! colliders, clock) from which an interrupted run resumes. Scratch buffers (θ,
-//! forces, accelerations) are not saved; they are recomputed on load.
+//! Verlet's acceleration, colliders, clock) from which an interrupted run resumes
+//! exactly as if it had not stopped. Scratch buffers (θ, forces) are not saved: the
+//! next step recomputes them.
 
 use std::path::Path;
 
@@ -35,11 +36,18 @@ pub fn encode(sim: &Simulation, frame: usize, broken_bonds: u64, scene_hash: u64
         out.extend_from_slice(&v.to_le_bytes());
     }
     out.extend_from_slice(&sim.time.to_le_bytes());
-    for p in m.particles.position.iter().chain(&m.particles.velocity) {
+    for p in m
+        .particles
+        .position
+        .iter()
+        .chain(&m.particles.velocity)
+        .chain(sim.acceleration())
+    {
         for x in p {
             out.extend_from_slice(&x.to_le_bytes());
         }
     }
+    out.extend_from_slice(&sim.anchor_work.to_le_bytes());
     for nb in &m.bonds.neighbours {
         out.extend_from_slice(&nb.to_le_bytes());
     }
@@ -116,18 +124,20 @@ pub fn restore(path: &Path, sim: &mut Simulation, scene_hash: u64) -> Result<Res
             sim.colliders.len()
         )));
     }
+    let mut acceleration = vec![[0.0f64; 3]; m.len()];
     let mut read = || -> std::result::Result<(), String> {
         sim.time = r.f64()?;
-        for p in m
+        let vectors = m
             .particles
             .position
             .iter_mut()
-            .chain(m.particles.velocity.iter_mut())
-        {
+            .chain(m.particles.velocity.iter_mut());
+        for p in vectors.chain(acceleration.iter_mut()) {
             for x in p.iter_mut() {
                 *x = r.f64()?;
             }
         }
+        sim.anchor_work = r.f64()?;
         for nb in m.bonds.neighbours.iter_mut() {
             *nb = u32::from_le_bytes(r.take()?);
         }
@@ -146,7 +156,7 @@ pub fn restore(path: &Path, sim: &mut Simulation, scene_hash: u64) -> Result<Res
     read().map_err(fail)?;
     sim.steps = steps;
     sim.model.update_damage();
-    sim.refresh();
+    sim.restore_acceleration(acceleration);
     Ok(Resume {
         frame: frame as usize,
         broken_bonds: broken,

@@ -325,13 +325,10 @@ impl PdModel {
 
     /// Kinetic energy ½ Σ m v².
     pub fn kinetic_energy(&self) -> f64 {
-        (0..self.len())
-            .into_par_iter()
-            .map(|i| {
-                let v = self.particles.velocity[i];
-                0.5 * self.mass(i) * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
-            })
-            .sum::<f64>()
+        kernel::det_sum(self.len(), |i| {
+            let v = self.particles.velocity[i];
+            0.5 * self.mass(i) * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+        })
     }
 
     /// Connected components of intact bonds, numbered by their smallest particle

@@ -470,3 +470,111 @@ impl Scene {
         (self.scene.duration * self.scene.fps).round().max(1.0) as usize
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const GOOD: &str = r#"[scene]
+name = "t"
+
+[materials.glass]
+density = 2200.0
+bulk_modulus = 3.3e10
+shear_modulus = 2.0e10
+
+[[body]]
+material = "glass"
+shape = { type = "box", center = [0, 0, 0], size = [1, 1, 1] }
+resolution = 0.1
+"#;
+
+    /// Parses `text`, expecting an error; returns (line, key, message).
+    fn error(text: &str) -> (usize, String, String) {
+        match Scene::parse(text, Path::new("bad.toml"), Path::new("/nonexistent-dir")) {
+            Err(SimError::Scene {
+                file,
+                line,
+                key,
+                message,
+                ..
+            }) => {
+                assert_eq!(file, Path::new("bad.toml"));
+                (line, key, message)
+            }
+            other => panic!("expected a scene error, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn the_good_scene_parses_with_defaults() {
+        let s = Scene::parse(GOOD, Path::new("good.toml"), Path::new(".")).expect("valid");
+        assert_eq!(s.bodies[0].horizon, 1.45);
+        assert_eq!(s.bodies[0].name, "body0");
+        assert_eq!(s.scene.fps, 24.0);
+        assert!(s.materials["glass"].critical_stretch.is_none());
+        let again = Scene::parse(&s.to_toml(), Path::new("resolved.toml"), Path::new("."))
+            .expect("round trip");
+        assert_eq!(again.to_toml(), s.to_toml());
+    }
+
+    #[test]
+    fn unknown_key() {
+        let (line, key, message) =
+            error(&GOOD.replace("density = 2200.0", "density = 2200.0\ndensty = 1.0"));
+        assert_eq!(line, 6);
+        assert_eq!(key, "materials.glass.densty");
+        assert!(message.contains("unknown field `densty`"), "{message}");
+    }
+
+    #[test]
+    fn negative_density() {
+        let (line, key, message) = error(&GOOD.replace("density = 2200.0", "density = -1.0"));
+        assert_eq!((line, key.as_str()), (5, "materials.glass.density"));
+        assert!(message.contains("positive"), "{message}");
+    }
+
+    #[test]
+    fn poisson_ratio_at_one_half() {
+        let text = GOOD.replace(
+            "bulk_modulus = 3.3e10\nshear_modulus = 2.0e10",
+            "youngs_modulus = 1e6\npoisson_ratio = 0.5",
+        );
+        let (line, key, message) = error(&text);
+        assert_eq!((line, key.as_str()), (7, "materials.glass.poisson_ratio"));
+        assert!(message.contains("(−1, 0.5)"), "{message}");
+    }
+
+    #[test]
+    fn horizon_below_one_resolution() {
+        let (line, key, message) =
+            error(&GOOD.replace("resolution = 0.1", "resolution = 0.1\nhorizon = 0.9"));
+        assert_eq!((line, key.as_str()), (13, "body.0.horizon"));
+        assert!(message.contains("at least 1.0"), "{message}");
+    }
+
+    #[test]
+    fn missing_mesh_file() {
+        let text = GOOD.replace(
+            r#"shape = { type = "box", center = [0, 0, 0], size = [1, 1, 1] }"#,
+            r#"shape = { type = "mesh", path = "bunny.obj" }"#,
+        );
+        let (line, key, message) = error(&text);
+        assert_eq!((line, key.as_str()), (11, "body.0.shape.path"));
+        assert!(
+            message.contains("bunny.obj") && message.contains("does not exist"),
+            "{message}"
+        );
+    }
+
+    #[test]
+    fn unknown_material_and_bad_toml() {
+        let (line, key, _) = error(&GOOD.replace("material = \"glass\"", "material = \"steel\""));
+        assert_eq!((line, key.as_str()), (10, "body.0.material"));
+        let (line, _, message) = error("[scene\nname = 1");
+        assert_eq!(line, 1);
+        assert!(!message.is_empty());
+        let (_, _, message) = error("");
+        assert!(message.contains("scene"), "{message}");
+    }
+}
