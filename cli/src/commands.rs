@@ -3,7 +3,6 @@
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
 use perifrac_sim::SimError;
 use perifrac_sim::family;
@@ -147,14 +146,6 @@ fn simulate(scene: &Scene, out: &Path, options: &RunOptions, quiet: bool) -> Res
     Ok(())
 }
 
-/// MemAvailable from /proc/meminfo, in bytes.
-fn available_memory() -> Option<u64> {
-    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb * 1024)
-}
-
 /// `perifrac check`: validates the scene and prints its cost.
 pub fn check(path: &Path) -> Result<(), Failure> {
     let scene = Scene::load(path)?;
@@ -164,14 +155,7 @@ pub fn check(path: &Path) -> Result<(), Failure> {
         .iter()
         .map(|&b| scene.bodies[b as usize].horizon * scene.bodies[b as usize].resolution)
         .collect();
-    let bonds = family::count_bonds(&disc.position, &disc.body, &horizon)?;
-    let particles = disc.position.len();
-    let plastic = scene
-        .materials
-        .values()
-        .any(|m| m.yield_psi0.is_some() || m.yield_stretch.is_some());
-    let per_bond = family::BYTES_PER_BOND + if plastic { 12 } else { 0 };
-    let memory = (bonds * per_bond + particles * BYTES_PER_PARTICLE) as u64;
+    let estimate = run::estimate_memory(&scene, &disc);
     println!("scene {}: {}", scene.scene.name, path.display());
     for (b, spec) in scene.bodies.iter().enumerate() {
         let q = &disc.quality[b];
@@ -184,25 +168,21 @@ pub fn check(path: &Path) -> Result<(), Failure> {
             q.max_dihedral_deg
         );
     }
+    run::check_memory(&estimate)?;
+    let bonds = family::count_bonds(&disc.position, &disc.body, &horizon)?;
+    let particles = disc.position.len();
+    let memory = bonds * estimate.bytes_per_bond + particles * BYTES_PER_PARTICLE;
     println!("  particles: {particles}");
     println!(
         "  bonds:     {bonds} directed ({:.1} per particle)",
         bonds as f64 / particles.max(1) as f64
     );
     println!(
-        "  memory:    {:.1} MiB ({per_bond} bytes a bond)",
-        memory as f64 / (1 << 20) as f64
+        "  memory:    {:.1} MiB ({} bytes a bond)",
+        memory as f64 / (1 << 20) as f64,
+        estimate.bytes_per_bond
     );
-    if let Some(avail) = available_memory()
-        && memory > avail
-    {
-        return Err(Failure::input(anyhow::anyhow!(
-            "the run needs {:.1} GiB but {:.1} GiB are available: use a coarser resolution or a smaller horizon",
-            memory as f64 / (1u64 << 30) as f64,
-            avail as f64 / (1u64 << 30) as f64
-        )));
-    }
-    let mut prepared = run::prepare(&scene).context("preparing the scene")?;
+    let mut prepared = run::prepare_discretized(&scene, disc)?;
     let steps_total = prepared.steps_per_frame * scene.frame_count();
     let t = Instant::now();
     let probe = 3;

@@ -115,7 +115,7 @@ fn neighbours_of(
         .execute();
     let mut family: Vec<u32> = found
         .into_iter()
-        .map(|item| item.item as u32)
+        .map(|item| item.item)
         .filter(|&j| j as usize != i && body[j as usize] == body[i])
         .filter(|&j| {
             let p = positions[j as usize];
@@ -349,12 +349,14 @@ fn solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
         }
         a.swap(col, pivot);
         b.swap(col, pivot);
-        for r in col + 1..n {
-            let f = a[r][col] / a[col][col];
-            for c in col..n {
-                a[r][c] -= f * a[col][c];
+        let (top, rest) = a.split_at_mut(col + 1);
+        let pivot_row = &top[col];
+        for (r, row) in rest.iter_mut().enumerate() {
+            let f = row[col] / pivot_row[col];
+            for (x, p) in row[col..].iter_mut().zip(&pivot_row[col..]) {
+                *x -= f * p;
             }
-            b[r] -= f * b[col];
+            b[col + 1 + r] -= f * b[col];
         }
     }
     let mut x = vec![0.0; n];

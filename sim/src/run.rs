@@ -39,12 +39,94 @@ pub struct Prepared {
 /// θ, forces, accelerations, masses, flags).
 pub const BYTES_PER_PARTICLE: usize = 8 * 3 * 5 + 8 * 5 + 4 * 3 + 2;
 
+/// What a scene will cost in memory, estimated before any bond is built.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MemoryEstimate {
+    /// Particles.
+    pub particles: usize,
+    /// Directed bonds expected from each body's particle density and horizon.
+    pub bonds: f64,
+    /// Bytes a bond takes (more with plasticity).
+    pub bytes_per_bond: usize,
+    /// Total bytes of the run's state.
+    pub bytes: f64,
+}
+
+/// Estimates the memory of a discretized scene: a particle's family holds about
+/// V_H / (mean particle volume) − 1 bonds (fewer near surfaces).
+pub fn estimate_memory(scene: &Scene, disc: &Discretization) -> MemoryEstimate {
+    let plastic = scene
+        .materials
+        .values()
+        .any(|m| (m.yield_psi0.is_some() || m.yield_stretch.is_some()) && m.plastic_limit > 0.0);
+    let bytes_per_bond = family::BYTES_PER_BOND + if plastic { 12 } else { 0 };
+    let bonds: f64 = scene
+        .bodies
+        .iter()
+        .enumerate()
+        .map(|(b, spec)| {
+            let mesh = &disc.meshes[b];
+            let count = mesh.tets.len() as f64;
+            if count == 0.0 {
+                return 0.0;
+            }
+            let mean_volume = mesh.total_volume() / count;
+            let family = crate::pd::family_volume(spec.horizon * spec.resolution) / mean_volume;
+            count * (family - 1.0).max(0.0)
+        })
+        .sum();
+    let particles = disc.position.len();
+    MemoryEstimate {
+        particles,
+        bonds,
+        bytes_per_bond,
+        bytes: bonds * bytes_per_bond as f64 + (particles * BYTES_PER_PARTICLE) as f64,
+    }
+}
+
+/// Memory the system can still give (MemAvailable of /proc/meminfo), if known.
+pub fn available_memory() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
+/// Refuses a scene whose bonds would not fit in the available memory.
+pub fn check_memory(estimate: &MemoryEstimate) -> Result<()> {
+    let Some(available) = available_memory() else {
+        return Ok(());
+    };
+    if estimate.bytes > available as f64 {
+        let gib = |b: f64| b / (1u64 << 30) as f64;
+        return Err(SimError::Refused(format!(
+            "the run needs about {:.1} GiB ({} particles, {:.3e} bonds of {} bytes) but {:.1} GiB are \
+             available: use a coarser resolution or a smaller horizon",
+            gib(estimate.bytes),
+            estimate.particles,
+            estimate.bonds,
+            estimate.bytes_per_bond,
+            gib(available as f64)
+        )));
+    }
+    Ok(())
+}
+
 /// Builds the particles, bonds, colliders and anchors of a scene and picks the time
-/// step (refusing a `dt` above the stable bound unless `force_dt`).
+/// step (refusing a scene that would not fit in memory, and a `dt` above the stable
+/// bound unless `force_dt`).
 pub fn prepare(scene: &Scene) -> Result<Prepared> {
     let t0 = Instant::now();
     let disc = discretize(scene)?;
     let t_disc = t0.elapsed().as_secs_f64();
+    let mut prepared = prepare_discretized(scene, disc)?;
+    prepared.timings.discretize = t_disc;
+    Ok(prepared)
+}
+
+/// [`prepare`] for a scene already discretized.
+pub fn prepare_discretized(scene: &Scene, disc: Discretization) -> Result<Prepared> {
+    check_memory(&estimate_memory(scene, &disc))?;
     let t1 = Instant::now();
     let horizon: Vec<f64> = disc
         .body
@@ -135,7 +217,6 @@ pub fn prepare(scene: &Scene) -> Result<Prepared> {
         stable_dt: stable,
         steps_per_frame,
         timings: Timings {
-            discretize: t_disc,
             families: t_fam,
             ..Timings::default()
         },

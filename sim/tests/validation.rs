@@ -98,9 +98,9 @@ fn energy_and_momentum_are_conserved() {
     let momentum = |p: &Prepared| -> [f64; 3] {
         let m = &p.sim.model;
         let mut s = [0.0; 3];
-        for i in 0..m.len() {
-            for a in 0..3 {
-                s[a] += p.sim.masses()[i] * m.particles.velocity[i][a];
+        for (v, mass) in m.particles.velocity.iter().zip(p.sim.masses()) {
+            for (s, v) in s.iter_mut().zip(v) {
+                *s += mass * v;
             }
         }
         s

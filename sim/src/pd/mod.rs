@@ -359,16 +359,16 @@ impl PdModel {
         }
         let mut label = vec![u32::MAX; n];
         let mut next = 0u32;
-        let mut out = vec![0u32; n];
-        for i in 0..n {
-            let root = find(&mut parent, i as u32) as usize;
-            if label[root] == u32::MAX {
-                label[root] = next;
-                next += 1;
-            }
-            out[i] = label[root];
-        }
-        out
+        (0..n as u32)
+            .map(|i| {
+                let root = find(&mut parent, i) as usize;
+                if label[root] == u32::MAX {
+                    label[root] = next;
+                    next += 1;
+                }
+                label[root]
+            })
+            .collect()
     }
 
     /// Plastic strain measure per particle: mean |e^p|/|ξ| over its bonds (0 without

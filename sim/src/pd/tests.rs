@@ -160,8 +160,8 @@ fn patch_test_dilatation_and_equilibrium() {
         .fold(0.0, f64::max);
     let mut net = [0.0; 3];
     for &i in &deep {
-        for a in 0..3 {
-            net[a] += m.force[i][a] * m.reference.volume[i];
+        for (n, f) in net.iter_mut().zip(m.force[i]) {
+            *n += f * m.reference.volume[i];
         }
     }
     let scale: f64 = deep

@@ -129,7 +129,7 @@ fn material(name: &str, m: &MaterialSpec) -> Check {
         (None, Some(v)) => positive(&p("yield_stretch"), v, "the yield stretch")?,
         (None, None) => {}
     }
-    if !(m.plastic_limit >= 0.0) {
+    if m.plastic_limit.is_nan() || m.plastic_limit < 0.0 {
         return Err(issue(
             &p("plastic_limit"),
             format!("γ/|ξ| must be ≥ 0 (or inf), got {}", m.plastic_limit),
