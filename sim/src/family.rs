@@ -218,10 +218,6 @@ fn monomials(degree: u32) -> Vec<[u32; 3]> {
     out
 }
 
-fn monomial(n: [f64; 3], e: [u32; 3]) -> f64 {
-    n[0].powi(e[0] as i32) * n[1].powi(e[1] as i32) * n[2].powi(e[2] as i32)
-}
-
 /// ∫ n_x^a n_y^b n_z^c dΩ over the unit sphere (zero unless all exponents are even).
 fn sphere_moment(e: [u32; 3]) -> f64 {
     if e.iter().any(|x| x % 2 == 1) {
@@ -240,37 +236,64 @@ fn sphere_moment(e: [u32; 3]) -> f64 {
     4.0 * std::f64::consts::PI * df(a - 1) * df(b - 1) * df(c - 1) / df(a + b + c + 1)
 }
 
-/// Per-bond weights w_j (a polynomial of degree `degree` in ξ̂, which includes the
-/// constant for even degrees) that make Σ_j w_j m_j ξ̂^⊗degree equal `target` times the
-/// unit-sphere moments, checked to stay within [0.1, 10]; `None` otherwise.
-fn moment_weights(
+/// The K monomials n_x^a n_y^b n_z^c of degree `degree` at `n` (K = 6 for degree 2,
+/// 15 for degree 4), in the order of [`monomials`].
+fn monomial_values<const K: usize>(n: [f64; 3], degree: u32) -> [f64; K] {
+    let powers = |x: f64| {
+        let mut p = [1.0f64; 5];
+        for e in 1..5 {
+            p[e] = p[e - 1] * x;
+        }
+        p
+    };
+    let (px, py, pz) = (powers(n[0]), powers(n[1]), powers(n[2]));
+    let mut out = [0.0; K];
+    let mut k = 0;
+    for a in (0..=degree as usize).rev() {
+        for b in (0..=degree as usize - a).rev() {
+            out[k] = px[a] * py[b] * pz[degree as usize - a - b];
+            k += 1;
+        }
+    }
+    out
+}
+
+/// Per-bond weights w_j (a polynomial of degree `degree` in ξ̂, K coefficients, which
+/// includes the constant for even degrees) that make Σ_j w_j m_j ξ̂^⊗degree equal
+/// `target` times the unit-sphere moments, checked to stay within [0.1, 10]; `None`
+/// otherwise.
+fn moment_weights<const K: usize>(
     dirs: &[[f64; 3]],
     measure: &[f64],
     degree: u32,
     target: f64,
 ) -> Option<Vec<f32>> {
-    let basis = monomials(degree);
-    let k = basis.len();
-    let mut mat = vec![vec![0.0f64; k]; k];
-    for (n, &m) in dirs.iter().zip(measure) {
-        let phi: Vec<f64> = basis.iter().map(|&e| monomial(*n, e)).collect();
-        for r in 0..k {
-            for c in 0..k {
-                mat[r][c] += m * phi[r] * phi[c];
+    let phis: Vec<[f64; K]> = dirs
+        .iter()
+        .map(|n| monomial_values::<K>(*n, degree))
+        .collect();
+    let mut mat = [[0.0f64; K]; K];
+    for (phi, &m) in phis.iter().zip(measure) {
+        for r in 0..K {
+            let mr = m * phi[r];
+            for c in r..K {
+                mat[r][c] += mr * phi[c];
             }
         }
     }
-    let rhs: Vec<f64> = basis.iter().map(|&e| target * sphere_moment(e)).collect();
-    let coef = solve(mat, rhs)?;
-    let w: Vec<f64> = dirs
+    for r in 0..K {
+        for c in 0..r {
+            mat[r][c] = mat[c][r];
+        }
+    }
+    let rhs: Vec<f64> = monomials(degree)
+        .into_iter()
+        .map(|e| target * sphere_moment(e))
+        .collect();
+    let coef = solve(mat.iter().map(|row| row.to_vec()).collect(), rhs)?;
+    let w: Vec<f64> = phis
         .iter()
-        .map(|n| {
-            basis
-                .iter()
-                .zip(&coef)
-                .map(|(&e, c)| c * monomial(*n, e))
-                .sum()
-        })
+        .map(|phi| phi.iter().zip(&coef).map(|(p, c)| p * c).sum())
         .collect();
     w.iter()
         .all(|&x| x > 0.1 && x < 10.0)
@@ -286,7 +309,7 @@ fn moment_weights(
 fn dilatation_weights(dirs: &[[f64; 3]], vols: &[f64], delta: f64) -> Vec<f32> {
     let full = 4.0 / 3.0 * std::f64::consts::PI * delta.powi(3);
     // Target moments (V_H∞/4π) ∫ n⊗n dΩ.
-    if let Some(q) = moment_weights(dirs, vols, 2, full / (4.0 * std::f64::consts::PI)) {
+    if let Some(q) = moment_weights::<6>(dirs, vols, 2, full / (4.0 * std::f64::consts::PI)) {
         return q;
     }
     let mut k = [[0.0f64; 3]; 3];
@@ -323,7 +346,7 @@ fn dilatation_weights(dirs: &[[f64; 3]], vols: &[f64], delta: f64) -> Vec<f32> {
 /// correction πδ⁴ / Σ_j |ξ_j| V_j where positive polynomial weights do not exist.
 fn deviatoric_weights(dirs: &[[f64; 3]], vols: &[f64], lengths: &[f64], delta: f64) -> Vec<f32> {
     let measure: Vec<f64> = vols.iter().zip(lengths).map(|(v, l)| v * l).collect();
-    if let Some(p) = moment_weights(dirs, &measure, 4, delta.powi(4) / 4.0) {
+    if let Some(p) = moment_weights::<15>(dirs, &measure, 4, delta.powi(4) / 4.0) {
         return p;
     }
     let m: f64 = measure.iter().sum();

@@ -108,34 +108,46 @@ fn dilatation_plasticity<const P: bool, const F: bool, const A: bool, const L: b
                     .zip(rows)
                     .enumerate()
                     .with_min_len(64)
-                    .for_each(|(i, (th, ext))| {
-                        *th = dilatation::<F, L>(m, i);
-                        return_mapping::<F, A, L>(m, i, *th, ext);
+                    .for_each_init(Vec::new, |stretch, (i, (th, ext))| {
+                        *th = dilatation::<F, L, true>(m, i, stretch);
+                        return_mapping::<F, A>(m, i, *th, ext, stretch);
                     });
             }
             None => theta
                 .par_iter_mut()
                 .enumerate()
                 .with_min_len(64)
-                .for_each(|(i, th)| *th = dilatation::<F, L>(m, i)),
+                .for_each(|(i, th)| *th = dilatation::<F, L, false>(m, i, &mut Vec::new())),
         }
     }
     m.theta = theta;
     m.plastic = plastic;
 }
 
-/// θ_i = 3/(δ V_H∞) Σ_j ω_ij q_ij Λ e_ij V_j (Chen Eq. 6 with ω|ξ| s = ω e).
+/// θ_i = 3/(δ V_H∞) Σ_j ω_ij q_ij Λ e_ij V_j (Chen Eq. 6 with ω|ξ| s = ω e). With
+/// `KEEP`, each bond's (e, Λ) goes into `kept` (in family order) for the return
+/// mapping that follows.
 #[inline(always)]
-fn dilatation<const F: bool, const L: bool>(m: &PdModel, i: usize) -> f64 {
+fn dilatation<const F: bool, const L: bool, const KEEP: bool>(
+    m: &PdModel,
+    i: usize,
+    kept: &mut Vec<[f64; 2]>,
+) -> f64 {
     let y = &m.particles.position;
     let v = &m.reference.volume;
     let bonds = &m.bonds;
     let delta = m.bodies[m.reference.body[i] as usize].constants.delta;
     let yi = y[i];
     let mut sum = 0.0;
+    if KEEP {
+        kept.clear();
+    }
     for k in bonds.range(i) {
         let nb = bonds.neighbours[k];
         if F && nb & BROKEN != 0 {
+            if KEEP {
+                kept.push([0.0, 0.0]);
+            }
             continue;
         }
         let j = (nb & INDEX) as usize;
@@ -144,6 +156,9 @@ fn dilatation<const F: bool, const L: bool>(m: &PdModel, i: usize) -> f64 {
         let r = bonds.rest_length[k];
         let e = l - r;
         let lam = projection::<L>(m, i, j, d, l, r);
+        if KEEP {
+            kept.push([e, lam]);
+        }
         sum += m.coef.dil[k] as f64 * e * lam * v[j];
     }
     3.0 * sum / (delta * family_volume(delta))
@@ -155,40 +170,37 @@ fn dilatation<const F: bool, const L: bool>(m: &PdModel, i: usize) -> f64 {
 /// sign(A_dev). (Eq. 15 prints 1/(2b); that leaves |A_dev| off the surface by a
 /// factor that depends on ω — the test `return_mapping_lands_on_yield_surface`
 /// shows 1/(4ωb) is the one that lands on it.) Eq. 16 then caps |e^p| at γ.
+/// `kept` holds each bond's (e, Λ) from [`dilatation`].
 #[inline(always)]
-fn return_mapping<const F: bool, const A: bool, const L: bool>(
+fn return_mapping<const F: bool, const A: bool>(
     m: &PdModel,
     i: usize,
     theta: f64,
     ext: &mut [f64],
+    kept: &[[f64; 2]],
 ) {
-    let y = &m.particles.position;
     let bonds = &m.bonds;
     let c = &m.bodies[m.reference.body[i] as usize].constants;
     if !c.psi0.is_finite() {
         return;
     }
     let critical = (2.0 * c.psi0).sqrt();
-    let yi = y[i];
+    let inv_delta = 1.0 / c.delta;
     for (slot, k) in bonds.range(i).enumerate() {
-        let nb = bonds.neighbours[k];
-        if F && nb & BROKEN != 0 {
+        if F && bonds.neighbours[k] & BROKEN != 0 {
             continue;
         }
-        let j = (nb & INDEX) as usize;
-        let d = [y[j][0] - yi[0], y[j][1] - yi[1], y[j][2] - yi[2]];
-        let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        let [e, lam] = kept[slot];
         let r = bonds.rest_length[k];
-        let lam = projection::<L>(m, i, j, d, l, r);
-        let omega = if A {
-            m.omega.as_ref().map_or(0.0, |w| w[k] as f64)
-        } else {
-            c.delta / r
-        };
         let ep = ext[slot];
-        // q_ij = (ω q_ij)/ω; 4ω b p_ij = 4 × the deviatoric coefficient.
-        let q = m.coef.dil[k] as f64 / omega;
-        let e_dev = l - r - 0.25 * c.delta * q * lam * theta;
+        // q_ij = (ω q_ij)/ω with ω = δ/|ξ| (or the stored anisotropic ω);
+        // 4ω b p_ij = 4 × the deviatoric coefficient.
+        let q = if A {
+            m.coef.dil[k] as f64 / m.omega.as_ref().map_or(1.0, |w| w[k] as f64)
+        } else {
+            m.coef.dil[k] as f64 * r * inv_delta
+        };
+        let e_dev = e - 0.25 * c.delta * q * lam * theta;
         let stiffness = 4.0 * m.coef.dev[k] as f64;
         let a_dev = stiffness * (e_dev - ep);
         if 0.5 * a_dev * a_dev > c.psi0 {

@@ -172,52 +172,49 @@ impl PdModel {
         };
         let initial_bonds: Vec<u32> = (0..n).map(|i| bonds.range(i).len() as u32).collect();
         let reverse = bonds.reverse_index();
-        // ω per bond: δ/|ξ| (Eq. 5) or δ/|Gξ| (Eq. 17).
-        let omega_all: Vec<f64> = (0..n)
+        // ω per bond, δ/|ξ| (Eq. 5) or δ/|Gξ| (Eq. 17), into (ω q, ω b p, ω).
+        let per_bond: Vec<(f32, f32, f32)> = (0..n)
             .into_par_iter()
             .flat_map_iter(|i| {
                 let body_model = &bodies[body[i] as usize];
                 let g = body_model.material.anisotropy;
-                let delta = body_model.constants.delta;
+                let (delta, b) = (body_model.constants.delta, body_model.constants.b);
                 let bonds = &bonds;
+                let corrections = &corrections;
                 let reference_position = &reference_position;
-                bonds.range(i).map(move |k| match g {
-                    Some(g) => {
-                        let j = (bonds.neighbours[k] & INDEX) as usize;
-                        delta
-                            / norm(mat_vec(
-                                g,
-                                sub(reference_position[j], reference_position[i]),
-                            ))
-                    }
-                    None => delta / bonds.rest_length[k],
+                bonds.range(i).map(move |k| {
+                    let omega = match g {
+                        Some(g) => {
+                            let j = (bonds.neighbours[k] & INDEX) as usize;
+                            delta
+                                / norm(mat_vec(
+                                    g,
+                                    sub(reference_position[j], reference_position[i]),
+                                ))
+                        }
+                        None => delta / bonds.rest_length[k],
+                    };
+                    (
+                        (omega * corrections.dilatation[k] as f64) as f32,
+                        (omega * b * corrections.deviatoric[k] as f64) as f32,
+                        omega as f32,
+                    )
                 })
             })
             .collect();
-        let b_of_bond: Vec<f64> = (0..n)
-            .into_par_iter()
-            .flat_map_iter(|i| {
-                let b = bodies[body[i] as usize].constants.b;
-                bonds.range(i).map(move |_| b)
-            })
-            .collect();
-        let dil: Vec<f32> = (0..bonds.len())
-            .into_par_iter()
-            .map(|k| (omega_all[k] * corrections.dilatation[k] as f64) as f32)
-            .collect();
-        let dev: Vec<f32> = (0..bonds.len())
-            .into_par_iter()
-            .map(|k| (omega_all[k] * b_of_bond[k] * corrections.deviatoric[k] as f64) as f32)
-            .collect();
+        drop(corrections);
+        let dil: Vec<f32> = per_bond.par_iter().map(|c| c.0).collect();
+        let dev: Vec<f32> = per_bond.par_iter().map(|c| c.1).collect();
+        let omega = features
+            .anisotropic
+            .then(|| per_bond.par_iter().map(|c| c.2).collect());
+        drop(per_bond);
         let coef = Coefficients {
             dil_rev: reverse.par_iter().map(|&r| dil[r as usize]).collect(),
             dev_rev: reverse.par_iter().map(|&r| dev[r as usize]).collect(),
             dil,
             dev,
         };
-        let omega = features
-            .anisotropic
-            .then(|| omega_all.iter().map(|&w| w as f32).collect());
         let plastic = features.plastic.then(|| Plastic {
             extension: vec![0.0f64; bonds.len()],
             reverse,
