@@ -281,9 +281,10 @@ fn moment_weights<const K: usize>(
             }
         }
     }
-    for r in 0..K {
-        for c in 0..r {
-            mat[r][c] = mat[c][r];
+    for r in 1..K {
+        let (upper, lower) = mat.split_at_mut(r);
+        for (c, row) in upper.iter().enumerate() {
+            lower[0][c] = row[r];
         }
     }
     let rhs: Vec<f64> = monomials(degree)
