@@ -156,6 +156,7 @@ pub fn restore(path: &Path, sim: &mut Simulation, scene_hash: u64) -> Result<Res
     read().map_err(fail)?;
     sim.steps = steps;
     sim.model.update_damage();
+    sim.model.update_yielded();
     sim.restore_acceleration(acceleration);
     Ok(Resume {
         frame: frame as usize,

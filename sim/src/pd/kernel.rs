@@ -106,11 +106,12 @@ fn dilatation_plasticity<const P: bool, const F: bool, const A: bool, const L: b
                 theta
                     .par_iter_mut()
                     .zip(rows)
+                    .zip(p.yielded.par_iter_mut())
                     .enumerate()
                     .with_min_len(64)
-                    .for_each_init(Vec::new, |stretch, (i, (th, ext))| {
+                    .for_each_init(Vec::new, |stretch, (i, ((th, ext), yielded))| {
                         *th = dilatation::<F, L, true>(m, i, stretch);
-                        return_mapping::<F, A>(m, i, *th, ext, stretch);
+                        *yielded = return_mapping::<F, A>(m, i, *th, ext, stretch);
                     });
             }
             None => theta
@@ -170,7 +171,8 @@ fn dilatation<const F: bool, const L: bool, const KEEP: bool>(
 /// sign(A_dev). (Eq. 15 prints 1/(2b); that leaves |A_dev| off the surface by a
 /// factor that depends on ω — the test `return_mapping_lands_on_yield_surface`
 /// shows 1/(4ωb) is the one that lands on it.) Eq. 16 then caps |e^p| at γ.
-/// `kept` holds each bond's (e, Λ) from [`dilatation`].
+/// `kept` holds each bond's (e, Λ) from [`dilatation`]. Returns whether any bond of
+/// the particle has a plastic extension.
 #[inline(always)]
 fn return_mapping<const F: bool, const A: bool>(
     m: &PdModel,
@@ -178,14 +180,15 @@ fn return_mapping<const F: bool, const A: bool>(
     theta: f64,
     ext: &mut [f64],
     kept: &[[f64; 2]],
-) {
+) -> bool {
     let bonds = &m.bonds;
     let c = &m.bodies[m.reference.body[i] as usize].constants;
     if !c.psi0.is_finite() {
-        return;
+        return false;
     }
     let critical = (2.0 * c.psi0).sqrt();
     let inv_delta = 1.0 / c.delta;
+    let mut yielded = false;
     for (slot, k) in bonds.range(i).enumerate() {
         if F && bonds.neighbours[k] & BROKEN != 0 {
             continue;
@@ -213,7 +216,9 @@ fn return_mapping<const F: bool, const A: bool>(
                 trial
             };
         }
+        yielded |= ext[slot] != 0.0;
     }
+    yielded
 }
 
 /// f_i = Σ_j ½(A_ij + A_ji) ŷ_ij V_j (Chen Eq. 2–3) with
@@ -315,7 +320,14 @@ fn particle_force<const P: bool, const F: bool, const A: bool, const L: bool>(
         let r = bonds.rest_length[k];
         let e = l - r;
         let (ep_ij, ep_ji) = match (&m.plastic, P) {
-            (Some(p), true) => (p.extension[k], p.extension[p.reverse[k] as usize]),
+            (Some(p), true) => (
+                if p.yielded[i] { p.extension[k] } else { 0.0 },
+                if p.yielded[j] {
+                    p.extension[p.reverse[k] as usize]
+                } else {
+                    0.0
+                },
+            ),
             _ => (0.0, 0.0),
         };
         if l > 0.0 {

@@ -103,6 +103,9 @@ pub struct Plastic {
     pub extension: Vec<f64>,
     /// Index of the reverse bond j→i of each bond i→j.
     pub reverse: Vec<u32>,
+    /// Whether any bond of a particle has yielded: the force pass reads e^p (a
+    /// scattered read for j→i) only for particles that have.
+    pub yielded: Vec<bool>,
 }
 
 /// What a scene needs of the model; picks the compiled kernel.
@@ -218,6 +221,7 @@ impl PdModel {
         let plastic = features.plastic.then(|| Plastic {
             extension: vec![0.0f64; bonds.len()],
             reverse,
+            yielded: vec![false; n],
         });
         PdModel {
             particles: Particles {
@@ -291,6 +295,19 @@ impl PdModel {
             .sum();
         self.update_damage();
         broken
+    }
+
+    /// Recomputes the per-particle `yielded` flags from the plastic extensions (after
+    /// they were replaced wholesale, as when a checkpoint is restored).
+    pub fn update_yielded(&mut self) {
+        let bonds = &self.bonds;
+        if let Some(p) = &mut self.plastic {
+            let ext = &p.extension;
+            p.yielded
+                .par_iter_mut()
+                .enumerate()
+                .for_each(|(i, y)| *y = ext[bonds.range(i)].iter().any(|&e| e != 0.0));
+        }
     }
 
     /// φ_i = 1 − n_i/N_i from the broken bits.
