@@ -226,11 +226,9 @@ pub fn thinnest_axis(mut a: [[f64; 3]; 3]) -> [f64; 3] {
                 row[p] = c * akp - s * akq;
                 row[q] = s * akp + c * akq;
             }
-            for k in 0..3 {
-                let (apk, aqk) = (a[p][k], a[q][k]);
-                a[p][k] = c * apk - s * aqk;
-                a[q][k] = s * apk + c * aqk;
-            }
+            let (row_p, row_q) = (a[p], a[q]);
+            a[p] = std::array::from_fn(|k| c * row_p[k] - s * row_q[k]);
+            a[q] = std::array::from_fn(|k| s * row_p[k] + c * row_q[k]);
             for row in v.iter_mut() {
                 let (vkp, vkq) = (row[p], row[q]);
                 row[p] = c * vkp - s * vkq;

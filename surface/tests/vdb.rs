@@ -287,21 +287,27 @@ fn the_vdb_file_reads_back_with_vdb_rs() {
         }
         other => panic!("unexpected transform {other:?}"),
     }
-    // A narrow band: values within ±3 voxels, both signs present.
-    let band = 3.0 * s.stats.voxel_size as f32 * 1.001;
-    let (mut inside, mut outside) = (0, 0);
+    // A narrow band of signed distance: values within ±3 voxels, both signs present,
+    // and voxels as deep as the band goes (a raw union of spheres only holds the
+    // distance to the nearest sphere, never deeper than its radius, 1.55 voxels).
+    let dx = s.stats.voxel_size as f32;
+    let (mut inside, mut outside, mut deep) = (0, 0, 0);
     for (_, value, _) in grid.iter() {
-        assert!(value.abs() <= band, "{value} outside the band {band}");
+        assert!(value.abs() <= 3.001 * dx, "{value} outside ±3 voxels");
         if value < 0.0 {
             inside += 1;
         } else {
             outside += 1;
+        }
+        if value < -2.5 * dx {
+            deep += 1;
         }
     }
     assert!(
         inside > 100 && outside > 100,
         "{inside} inside, {outside} outside"
     );
+    assert!(deep > 100, "{deep} voxels deeper than 2.5 voxels");
     let v = reader
         .read_grid::<[f32; 3]>("v")
         .expect("the velocity grid");

@@ -1,8 +1,8 @@
 // perifrac's C shim over the system OpenVDB (MPL-2.0, linked dynamically).
 //
 // A handful of plain C functions over openvdb::FloatGrid level sets: rasterize
-// spheres (tools::ParticlesToLevelSet), renormalize the narrow band
-// (tools::LevelSetTracker), filter (tools::LevelSetFilter), mesh
+// spheres (tools::ParticlesToLevelSet), make the union a narrow band of signed
+// distance (tools::sdfToSdf, tools::LevelSetTracker), filter (tools::LevelSetFilter), mesh
 // (tools::volumeToMesh), and gather fragments into one frame (tools::csgUnion plus a
 // velocity grid) that is written as a .vdb file. Every C++ exception is caught here
 // and returned as a non-zero status with its text in the caller's buffer.
@@ -10,13 +10,16 @@
 // The declarations the Rust side uses are in src/lib.rs; keep the two in step.
 
 #include <openvdb/openvdb.h>
+#include <openvdb/tools/ChangeBackground.h>
 #include <openvdb/tools/Composite.h>
+#include <openvdb/tools/FastSweeping.h>
 #include <openvdb/tools/LevelSetFilter.h>
 #include <openvdb/tools/ParticlesToLevelSet.h>
 #include <openvdb/tools/VolumeToMesh.h>
 
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -169,7 +172,11 @@ int pvdb_level_set_from_spheres(const float* positions, const float* radii, size
                 return PVDB_INVALID_ARGUMENT;
             }
         }
-        auto grid = openvdb::createLevelSet<FloatGrid>(voxel_size, half_width);
+        // Each sphere writes the voxels within its radius plus the band's half width,
+        // the bulk of the cost: rasterize with a band of at most 2 voxels and widen it
+        // afterwards.
+        const double raster_width = std::min(half_width, 2.0);
+        auto grid = openvdb::createLevelSet<FloatGrid>(voxel_size, raster_width);
         openvdb::tools::ParticlesToLevelSet<FloatGrid, openvdb::Index32> raster(*grid);
         const ParticleList list{positions, radii, count};
         raster.rasterizeSpheres(list);
@@ -178,13 +185,19 @@ int pvdb_level_set_from_spheres(const float* positions, const float* radii, size
         *dropped_large = raster.getMaxCount();
         auto result = std::make_unique<PvdbLevelSet>();
         result->closest = raster.attributeGrid();
-        // The raster is a union of spheres whose whole interior is active; tracking
-        // renormalizes it and trims it to a narrow band of signed distance.
-        Tracker tracker(*grid);
+        // The raster is a union of spheres whose whole interior is active, holding
+        // the distance to the nearest sphere's surface, not to the union's. Fast
+        // sweeping solves for the true signed distance on those voxels; trimming
+        // then keeps the narrow band, which `resize` widens to the half width asked.
+        auto sdf = openvdb::tools::sdfToSdf(*grid, 0.0f, 1);
+        sdf->setGridClass(openvdb::GRID_LEVEL_SET);
+        // sdfToSdf picks its own background; the band is the raster's.
+        openvdb::tools::changeLevelSetBackground(sdf->tree(), float(raster_width * voxel_size));
+        Tracker tracker(*sdf);
         fast_schemes(tracker);
-        tracker.track();
-        grid->setGridClass(openvdb::GRID_LEVEL_SET);
-        result->grid = grid;
+        tracker.prune();
+        tracker.resize(openvdb::Index(std::lround(half_width)));
+        result->grid = sdf;
         result->half_width = half_width;
         *out = result.release();
         return PVDB_OK;
