@@ -110,7 +110,6 @@ struct ParticleList {
 struct PvdbLevelSet {
     FloatGrid::Ptr grid;
     IndexGrid::Ptr closest;
-    double half_width;
 };
 
 // A frame: the union of its level sets ("surface") and a velocity grid ("v").
@@ -198,17 +197,12 @@ int pvdb_level_set_from_spheres(const float* positions, const float* radii, size
         tracker.prune();
         tracker.resize(openvdb::Index(std::lround(half_width)));
         result->grid = sdf;
-        result->half_width = half_width;
         *out = result.release();
         return PVDB_OK;
     });
 }
 
 void pvdb_level_set_free(PvdbLevelSet* level_set) { delete level_set; }
-
-size_t pvdb_level_set_active_voxels(const PvdbLevelSet* level_set) {
-    return level_set->grid->activeVoxelCount();
-}
 
 // kind: 0 mean curvature, 1 Gaussian (width 1), 2 Laplacian.
 int pvdb_level_set_filter(PvdbLevelSet* level_set, int kind, size_t iterations, char* err,

@@ -80,9 +80,6 @@ unsafe extern "C" {
     /// Frees a level set.
     pub fn pvdb_level_set_free(level_set: *mut PvdbLevelSet);
 
-    /// Active voxels of a level set.
-    pub fn pvdb_level_set_active_voxels(level_set: *const PvdbLevelSet) -> usize;
-
     /// Runs `iterations` passes of a filter (`FILTER_*`) over a level set.
     pub fn pvdb_level_set_filter(
         level_set: *mut PvdbLevelSet,

@@ -106,12 +106,6 @@ impl LevelSet {
         Ok((LevelSet { raw, frame }, count))
     }
 
-    /// Active voxels.
-    pub fn active_voxels(&self) -> usize {
-        // SAFETY: `raw` is a live level set.
-        unsafe { sys::pvdb_level_set_active_voxels(self.raw) }
-    }
-
     /// Runs `iterations` passes of a `tools::LevelSetFilter` filter (`sys::FILTER_*`).
     pub fn filter(&mut self, kind: i32, iterations: usize) -> Result<()> {
         let raw = self.raw;
