@@ -8,7 +8,7 @@ use std::path::Path;
 
 use perifrac_sim::scene::{Scene, VdbSpec};
 
-use crate::args::SurfaceConfig;
+use crate::args::{SurfaceConfig, SurfaceMethodArg};
 use crate::commands::{Failure, set_threads};
 
 /// `perifrac surface`: surfaces the cache in `config.out` with the settings of its
@@ -16,7 +16,9 @@ use crate::commands::{Failure, set_threads};
 pub fn command(config: &SurfaceConfig, quiet: bool) -> Result<(), Failure> {
     set_threads(config.threads)?;
     let scene = Scene::load(&config.out.join("scene.toml"))?;
-    stage(&config.out, &scene.output.vdb, quiet)
+    match config.method {
+        SurfaceMethodArg::Vdb => stage(&config.out, &scene.output.vdb, quiet),
+    }
 }
 
 /// Runs the `vdb` method over every frame of the cache in `out`.
