@@ -7,7 +7,17 @@ set -euo pipefail
 packages=(
   # Build tools for the C++ OpenVDB shim and -sys crates.
   build-essential pkg-config
+  # OpenVDB 10 for the surface stage's `openvdb` feature (surface/openvdb-sys). Its
+  # headers include Boost, which the package does not pull in; Debian ships no
+  # pkg-config file, so the shim names its libraries (openvdb, Imath-3_1, tbb) itself.
+  libopenvdb-dev libboost-dev
+  # vdb_print: an independent reader of the .vdb files, used by the surface tests.
+  libopenvdb-tools
+  # node runs the Khronos glTF validator (npm package gltf-validator) in the tests.
+  nodejs
 )
+# Node.js builds from other sources bundle npm (and conflict with Debian's package).
+command -v npm >/dev/null 2>&1 || packages+=(npm)
 
 missing=()
 for p in "${packages[@]}"; do
@@ -19,6 +29,13 @@ if [ "${#missing[@]}" -gt 0 ]; then
   echo "perifrac setup: installing ${missing[*]}" >&2
   $sudo apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+# The Khronos glTF validator (npm package gltf-validator, Apache-2.0) that the tests
+# run over the .glb files we write, into tools/gltf-validator/node_modules.
+validator="$(cd "$(dirname "$0")/.." && pwd)/tools/gltf-validator"
+if [ ! -f "$validator/node_modules/gltf-validator/package.json" ]; then
+  echo "perifrac setup: installing the glTF validator (npm)" >&2
+  npm ci --prefix "$validator" --no-audit --no-fund --loglevel=error
 fi
 if ! command -v cargo >/dev/null 2>&1; then
   echo "perifrac setup: cargo is not on PATH; install the Rust toolchain (rustup) first" >&2

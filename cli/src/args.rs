@@ -21,6 +21,8 @@ pub struct Cli {
 pub enum Command {
     /// Simulate a scene and write its cache.
     Run(RunArgs),
+    /// Surface a cache's particle frames (level sets, .vdb files and meshes).
+    Surface(SurfaceArgs),
     /// Validate a scene and print what it would cost.
     Check {
         /// The scene file.
@@ -80,6 +82,50 @@ pub struct RunArgs {
     /// Continue an interrupted run from its checkpoint.
     #[arg(long)]
     pub resume: bool,
+}
+
+/// A surface method.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum SurfaceMethodArg {
+    /// OpenVDB level sets per fragment: `vdb/NNNN.vdb`, `surface/NNNN.glb`.
+    Vdb,
+}
+
+/// `perifrac surface` as typed.
+#[derive(Debug, clap::Args)]
+pub struct SurfaceArgs {
+    /// The output directory of a `perifrac run` (its settings come from the scene
+    /// there, `[output.vdb]`).
+    pub out: PathBuf,
+    /// The surface method.
+    #[arg(long, value_enum, default_value_t = SurfaceMethodArg::Vdb)]
+    pub method: SurfaceMethodArg,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<String>,
+}
+
+/// A validated `perifrac surface`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SurfaceConfig {
+    /// The cache to surface.
+    pub out: PathBuf,
+    /// The method.
+    pub method: SurfaceMethodArg,
+    /// Thread count.
+    pub threads: Option<usize>,
+}
+
+impl TryFrom<SurfaceArgs> for SurfaceConfig {
+    type Error = String;
+
+    fn try_from(a: SurfaceArgs) -> Result<Self, Self::Error> {
+        Ok(SurfaceConfig {
+            threads: positive("--threads", a.threads.as_deref())?,
+            out: a.out,
+            method: a.method,
+        })
+    }
 }
 
 /// A validated `perifrac run`.
@@ -166,6 +212,40 @@ mod tests {
                 .contains("--threads")
         );
         assert!(parse(&["perifrac", "run"]).is_err());
+    }
+
+    #[test]
+    fn surface_flags() {
+        let parse = |args: &[&str]| -> Result<SurfaceConfig, String> {
+            let cli = Cli::try_parse_from(args).map_err(|e| e.to_string())?;
+            match cli.command {
+                Command::Surface(s) => SurfaceConfig::try_from(s),
+                other => Err(format!("not surface: {other:?}")),
+            }
+        };
+        let c = parse(&[
+            "perifrac",
+            "surface",
+            "out/x",
+            "--method",
+            "vdb",
+            "--threads",
+            "2",
+        ])
+        .unwrap();
+        assert_eq!(c.out, PathBuf::from("out/x"));
+        assert_eq!(c.method, SurfaceMethodArg::Vdb);
+        assert_eq!(c.threads, Some(2));
+        assert_eq!(
+            parse(&["perifrac", "surface", "o"]).unwrap().method,
+            SurfaceMethodArg::Vdb
+        );
+        assert!(parse(&["perifrac", "surface", "o", "--method", "marching"]).is_err());
+        assert!(
+            parse(&["perifrac", "surface", "o", "--threads", "0"])
+                .unwrap_err()
+                .contains("--threads")
+        );
     }
 
     #[test]

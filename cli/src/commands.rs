@@ -8,7 +8,7 @@ use perifrac_sim::SimError;
 use perifrac_sim::family;
 use perifrac_sim::geometry::discretize::discretize;
 use perifrac_sim::run::{self, BYTES_PER_PARTICLE, Progress, RunOptions};
-use perifrac_sim::scene::Scene;
+use perifrac_sim::scene::{Scene, SurfaceMethod};
 
 use crate::args::RunConfig;
 
@@ -142,6 +142,9 @@ fn simulate(scene: &Scene, out: &Path, options: &RunOptions, quiet: bool) -> Res
             start.elapsed().as_secs_f64(),
             out.display()
         );
+    }
+    if scene.output.surface == SurfaceMethod::Vdb {
+        crate::surface::stage(out, &scene.output.vdb, quiet)?;
     }
     Ok(())
 }

@@ -5,6 +5,7 @@
 mod args;
 mod bench;
 mod commands;
+mod surface;
 
 use std::process::ExitCode;
 
@@ -17,6 +18,10 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Run(run) => match args::RunConfig::try_from(run) {
             Ok(config) => commands::run(&config, cli.quiet),
+            Err(message) => Err(commands::Failure::input(anyhow::anyhow!(message))),
+        },
+        Command::Surface(args) => match args::SurfaceConfig::try_from(args) {
+            Ok(config) => surface::command(&config, cli.quiet),
             Err(message) => Err(commands::Failure::input(anyhow::anyhow!(message))),
         },
         Command::Check { scene } => commands::check(&scene),

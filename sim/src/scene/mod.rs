@@ -359,6 +359,13 @@ pub struct OutputSpec {
     /// Write a checkpoint every this many frames (0: never). Default 10.
     #[serde(default = "default_checkpoint_every")]
     pub checkpoint_every: usize,
+    /// The surface stage `perifrac run` runs after simulating: `"none"` or `"vdb"`
+    /// (OpenVDB level sets and meshes, see `[output.vdb]`). Default `"none"`.
+    #[serde(default)]
+    pub surface: SurfaceMethod,
+    /// Settings of the `vdb` surface method (`[output.vdb]`).
+    #[serde(default)]
+    pub vdb: VdbSpec,
 }
 
 impl Default for OutputSpec {
@@ -366,8 +373,101 @@ impl Default for OutputSpec {
         OutputSpec {
             particles: true,
             checkpoint_every: default_checkpoint_every(),
+            surface: SurfaceMethod::default(),
+            vdb: VdbSpec::default(),
         }
     }
+}
+
+/// Which surface stage runs after the simulation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SurfaceMethod {
+    /// No surfaces: particles only.
+    #[default]
+    None,
+    /// OpenVDB: particles → level sets per fragment → `vdb/NNNN.vdb` and
+    /// `surface/NNNN.glb`.
+    Vdb,
+}
+
+/// `[output.vdb]`: how particles become level sets and meshes (the `vdb` method).
+///
+/// Lengths are in particle spacings: a particle of a body with mean tet edge λ has
+/// volume λ³/9.1 (the BCC mesher's tets per λ³) and spacing s = (λ³/9.1)^(1/3). The
+/// defaults were calibrated together: spheres twice the particles' volume-equivalent
+/// radius cover the gaps between particles, two mean-curvature passes remove the
+/// bumps and bubbles left, and an offset of −0.6 s takes the surface back to the
+/// body's volume (within 1.5% on spheres 5 and 8 λ in radius).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VdbSpec {
+    /// Voxel edge as a fraction of the particle spacing (of the finest body in the
+    /// frame). Particles whose sphere radius is under 1.5 voxels would be dropped by
+    /// the rasterizer, so `radius_scale × 0.62 / voxel_size` must be at least 1.5.
+    /// Default 0.8 (spheres of 1.55 voxels in radius at the default `radius_scale`).
+    #[serde(default = "default_vdb_voxel_size")]
+    pub voxel_size: f64,
+    /// Sphere radius as a multiple of the radius of a sphere with the particle's
+    /// volume (0.62 spacings). Below about 2 the spheres leave bubbles inside the body
+    /// that only filtering removes. Default 2.0.
+    #[serde(default = "default_vdb_radius_scale")]
+    pub radius_scale: f64,
+    /// Smoothing filter: `"none"`, `"mean-curvature"`, `"gaussian"` or `"laplacian"`.
+    /// Default `"mean-curvature"`.
+    #[serde(default)]
+    pub filter: VdbFilter,
+    /// Passes of the filter. Default 2.
+    #[serde(default = "default_vdb_iterations")]
+    pub iterations: usize,
+    /// Distance the surface is moved outward after filtering, in particle spacings
+    /// (negative: inward), to take the enlarged spheres back to the body's volume.
+    /// Default −0.6.
+    #[serde(default = "default_vdb_offset")]
+    pub offset: f64,
+    /// Mesh adaptivity in [0, 1] (0: uniform polygons the size of a voxel).
+    /// Default 0.
+    #[serde(default)]
+    pub adaptivity: f64,
+    /// Fragments with fewer particles are not surfaced but written as debris points
+    /// (`surface/NNNN_debris.ply`). Default 8.
+    #[serde(default = "default_vdb_min_fragment_particles")]
+    pub min_fragment_particles: usize,
+    /// One level set per fragment, so that cracks stay open. With `false` all
+    /// particles go into one level set and fragments closer than a sphere's diameter
+    /// merge. Default true.
+    #[serde(default = "default_true")]
+    pub per_fragment: bool,
+}
+
+impl Default for VdbSpec {
+    fn default() -> Self {
+        VdbSpec {
+            voxel_size: default_vdb_voxel_size(),
+            radius_scale: default_vdb_radius_scale(),
+            filter: VdbFilter::default(),
+            iterations: default_vdb_iterations(),
+            offset: default_vdb_offset(),
+            adaptivity: 0.0,
+            min_fragment_particles: default_vdb_min_fragment_particles(),
+            per_fragment: true,
+        }
+    }
+}
+
+/// The smoothing filter of the `vdb` method (OpenVDB `tools::LevelSetFilter`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum VdbFilter {
+    /// No smoothing.
+    None,
+    /// Mean-curvature flow: smooths bumps, keeps flat faces flat.
+    #[default]
+    MeanCurvature,
+    /// Gaussian convolution (width 1 voxel).
+    Gaussian,
+    /// Laplacian flow.
+    Laplacian,
 }
 
 fn default_name() -> String {
@@ -405,6 +505,21 @@ fn default_collider_friction() -> f64 {
 }
 fn default_checkpoint_every() -> usize {
     10
+}
+fn default_vdb_voxel_size() -> f64 {
+    0.8
+}
+fn default_vdb_radius_scale() -> f64 {
+    2.0
+}
+fn default_vdb_iterations() -> usize {
+    2
+}
+fn default_vdb_offset() -> f64 {
+    -0.6
+}
+fn default_vdb_min_fragment_particles() -> usize {
+    8
 }
 
 impl Scene {
@@ -565,6 +680,25 @@ resolution = 0.1
             message.contains("bunny.obj") && message.contains("does not exist"),
             "{message}"
         );
+    }
+
+    #[test]
+    fn vdb_surface_keys() {
+        let text =
+            format!("{GOOD}\n[output]\nsurface = \"vdb\"\n\n[output.vdb]\nfilter = \"gaussian\"\n");
+        let s = Scene::parse(&text, Path::new("good.toml"), Path::new(".")).expect("valid");
+        assert_eq!(s.output.surface, SurfaceMethod::Vdb);
+        assert_eq!(s.output.vdb.filter, VdbFilter::Gaussian);
+        assert_eq!(s.output.vdb.voxel_size, 0.8);
+        assert!(s.output.vdb.per_fragment);
+        let (line, key, message) = error(&format!("{GOOD}\n[output.vdb]\nadaptivity = 1.5\n"));
+        assert_eq!((line, key.as_str()), (15, "output.vdb.adaptivity"));
+        assert!(message.contains("[0, 1]"), "{message}");
+        let (_, key, message) = error(&format!("{GOOD}\n[output.vdb]\nvoxel_size = 0.9\n"));
+        assert_eq!(key, "output.vdb.voxel_size");
+        assert!(message.contains("voxel_size ≤ 0.827"), "{message}");
+        let (_, key, _) = error(&format!("{GOOD}\n[output]\nsurface = \"marching\"\n"));
+        assert_eq!(key, "output.surface");
     }
 
     #[test]

@@ -1,6 +1,6 @@
 //! Range checks on a parsed scene: each problem is reported with its dotted key.
 
-use super::{BodySpec, ColliderSpec, MaterialSpec, Scene, ShapeSpec};
+use super::{BodySpec, ColliderSpec, MaterialSpec, Scene, ShapeSpec, VdbSpec};
 
 /// One problem: where (dotted path) and what, with the fix.
 pub(super) struct Issue {
@@ -76,6 +76,63 @@ pub(super) fn validate(scene: &Scene) -> Check {
     }
     for (i, c) in scene.colliders.iter().enumerate() {
         collider(&i.to_string(), c)?;
+    }
+    vdb(&scene.output.vdb)?;
+    Ok(())
+}
+
+/// Radius of a sphere with the volume of a cube of side 1: (3/(4π))^(1/3). A
+/// particle's sphere radius in particle spacings is `radius_scale` times this.
+const SPHERE_RADIUS_PER_SPACING: f64 = 0.620_350_490_899_400_1;
+
+/// The smallest sphere radius, in voxels, that OpenVDB's `ParticlesToLevelSet`
+/// rasterizes (smaller particles are dropped).
+const MIN_RASTER_RADIUS_VOXELS: f64 = 1.5;
+
+fn vdb(v: &VdbSpec) -> Check {
+    let p = |key: &'static str| ["output", "vdb", key];
+    positive(
+        &p("voxel_size"),
+        v.voxel_size,
+        "the voxel size (in particle spacings)",
+    )?;
+    positive(&p("radius_scale"), v.radius_scale, "the radius scale")?;
+    let radius_voxels = v.radius_scale * SPHERE_RADIUS_PER_SPACING / v.voxel_size;
+    if radius_voxels < MIN_RASTER_RADIUS_VOXELS {
+        return Err(issue(
+            &p("voxel_size"),
+            format!(
+                "particle spheres would be {radius_voxels:.2} voxels in radius and OpenVDB drops those under {MIN_RASTER_RADIUS_VOXELS}: use voxel_size ≤ {:.3} (or a larger radius_scale)",
+                v.radius_scale * SPHERE_RADIUS_PER_SPACING / MIN_RASTER_RADIUS_VOXELS
+            ),
+        ));
+    }
+    if v.iterations > 1000 {
+        return Err(issue(
+            &p("iterations"),
+            format!("at most 1000 filter passes, got {}", v.iterations),
+        ));
+    }
+    if !(v.offset.is_finite() && v.offset.abs() <= 10.0) {
+        return Err(issue(
+            &p("offset"),
+            format!(
+                "the offset must be within ±10 particle spacings, got {}",
+                v.offset
+            ),
+        ));
+    }
+    if !(0.0..=1.0).contains(&v.adaptivity) {
+        return Err(issue(
+            &p("adaptivity"),
+            format!("adaptivity must be in [0, 1], got {}", v.adaptivity),
+        ));
+    }
+    if v.min_fragment_particles == 0 {
+        return Err(issue(
+            &p("min_fragment_particles"),
+            "must be at least 1 (1 surfaces every fragment)",
+        ));
     }
     Ok(())
 }

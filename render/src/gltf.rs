@@ -1,0 +1,387 @@
+//! A glTF 2.0 binary (.glb) writer for triangle meshes, on `gltf-json`'s types.
+//!
+//! One glTF mesh (and one node, named like it) per input mesh, all in one scene.
+//! Each mesh has a position accessor (with the bounds the format requires), a
+//! normal accessor and a `u32` index accessor, each in its own buffer view with its
+//! target (`ARRAY_BUFFER` for vertices, `ELEMENT_ARRAY_BUFFER` for indices), every
+//! view starting on a 4-byte boundary, all in the file's one binary chunk. Units are
+//! metres and +y is up, as in the cache and in glTF.
+
+use gltf_json as json;
+use json::validation::{Checked, USize64};
+
+use crate::RenderError;
+
+/// One triangle mesh to write.
+#[derive(Debug, Clone, Copy)]
+pub struct MeshData<'a> {
+    /// Name of the mesh and its node (for example `fragment 12`).
+    pub name: &'a str,
+    /// Vertex positions (m).
+    pub positions: &'a [[f32; 3]],
+    /// Unit vertex normals, one per position.
+    pub normals: &'a [[f32; 3]],
+    /// Three indices into `positions` a triangle, counter-clockwise from outside.
+    pub indices: &'a [u32],
+}
+
+const GLB_MAGIC: &[u8; 4] = b"glTF";
+const GLB_VERSION: u32 = 2;
+const CHUNK_JSON: u32 = 0x4E4F_534A;
+const CHUNK_BIN: u32 = 0x004E_4942;
+
+fn invalid(message: impl Into<String>) -> RenderError {
+    RenderError::Gltf(message.into())
+}
+
+fn check(mesh: &MeshData<'_>) -> Result<(), RenderError> {
+    let name = mesh.name;
+    if mesh.positions.is_empty() || mesh.indices.is_empty() {
+        return Err(invalid(format!("mesh '{name}' is empty")));
+    }
+    if mesh.normals.len() != mesh.positions.len() {
+        return Err(invalid(format!(
+            "mesh '{name}' has {} positions but {} normals",
+            mesh.positions.len(),
+            mesh.normals.len()
+        )));
+    }
+    if mesh.indices.len() % 3 != 0 {
+        return Err(invalid(format!(
+            "mesh '{name}' has {} indices, not a multiple of 3",
+            mesh.indices.len()
+        )));
+    }
+    if let Some(&i) = mesh
+        .indices
+        .iter()
+        .find(|&&i| i as usize >= mesh.positions.len())
+    {
+        return Err(invalid(format!(
+            "mesh '{name}' has index {i} past its {} vertices",
+            mesh.positions.len()
+        )));
+    }
+    let finite = |v: &[f32; 3]| v.iter().all(|x| x.is_finite());
+    if !mesh.positions.iter().all(finite) || !mesh.normals.iter().all(finite) {
+        return Err(invalid(format!(
+            "mesh '{name}' has a non-finite position or normal"
+        )));
+    }
+    Ok(())
+}
+
+/// Appends `bytes` to the binary chunk at a 4-byte boundary and adds a buffer view
+/// for them.
+fn push_view(
+    root: &mut json::Root,
+    bin: &mut Vec<u8>,
+    bytes: impl Iterator<Item = [u8; 4]>,
+    target: json::buffer::Target,
+) -> json::Index<json::buffer::View> {
+    while bin.len() % 4 != 0 {
+        bin.push(0);
+    }
+    let offset = bin.len();
+    for b in bytes {
+        bin.extend_from_slice(&b);
+    }
+    root.push(json::buffer::View {
+        buffer: json::Index::new(0),
+        byte_length: USize64::from(bin.len() - offset),
+        byte_offset: Some(USize64::from(offset)),
+        byte_stride: None,
+        name: None,
+        target: Some(Checked::Valid(target)),
+        extensions: None,
+        extras: Default::default(),
+    })
+}
+
+fn accessor(
+    view: json::Index<json::buffer::View>,
+    count: usize,
+    component: json::accessor::ComponentType,
+    type_: json::accessor::Type,
+    bounds: Option<([f32; 3], [f32; 3])>,
+) -> json::Accessor {
+    json::Accessor {
+        buffer_view: Some(view),
+        byte_offset: Some(USize64(0)),
+        count: USize64::from(count),
+        component_type: Checked::Valid(json::accessor::GenericComponentType(component)),
+        extensions: None,
+        extras: Default::default(),
+        type_: Checked::Valid(type_),
+        min: bounds.map(|(lo, _)| json::Value::from(lo.to_vec())),
+        max: bounds.map(|(_, hi)| json::Value::from(hi.to_vec())),
+        name: None,
+        normalized: false,
+        sparse: None,
+    }
+}
+
+/// Encodes meshes as a .glb file (an asset with no scene when `meshes` is empty).
+pub fn to_glb(meshes: &[MeshData<'_>]) -> Result<Vec<u8>, RenderError> {
+    use json::accessor::{ComponentType, Type};
+    use json::buffer::Target;
+
+    let mut root = json::Root {
+        asset: json::Asset {
+            generator: Some(format!("perifrac {}", env!("CARGO_PKG_VERSION"))),
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let mut bin: Vec<u8> = Vec::new();
+    let mut nodes = Vec::with_capacity(meshes.len());
+    for mesh in meshes {
+        check(mesh)?;
+        let mut lo = [f32::INFINITY; 3];
+        let mut hi = [f32::NEG_INFINITY; 3];
+        for p in mesh.positions {
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        let floats = |v: &'_ [[f32; 3]]| {
+            v.iter()
+                .flat_map(|p| p.iter().map(|x| x.to_le_bytes()).collect::<Vec<_>>())
+                .collect::<Vec<_>>()
+        };
+        let count = mesh.positions.len();
+        let view = push_view(
+            &mut root,
+            &mut bin,
+            floats(mesh.positions).into_iter(),
+            Target::ArrayBuffer,
+        );
+        let positions = root.push(accessor(
+            view,
+            count,
+            ComponentType::F32,
+            Type::Vec3,
+            Some((lo, hi)),
+        ));
+        let view = push_view(
+            &mut root,
+            &mut bin,
+            floats(mesh.normals).into_iter(),
+            Target::ArrayBuffer,
+        );
+        let normals = root.push(accessor(view, count, ComponentType::F32, Type::Vec3, None));
+        let view = push_view(
+            &mut root,
+            &mut bin,
+            mesh.indices.iter().map(|i| i.to_le_bytes()),
+            Target::ElementArrayBuffer,
+        );
+        let indices = root.push(accessor(
+            view,
+            mesh.indices.len(),
+            ComponentType::U32,
+            Type::Scalar,
+            None,
+        ));
+        let primitive = json::mesh::Primitive {
+            attributes: [
+                (Checked::Valid(json::mesh::Semantic::Positions), positions),
+                (Checked::Valid(json::mesh::Semantic::Normals), normals),
+            ]
+            .into_iter()
+            .collect(),
+            extensions: None,
+            extras: Default::default(),
+            indices: Some(indices),
+            material: None,
+            mode: Checked::Valid(json::mesh::Mode::Triangles),
+            targets: None,
+        };
+        let gltf_mesh = root.push(json::Mesh {
+            extensions: None,
+            extras: Default::default(),
+            name: Some(mesh.name.to_string()),
+            primitives: vec![primitive],
+            weights: None,
+        });
+        nodes.push(root.push(json::Node {
+            mesh: Some(gltf_mesh),
+            name: Some(mesh.name.to_string()),
+            ..Default::default()
+        }));
+    }
+    if !nodes.is_empty() {
+        let scene = root.push(json::Scene {
+            extensions: None,
+            extras: Default::default(),
+            name: None,
+            nodes,
+        });
+        root.scene = Some(scene);
+        while bin.len() % 4 != 0 {
+            bin.push(0);
+        }
+        root.push(json::Buffer {
+            byte_length: USize64::from(bin.len()),
+            name: None,
+            uri: None,
+            extensions: None,
+            extras: Default::default(),
+        });
+    }
+    let mut text = root
+        .to_vec()
+        .map_err(|e| invalid(format!("could not encode the JSON chunk: {e}")))?;
+    while text.len() % 4 != 0 {
+        text.push(b' ');
+    }
+    let total = 12 + 8 + text.len() + if bin.is_empty() { 0 } else { 8 + bin.len() };
+    let total = u32::try_from(total)
+        .map_err(|_| invalid(format!("{total} bytes is over the 4 GiB a .glb can hold")))?;
+    let mut out = Vec::with_capacity(total as usize);
+    out.extend_from_slice(GLB_MAGIC);
+    out.extend_from_slice(&GLB_VERSION.to_le_bytes());
+    out.extend_from_slice(&total.to_le_bytes());
+    out.extend_from_slice(&(text.len() as u32).to_le_bytes());
+    out.extend_from_slice(&CHUNK_JSON.to_le_bytes());
+    out.extend_from_slice(&text);
+    if !bin.is_empty() {
+        out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+        out.extend_from_slice(&CHUNK_BIN.to_le_bytes());
+        out.extend_from_slice(&bin);
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    use std::path::Path;
+    use std::process::Command;
+
+    /// A tetrahedron, counter-clockwise from outside, with face-averaged normals.
+    fn tetrahedron() -> (Vec<[f32; 3]>, Vec<[f32; 3]>, Vec<u32>) {
+        let p = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+        ];
+        let n = p
+            .iter()
+            .map(|q: &[f32; 3]| {
+                let c = [q[0] - 0.25, q[1] - 0.25, q[2] - 0.25];
+                let l = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
+                [c[0] / l, c[1] / l, c[2] / l]
+            })
+            .collect();
+        (p, n, vec![0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3])
+    }
+
+    /// Runs the Khronos validator (tools/gltf-validator, installed by scripts/setup.sh)
+    /// and returns its report.
+    fn validate(file: &Path) -> serde_json::Value {
+        let script =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../tools/gltf-validator/validate.mjs");
+        let out = Command::new("node")
+            .arg(&script)
+            .arg(file)
+            .output()
+            .expect("node runs (scripts/setup.sh installs it and the validator)");
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            !stdout.trim().is_empty(),
+            "the validator printed nothing: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        serde_json::from_str(stdout.trim()).expect("a JSON report")
+    }
+
+    #[test]
+    fn layout_of_the_binary() {
+        let (p, n, i) = tetrahedron();
+        let glb = to_glb(&[MeshData {
+            name: "tet",
+            positions: &p,
+            normals: &n,
+            indices: &i,
+        }])
+        .expect("valid mesh");
+        assert_eq!(&glb[..4], b"glTF");
+        assert_eq!(
+            u32::from_le_bytes(glb[8..12].try_into().unwrap()) as usize,
+            glb.len()
+        );
+        let json_len = u32::from_le_bytes(glb[12..16].try_into().unwrap()) as usize;
+        assert_eq!(json_len % 4, 0);
+        let doc: serde_json::Value = serde_json::from_slice(&glb[20..20 + json_len]).unwrap();
+        assert_eq!(
+            doc["accessors"][0]["min"],
+            serde_json::json!([0.0, 0.0, 0.0])
+        );
+        assert_eq!(
+            doc["accessors"][0]["max"],
+            serde_json::json!([1.0, 1.0, 1.0])
+        );
+        assert_eq!(doc["bufferViews"][2]["target"], 34963);
+        for view in doc["bufferViews"].as_array().unwrap() {
+            assert_eq!(view["byteOffset"].as_u64().unwrap() % 4, 0);
+        }
+        let bin_len = u32::from_le_bytes(glb[20 + json_len..24 + json_len].try_into().unwrap());
+        assert_eq!(doc["buffers"][0]["byteLength"], bin_len);
+    }
+
+    #[test]
+    fn bad_input_is_an_error() {
+        let (p, n, mut i) = tetrahedron();
+        i[0] = 9;
+        let err = to_glb(&[MeshData {
+            name: "bad",
+            positions: &p,
+            normals: &n,
+            indices: &i,
+        }])
+        .unwrap_err();
+        assert!(err.to_string().contains("index 9"), "{err}");
+        let err = to_glb(&[MeshData {
+            name: "short",
+            positions: &p,
+            normals: &n[..2],
+            indices: &i,
+        }])
+        .unwrap_err();
+        assert!(err.to_string().contains("normals"), "{err}");
+    }
+
+    #[test]
+    fn the_khronos_validator_finds_no_errors() {
+        let dir = tempfile::tempdir().unwrap();
+        let (p, n, i) = tetrahedron();
+        // Two meshes, so that the second's views start after the first's.
+        let glb = to_glb(&[
+            MeshData {
+                name: "one triangle",
+                positions: &p[..3],
+                normals: &n[..3],
+                indices: &i[..3],
+            },
+            MeshData {
+                name: "tet",
+                positions: &p,
+                normals: &n,
+                indices: &i,
+            },
+        ])
+        .unwrap();
+        let file = dir.path().join("tet.glb");
+        std::fs::write(&file, glb).unwrap();
+        let report = validate(&file);
+        assert_eq!(report["numErrors"], 0, "{report:#}");
+        let empty = dir.path().join("empty.glb");
+        std::fs::write(&empty, to_glb(&[]).unwrap()).unwrap();
+        let report = validate(&empty);
+        assert_eq!(report["numErrors"], 0, "{report:#}");
+    }
+}
