@@ -162,8 +162,14 @@ pub fn check(path: &Path) -> Result<(), Failure> {
     println!("scene {}: {}", scene.scene.name, path.display());
     for (b, spec) in scene.bodies.iter().enumerate() {
         let q = &disc.quality[b];
+        let fit = disc.conformity[b].map_or(String::new(), |c| {
+            format!(
+                ", fit to the mesh {:.3}λ max / {:.3}λ mean ({} vertices snapped)",
+                c.max, c.mean, c.snapped
+            )
+        });
         println!(
-            "  body {}: {} particles, mean edge {:.4} m, dihedral angles {:.1}°–{:.1}°",
+            "  body {}: {} particles, mean edge {:.4} m, dihedral angles {:.1}°–{:.1}°{fit}",
             spec.name,
             disc.meshes[b].tets.len(),
             q.mean_edge,

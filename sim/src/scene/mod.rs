@@ -190,11 +190,48 @@ pub enum ShapeSpec {
         /// The shape removed.
         minus: Box<ShapeSpec>,
     },
-    /// A closed triangle mesh file, relative to the scene file.
+    /// A closed triangle mesh file, relative to the scene file, placed by
+    /// `p ↦ R (scale ⊙ p) + translation`.
     Mesh {
-        /// The mesh file (OBJ, PLY, glTF).
+        /// The mesh file (`.obj`, `.ply`, `.gltf`, `.glb`).
         path: PathBuf,
+        /// Scale: one factor or one per axis `[x, y, z]`, applied first. Default 1.
+        #[serde(default)]
+        scale: MeshScale,
+        /// Rotation in degrees about x, then y, then z (fixed axes; R = Rz Ry Rx).
+        /// Default 0.
+        #[serde(default)]
+        rotation: [f64; 3],
+        /// Translation in m, applied last. Default 0.
+        #[serde(default)]
+        translation: [f64; 3],
     },
+}
+
+/// The scale of a mesh shape: uniform or per axis.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum MeshScale {
+    /// The same factor on every axis.
+    Uniform(f64),
+    /// One factor per axis (negative factors mirror).
+    PerAxis([f64; 3]),
+}
+
+impl Default for MeshScale {
+    fn default() -> Self {
+        MeshScale::Uniform(1.0)
+    }
+}
+
+impl MeshScale {
+    /// The factor on each axis.
+    pub fn factors(self) -> [f64; 3] {
+        match self {
+            MeshScale::Uniform(s) => [s; 3],
+            MeshScale::PerAxis(s) => s,
+        }
+    }
 }
 
 /// A coordinate axis.

@@ -316,7 +316,21 @@ fn shape(scene: &Scene, path: &[&str], s: &ShapeSpec) -> Check {
             shape(scene, &with("base"), base)?;
             shape(scene, &with("minus"), minus)?;
         }
-        ShapeSpec::Mesh { path: file } => {
+        ShapeSpec::Mesh {
+            path: file,
+            scale,
+            rotation,
+            translation,
+        } => {
+            let factors = scale.factors();
+            if !factors.iter().all(|s| s.is_finite() && *s != 0.0) {
+                return Err(issue(
+                    &with("scale"),
+                    format!("every scale factor must be finite and non-zero, got {factors:?}"),
+                ));
+            }
+            finite3(&with("rotation"), *rotation)?;
+            finite3(&with("translation"), *translation)?;
             let full = scene.base_dir.join(file);
             if !full.is_file() {
                 return Err(issue(
