@@ -53,7 +53,7 @@ pub fn assets() -> Vec<Asset> {
 }
 
 /// Vase wall thickness in m.
-const VASE_WALL: f64 = 0.016;
+const VASE_WALL: f64 = 0.02;
 /// Vase height of the wall's centreline in m.
 const VASE_HEIGHT: f64 = 0.18;
 /// Radius of the vase's body at the foot (centreline), in m.
@@ -62,7 +62,7 @@ const VASE_FOOT_RADIUS: f64 = 0.045;
 const VASE_BULGE: f64 = 0.025;
 /// Radius of the foot's rounded corner (centreline), in m: the inside corner is
 /// rounded at this minus half the wall.
-const VASE_CORNER: f64 = 0.016;
+const VASE_CORNER: f64 = 0.02;
 /// Segments around the axis.
 const VASE_SEGMENTS: usize = 72;
 /// Profile sample spacing in m.
@@ -257,7 +257,7 @@ pub fn jello() -> TriMesh {
 /// Grid cell of the figure's marching tetrahedra, in m.
 const FIGURE_CELL: f64 = 0.008;
 /// Fillet size of the smooth union joining the figure's parts, in m.
-const FIGURE_BLEND: f64 = 0.02;
+const FIGURE_BLEND: f64 = 0.035;
 
 fn length(p: [f64; 3]) -> f64 {
     (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt()

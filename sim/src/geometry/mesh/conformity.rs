@@ -42,6 +42,9 @@ pub struct Conformity {
     pub max: f64,
     /// Mean distance over all samples of both sides (in λ).
     pub mean: f64,
+    /// Where the largest distance was found (a sample point on the boundary or
+    /// on the surface).
+    pub worst_point: [f64; 3],
     /// Boundary vertices moved by snapping.
     pub snapped: usize,
 }
@@ -103,10 +106,11 @@ pub fn conform(tets: &mut TetMesh, surface: &TriMesh, sdf: &MeshSdf, lambda: f64
             snapped[v] = true;
         }
     }
-    let (max, mean) = hausdorff(tets, &boundary, surface, sdf, lambda);
+    let (max, mean, worst_point) = hausdorff(tets, &boundary, surface, sdf, lambda);
     Conformity {
         max,
         mean,
+        worst_point,
         snapped: snapped.iter().filter(|&&s| s).count(),
     }
 }
@@ -185,24 +189,25 @@ fn feature_points(surface: &TriMesh, lambda: f64) -> Vec<FeaturePoint> {
 }
 
 /// Two-sided Hausdorff distance and mean distance (in λ) between the boundary
-/// faces of `tets` and `surface`, sampled at [`SAMPLE_SPACING`]·λ.
+/// faces of `tets` and `surface`, sampled at [`SAMPLE_SPACING`]·λ, and the
+/// sample point where the largest distance was found.
 pub fn hausdorff(
     tets: &TetMesh,
     boundary: &[[u32; 3]],
     surface: &TriMesh,
     sdf: &MeshSdf,
     lambda: f64,
-) -> (f64, f64) {
+) -> (f64, f64, [f64; 3]) {
     let boundary_bvh = face_bvh(tets, boundary);
     let spacing = SAMPLE_SPACING * lambda;
-    let to_surface: Vec<(f64, f64, usize)> = boundary
+    let to_surface: Vec<Samples> = boundary
         .par_iter()
         .map(|f| {
             let tri = f.map(|v| tets.vertices[v as usize]);
             sample(tri, spacing, |p| dist(sdf.closest_point(p), p))
         })
         .collect();
-    let from_surface: Vec<(f64, f64, usize)> = (0..surface.triangles.len())
+    let from_surface: Vec<Samples> = (0..surface.triangles.len())
         .into_par_iter()
         .map(|t| {
             sample(surface.corners(t), spacing, |p| {
@@ -212,39 +217,63 @@ pub fn hausdorff(
             })
         })
         .collect();
-    let (mut max, mut sum, mut count) = (0.0f64, 0.0, 0usize);
-    for (m, s, n) in to_surface.into_iter().chain(from_surface) {
-        max = max.max(m);
-        sum += s;
-        count += n;
+    let mut all = Samples::default();
+    for s in to_surface.into_iter().chain(from_surface) {
+        all.merge(s);
     }
-    (max / lambda, sum / count.max(1) as f64 / lambda)
+    (
+        all.max / lambda,
+        all.sum / all.count.max(1) as f64 / lambda,
+        all.worst,
+    )
 }
 
-/// Max, sum and count of `distance` over points of triangle `tri` on a
-/// barycentric grid fine enough for `spacing`.
-fn sample(
-    tri: [[f64; 3]; 3],
-    spacing: f64,
-    distance: impl Fn([f64; 3]) -> f64,
-) -> (f64, f64, usize) {
+/// Distance statistics over sample points.
+#[derive(Default)]
+struct Samples {
+    max: f64,
+    worst: [f64; 3],
+    sum: f64,
+    count: usize,
+}
+
+impl Samples {
+    fn add(&mut self, p: [f64; 3], d: f64) {
+        if d > self.max {
+            self.max = d;
+            self.worst = p;
+        }
+        self.sum += d;
+        self.count += 1;
+    }
+
+    fn merge(&mut self, other: Samples) {
+        if other.max > self.max {
+            self.max = other.max;
+            self.worst = other.worst;
+        }
+        self.sum += other.sum;
+        self.count += other.count;
+    }
+}
+
+/// `distance` over points of triangle `tri` on a barycentric grid fine enough
+/// for `spacing`.
+fn sample(tri: [[f64; 3]; 3], spacing: f64, distance: impl Fn([f64; 3]) -> f64) -> Samples {
     let longest = dist(tri[0], tri[1])
         .max(dist(tri[1], tri[2]))
         .max(dist(tri[2], tri[0]));
     let n = ((longest / spacing).ceil() as usize).clamp(1, 1000);
-    let (mut max, mut sum, mut count) = (0.0f64, 0.0, 0usize);
+    let mut samples = Samples::default();
     for i in 0..=n {
         for j in 0..=n - i {
             let (u, v) = (i as f64 / n as f64, j as f64 / n as f64);
             let w = 1.0 - u - v;
             let p = [0, 1, 2].map(|k| w * tri[0][k] + u * tri[1][k] + v * tri[2][k]);
-            let d = distance(p);
-            max = max.max(d);
-            sum += d;
-            count += 1;
+            samples.add(p, distance(p));
         }
     }
-    (max, sum, count)
+    samples
 }
 
 fn face_bvh(tets: &TetMesh, faces: &[[u32; 3]]) -> Bvh {

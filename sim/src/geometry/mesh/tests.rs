@@ -404,3 +404,43 @@ fn sphere_and_box_conform_within_a_quarter_lambda() {
         assert!(volume_error.abs() < 0.03, "{name}: volume {volume_error}");
     }
 }
+
+/// Every committed asset (made by tools/make-meshes) loads as a closed, valid
+/// surface, and meshes at its scene's resolution to a body of the enclosed
+/// volume within 3%, fitting the surface within λ/4.
+#[test]
+fn committed_assets_mesh_to_their_volume() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/meshes");
+    let mut failures = Vec::new();
+    for (name, lambda) in [
+        ("vase.obj", 0.0065),
+        ("jello.ply", 0.011),
+        ("figure.glb", 0.008),
+    ] {
+        let surface =
+            TriMesh::load(&dir.join(name), &Placement::default()).unwrap_or_else(|e| panic!("{e}"));
+        let (tets, fit) = mesh_and_fit(&surface, lambda);
+        let q = tets.quality();
+        let volume_error = tets.total_volume() / surface.enclosed_volume() - 1.0;
+        println!(
+            "{name}: {} triangles, λ = {lambda}, {} tets, fit max {:.3}λ (at {:.4?}) mean {:.4}λ ({} snapped), dihedral {:.1}°–{:.1}°, volume {:+.2}%",
+            surface.triangles.len(),
+            tets.tets.len(),
+            fit.max,
+            fit.worst_point,
+            fit.mean,
+            fit.snapped,
+            q.min_dihedral_deg,
+            q.max_dihedral_deg,
+            100.0 * volume_error
+        );
+        if surface.triangles.len() > 20_000
+            || volume_error.abs() >= 0.03
+            || fit.max > 0.25
+            || q.min_dihedral_deg < conformity::MIN_DIHEDRAL_DEG - 1e-9
+        {
+            failures.push(name);
+        }
+    }
+    assert!(failures.is_empty(), "out of bounds: {failures:?}");
+}
