@@ -26,7 +26,8 @@ pub(super) fn check(mesh: &TriMesh, path: &Path) -> Result<(), MeshFileError> {
         } else {
             let [a, b, c] = mesh.corners(f);
             let area = 0.5 * norm(cross(sub(b, a), sub(c, a)));
-            let zero = !(area > ZERO_AREA * diagonal2);
+            // NaN areas count as zero.
+            let zero = area.is_nan() || area <= ZERO_AREA * diagonal2;
             zero_area += usize::from(zero);
             zero
         };
