@@ -12,6 +12,11 @@ use super::{MeshFileError, TriMesh, cross, dot, norm, sub};
 /// bounding-box diagonal.
 const ZERO_AREA: f64 = 1e-14;
 
+/// A segment crosses a face's plane only if both ends are farther than this
+/// times the bounding-box diagonal from it: coplanar neighbours (a flat region
+/// of a rotated mesh, with rounding in every coordinate) are not crossings.
+const PLANE_TOLERANCE: f64 = 1e-9;
+
 /// Runs every check in order (degenerate, closed, oriented, self-intersecting)
 /// and returns the first failure.
 pub(super) fn check(mesh: &TriMesh, path: &Path) -> Result<(), MeshFileError> {
@@ -85,7 +90,7 @@ pub(super) fn check(mesh: &TriMesh, path: &Path) -> Result<(), MeshFileError> {
         });
     }
 
-    let (pairs, first_pair) = intersecting_pairs(mesh);
+    let (pairs, first_pair) = intersecting_pairs(mesh, PLANE_TOLERANCE * diagonal2.sqrt());
     if pairs > 0 {
         return Err(MeshFileError::SelfIntersecting {
             path: path(),
@@ -98,7 +103,7 @@ pub(super) fn check(mesh: &TriMesh, path: &Path) -> Result<(), MeshFileError> {
 
 /// Number of pairs of faces that intersect other than in shared vertices or a
 /// shared edge, and the first such pair (lowest indices).
-fn intersecting_pairs(mesh: &TriMesh) -> (usize, Option<(usize, usize)>) {
+fn intersecting_pairs(mesh: &TriMesh, tolerance: f64) -> (usize, Option<(usize, usize)>) {
     let bvh = Bvh::new((0..mesh.triangles.len()).map(|t| mesh.corners(t)).collect());
     let per_face: Vec<(usize, Option<usize>)> = (0..mesh.triangles.len())
         .into_par_iter()
@@ -108,7 +113,7 @@ fn intersecting_pairs(mesh: &TriMesh) -> (usize, Option<(usize, usize)>) {
             let hi = [0, 1, 2].map(|k| tri[0][k].max(tri[1][k]).max(tri[2][k]));
             let (mut count, mut first) = (0, None::<usize>);
             bvh.overlapping(lo, hi, |g| {
-                if g > f && faces_intersect(mesh, f, g) {
+                if g > f && faces_intersect(mesh, f, g, tolerance) {
                     count += 1;
                     first = Some(first.map_or(g, |x| x.min(g)));
                 }
@@ -129,14 +134,14 @@ fn intersecting_pairs(mesh: &TriMesh) -> (usize, Option<(usize, usize)>) {
 /// faces sharing one vertex cross when the edge of either opposite the shared
 /// vertex passes through the other; otherwise when any edge of one passes
 /// through the other.
-fn faces_intersect(mesh: &TriMesh, f: usize, g: usize) -> bool {
+fn faces_intersect(mesh: &TriMesh, f: usize, g: usize, tolerance: f64) -> bool {
     let (tf, tg) = (mesh.triangles[f], mesh.triangles[g]);
     let shared: Vec<u32> = tf.iter().copied().filter(|v| tg.contains(v)).collect();
     let (pf, pg) = (mesh.corners(f), mesh.corners(g));
     match shared.len() {
         0 => {
-            (0..3).any(|i| segment_crosses(pf[i], pf[(i + 1) % 3], pg))
-                || (0..3).any(|i| segment_crosses(pg[i], pg[(i + 1) % 3], pf))
+            (0..3).any(|i| segment_crosses(pf[i], pf[(i + 1) % 3], pg, tolerance))
+                || (0..3).any(|i| segment_crosses(pg[i], pg[(i + 1) % 3], pf, tolerance))
         }
         1 => {
             let s = shared[0];
@@ -146,7 +151,7 @@ fn faces_intersect(mesh: &TriMesh, f: usize, g: usize) -> bool {
             };
             let (a, b) = opposite(tf, pf);
             let (c, d) = opposite(tg, pg);
-            segment_crosses(a, b, pg) || segment_crosses(c, d, pf)
+            segment_crosses(a, b, pg, tolerance) || segment_crosses(c, d, pf, tolerance)
         }
         _ => false,
     }
@@ -157,13 +162,16 @@ fn orient(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> f64 {
     dot(sub(b, a), cross(sub(c, a), sub(d, a)))
 }
 
-/// Whether the segment `pq` passes through the triangle `t`: its ends lie
-/// strictly on both sides of the plane and the crossing point inside the
-/// triangle (or on its border). Coplanar overlaps are not detected.
-fn segment_crosses(p: [f64; 3], q: [f64; 3], [a, b, c]: [[f64; 3]; 3]) -> bool {
-    let sp = orient(a, b, c, p);
-    let sq = orient(a, b, c, q);
-    if !(sp > 0.0 && sq < 0.0 || sp < 0.0 && sq > 0.0) {
+/// Whether the segment `pq` passes through the triangle `t`: its ends lie on
+/// both sides of the plane, each farther than `tolerance` from it, and the
+/// crossing point inside the triangle (or on its border). Coplanar overlaps are
+/// not detected.
+fn segment_crosses(p: [f64; 3], q: [f64; 3], [a, b, c]: [[f64; 3]; 3], tolerance: f64) -> bool {
+    let area2 = norm(cross(sub(b, a), sub(c, a)));
+    // Signed distances from the plane.
+    let sp = orient(a, b, c, p) / area2;
+    let sq = orient(a, b, c, q) / area2;
+    if !(sp > tolerance && sq < -tolerance || sp < -tolerance && sq > tolerance) {
         return false;
     }
     let u = orient(p, q, a, b);

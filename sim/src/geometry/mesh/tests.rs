@@ -443,4 +443,15 @@ fn committed_assets_mesh_to_their_volume() {
         }
     }
     assert!(failures.is_empty(), "out of bounds: {failures:?}");
+    // The vase's flat bottom is many coplanar triangles; rotated, rounding puts
+    // them a hair off one plane, which must not count as a self-intersection
+    // (regression: vase-drop.toml was rejected with 6 intersecting pairs).
+    let tilted = TriMesh::load(
+        &dir.join("vase.obj"),
+        &Placement {
+            rotation_deg: [0.0, 0.0, 20.0],
+            ..Placement::default()
+        },
+    );
+    assert!(tilted.is_ok(), "{:?}", tilted.err());
 }
