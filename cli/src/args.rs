@@ -89,13 +89,16 @@ pub struct RunArgs {
 pub enum SurfaceMethodArg {
     /// OpenVDB level sets per fragment: `vdb/NNNN.vdb`, `surface/NNNN.glb`.
     Vdb,
+    /// The split tet mesh's boundary with smoothed crack faces (needs `tets/`):
+    /// `surface/NNNN.glb` and `surface/animated.glb`.
+    Embedded,
 }
 
 /// `perifrac surface` as typed.
 #[derive(Debug, clap::Args)]
 pub struct SurfaceArgs {
     /// The output directory of a `perifrac run` (its settings come from the scene
-    /// there, `[output.vdb]`).
+    /// there, `[output.vdb]` or `[output.embedded]`).
     pub out: PathBuf,
     /// The surface method.
     #[arg(long, value_enum, default_value_t = SurfaceMethodArg::Vdb)]

@@ -143,8 +143,12 @@ fn simulate(scene: &Scene, out: &Path, options: &RunOptions, quiet: bool) -> Res
             out.display()
         );
     }
-    if scene.output.surface == SurfaceMethod::Vdb {
-        crate::surface::stage(out, &scene.output.vdb, quiet)?;
+    match scene.output.surface {
+        SurfaceMethod::None => {}
+        SurfaceMethod::Vdb => crate::surface::stage(out, &scene.output.vdb, quiet)?,
+        SurfaceMethod::Embedded => {
+            crate::surface::embedded_stage(out, &scene.output.embedded, quiet)?
+        }
     }
     Ok(())
 }

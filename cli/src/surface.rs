@@ -1,12 +1,21 @@
-//! `perifrac surface OUT --method vdb`, and the surface stage `perifrac run` runs when
-//! the scene's `[output] surface` asks for it: every frame of a cache through
-//! `perifrac-surface`, frames in parallel (rayon; OpenVDB's TBB pool capped at the
-//! same thread count), each frame's meshes written as `surface/NNNN.glb` by
-//! `perifrac-render`.
+//! `perifrac surface OUT --method vdb|embedded`, and the surface stage `perifrac run`
+//! runs when the scene's `[output] surface` asks for it: every frame of a cache
+//! through `perifrac-surface`, frames in parallel (rayon; OpenVDB's TBB pool capped at
+//! the same thread count), each frame's meshes written as `surface/NNNN.glb` by
+//! `perifrac-render` (and, for the embedded method, `surface/animated.glb`).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
 
-use perifrac_sim::scene::{Scene, VdbSpec};
+use anyhow::{Context, anyhow};
+use indicatif::{ProgressBar, ProgressStyle};
+use perifrac_render::gltf::{CrackSurface, animated_glb, crack_glb};
+use perifrac_sim::cache::manifest::Manifest;
+use perifrac_sim::cache::vtu::TetFrame;
+use perifrac_sim::cache::{Layout, write_atomic};
+use perifrac_sim::scene::{EmbeddedSpec, Scene, VdbSpec};
+use perifrac_surface::embedded::{EmbeddedSurface, RenderMesh, surface};
+use rayon::prelude::*;
 
 use crate::args::{SurfaceConfig, SurfaceMethodArg};
 use crate::commands::{Failure, set_threads};
@@ -18,6 +27,175 @@ pub fn command(config: &SurfaceConfig, quiet: bool) -> Result<(), Failure> {
     let scene = Scene::load(&config.out.join("scene.toml"))?;
     match config.method {
         SurfaceMethodArg::Vdb => stage(&config.out, &scene.output.vdb, quiet),
+        SurfaceMethodArg::Embedded => embedded_stage(&config.out, &scene.output.embedded, quiet),
+    }
+}
+
+fn progress(frames: usize, quiet: bool) -> ProgressBar {
+    if quiet {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(frames as u64);
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {bar:30} surfaced {pos}/{len} frames {msg} ETA {eta}",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    bar.enable_steady_tick(Duration::from_millis(200));
+    bar
+}
+
+/// The frame's surface as written to its .glb.
+fn crack_surface<'a>(name: &'a str, m: &'a RenderMesh) -> CrackSurface<'a> {
+    CrackSurface {
+        name,
+        positions: &m.positions,
+        normals: &m.normals,
+        damage: &m.damage,
+        surface_indices: &m.surface_indices,
+        crack_indices: &m.crack_indices,
+    }
+}
+
+/// Positions, in a frame, of the vertices of the final topology: a copy that does
+/// not exist yet sits where the vertex it will be split from is (`parent` from the
+/// last frame; a frame's vertices are a prefix of the last frame's).
+fn follow(final_mesh: &RenderMesh, parent: &[i32], points: &[[f64; 3]]) -> Vec<[f32; 3]> {
+    final_mesh
+        .vertex
+        .iter()
+        .map(|&v| {
+            let mut v = v as usize;
+            while v >= points.len() && parent[v] >= 0 {
+                v = parent[v] as usize;
+            }
+            points[v].map(|c| c as f32)
+        })
+        .collect()
+}
+
+/// Runs the `embedded` method over every frame of the cache in `out`: reads
+/// `tets/NNNN.vtu`, writes `surface/NNNN.glb` and `surface/animated.glb`, and
+/// records the extraction time in the manifest (`timings.surface`).
+pub fn embedded_stage(out: &Path, spec: &EmbeddedSpec, quiet: bool) -> Result<(), Failure> {
+    let layout = Layout::new(out);
+    let mut manifest = Manifest::read(&layout.manifest())?;
+    let frames = manifest.frame_times.len();
+    if frames == 0 {
+        return Err(Failure::input(anyhow!(
+            "{}: the cache has no frames to surface",
+            layout.manifest().display()
+        )));
+    }
+    if !layout.tets(1).is_file() {
+        return Err(Failure::input(anyhow!(
+            "{} is missing: the embedded method reads the split tet meshes; run the scene with \
+             [output] tets = true (or surface = \"embedded\")",
+            layout.tets(1).display()
+        )));
+    }
+    let dir = layout.root.join("surface");
+    std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+    let glb = |frame: usize| -> PathBuf { dir.join(format!("{frame:04}.glb")) };
+    let start = Instant::now();
+    // The last frame first: its topology is the animation's.
+    let last = TetFrame::read(&layout.tets(frames))?;
+    let t = Instant::now();
+    let final_surface = surface(&last, spec.smoothing_passes);
+    let final_mesh = final_surface.render_mesh(&last.damage);
+    let mut extraction = t.elapsed().as_secs_f64();
+    let bar = progress(frames, quiet);
+    let name = manifest.scene.clone();
+    let per_frame: Vec<(Vec<[f32; 3]>, f64, EmbeddedSurfaceSummary)> = (1..=frames)
+        .into_par_iter()
+        .map(|frame| -> Result<_, Failure> {
+            let tets = if frame == frames {
+                last.clone()
+            } else {
+                TetFrame::read(&layout.tets(frame))?
+            };
+            let t = Instant::now();
+            let surf = surface(&tets, spec.smoothing_passes);
+            let mesh = surf.render_mesh(&tets.damage);
+            let seconds = t.elapsed().as_secs_f64();
+            let bytes = crack_glb(&crack_surface(&name, &mesh))
+                .with_context(|| format!("frame {frame}"))?;
+            write_atomic(&glb(frame), &bytes)?;
+            bar.inc(1);
+            Ok((
+                follow(&final_mesh, &last.parent, &surf.points),
+                seconds,
+                EmbeddedSurfaceSummary::of(&surf),
+            ))
+        })
+        .collect::<Result<_, Failure>>()?;
+    bar.finish_and_clear();
+    extraction += per_frame.iter().map(|f| f.1).sum::<f64>();
+    let times: Vec<f32> = manifest.frame_times.iter().map(|&t| t as f32).collect();
+    let positions: Vec<Vec<[f32; 3]>> = per_frame.iter().map(|f| f.0.clone()).collect();
+    let base_points: Vec<[f64; 3]> = positions[0].iter().map(|p| p.map(f64::from)).collect();
+    let mut base = final_mesh.clone();
+    base.positions = positions[0].clone();
+    base.normals = normals_at(&final_mesh, &base_points);
+    let bytes = animated_glb(&crack_surface(&name, &base), &times, &positions)
+        .context("surface/animated.glb")?;
+    write_atomic(&dir.join("animated.glb"), &bytes)?;
+    manifest.timings.surface = extraction;
+    manifest.write(&layout.manifest())?;
+    if !quiet {
+        let s = per_frame
+            .iter()
+            .fold(EmbeddedSurfaceSummary::default(), |a, f| a.max(&f.2));
+        eprintln!(
+            "surfaced {frames} frames (embedded) in {:.1} s, extraction {:.2} s a frame: last frame \
+             {} triangles ({} crack), at most {} crack vertices smoothed, {} moves backed off, \
+             fragment volume kept within {:.1e}; output in {}",
+            start.elapsed().as_secs_f64(),
+            extraction / frames as f64,
+            final_surface.triangles.len(),
+            final_surface.crack.iter().filter(|&&c| c).count(),
+            s.crack_vertices,
+            s.backed_off,
+            s.volume_error,
+            dir.display()
+        );
+    }
+    Ok(())
+}
+
+/// Normals of the render vertices at positions given per render vertex.
+fn normals_at(mesh: &RenderMesh, positions: &[[f64; 3]]) -> Vec<[f32; 3]> {
+    let local = RenderMesh {
+        vertex: (0..mesh.vertex.len() as u32).collect(),
+        ..mesh.clone()
+    };
+    EmbeddedSurface::default().normals(&local, positions)
+}
+
+/// The largest smoothing figures over frames, for the summary line.
+#[derive(Debug, Clone, Copy, Default)]
+struct EmbeddedSurfaceSummary {
+    crack_vertices: usize,
+    backed_off: usize,
+    volume_error: f64,
+}
+
+impl EmbeddedSurfaceSummary {
+    fn of(s: &EmbeddedSurface) -> Self {
+        EmbeddedSurfaceSummary {
+            crack_vertices: s.stats.crack_vertices,
+            backed_off: s.stats.backed_off,
+            volume_error: s.stats.volume_error,
+        }
+    }
+
+    fn max(self, o: &Self) -> Self {
+        EmbeddedSurfaceSummary {
+            crack_vertices: self.crack_vertices.max(o.crack_vertices),
+            backed_off: self.backed_off + o.backed_off,
+            volume_error: self.volume_error.max(o.volume_error),
+        }
     }
 }
 

@@ -1,5 +1,12 @@
 //! A glTF 2.0 binary (.glb) writer for triangle meshes, on `gltf-json`'s types.
 //!
+//! [`to_glb`] writes plain meshes (the `vdb` method); [`crack_glb`] and
+//! [`animated_glb`] write the `embedded` method's fractured surfaces: one mesh with a
+//! "surface" and a "crack" primitive (the inside of the object, its own material)
+//! sharing vertices, damage as vertex colour `COLOR_0` and as the float attribute
+//! `_DAMAGE`, and, for the animation, one morph target a frame with a step-keyed
+//! weights animation (Blender imports it as one object with shape keys).
+//!
 //! One glTF mesh (and one node, named like it) per input mesh, all in one scene.
 //! Each mesh has a position accessor (with the bounds the format requires), a
 //! normal accessor and a `u32` index accessor, each in its own buffer view with its
@@ -121,18 +128,377 @@ fn accessor(
     }
 }
 
-/// Encodes meshes as a .glb file (an asset with no scene when `meshes` is empty).
-pub fn to_glb(meshes: &[MeshData<'_>]) -> Result<Vec<u8>, RenderError> {
+/// A fractured surface: one mesh whose original-surface and crack triangles share
+/// the vertex arrays.
+#[derive(Debug, Clone, Copy)]
+pub struct CrackSurface<'a> {
+    /// Name of the mesh and its node.
+    pub name: &'a str,
+    /// Vertex positions (m); for [`animated_glb`], the first frame's.
+    pub positions: &'a [[f32; 3]],
+    /// Unit vertex normals.
+    pub normals: &'a [[f32; 3]],
+    /// Damage φ in [0, 1] per vertex.
+    pub damage: &'a [f32],
+    /// Triangles of the original surface (material "surface").
+    pub surface_indices: &'a [u32],
+    /// Triangles of the crack surfaces (material "crack").
+    pub crack_indices: &'a [u32],
+}
+
+/// Vertex colour of damage φ: white when intact, towards red when broken (it
+/// multiplies the material's base colour).
+pub fn damage_colour(phi: f32) -> [f32; 3] {
+    let d = phi.clamp(0.0, 1.0);
+    [1.0, 1.0 - 0.8 * d, 1.0 - 0.9 * d]
+}
+
+fn bounds(v: &[[f32; 3]]) -> ([f32; 3], [f32; 3]) {
+    let mut lo = [f32::INFINITY; 3];
+    let mut hi = [f32::NEG_INFINITY; 3];
+    for p in v {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    (lo, hi)
+}
+
+fn vec3_bytes(v: &[[f32; 3]]) -> impl Iterator<Item = [u8; 4]> + '_ {
+    v.iter().flat_map(|p| p.map(f32::to_le_bytes))
+}
+
+fn check_crack(s: &CrackSurface<'_>) -> Result<(), RenderError> {
+    let n = s.positions.len();
+    for (what, len) in [
+        ("normals", s.normals.len()),
+        ("damage values", s.damage.len()),
+    ] {
+        if len != n {
+            return Err(invalid(format!(
+                "mesh '{}' has {n} positions but {len} {what}",
+                s.name
+            )));
+        }
+    }
+    for (what, list) in [("surface", s.surface_indices), ("crack", s.crack_indices)] {
+        check(&MeshData {
+            name: &format!("{} ({what})", s.name),
+            positions: s.positions,
+            normals: s.normals,
+            indices: if list.is_empty() { &[0, 0, 0] } else { list },
+        })
+        .map_err(|e| match n {
+            0 => invalid(format!("mesh '{}' is empty", s.name)),
+            _ => e,
+        })?;
+    }
+    if s.surface_indices.is_empty() && s.crack_indices.is_empty() {
+        return Err(invalid(format!("mesh '{}' has no triangles", s.name)));
+    }
+    Ok(())
+}
+
+fn material(name: &str, colour: [f32; 4], roughness: f32) -> json::Material {
+    json::Material {
+        name: Some(name.to_string()),
+        pbr_metallic_roughness: json::material::PbrMetallicRoughness {
+            base_color_factor: json::material::PbrBaseColorFactor(colour),
+            metallic_factor: json::material::StrengthFactor(0.0),
+            roughness_factor: json::material::StrengthFactor(roughness),
+            ..Default::default()
+        },
+        ..Default::default()
+    }
+}
+
+/// Writes the mesh, node and scene of a fractured surface, with `targets` morph
+/// targets (position deltas) when given; returns the node.
+fn push_crack_surface(
+    root: &mut json::Root,
+    bin: &mut Vec<u8>,
+    s: &CrackSurface<'_>,
+    targets: &[Vec<[f32; 3]>],
+) -> json::Index<json::Node> {
     use json::accessor::{ComponentType, Type};
     use json::buffer::Target;
+    use json::mesh::Semantic;
 
-    let mut root = json::Root {
+    let count = s.positions.len();
+    let view = push_view(root, bin, vec3_bytes(s.positions), Target::ArrayBuffer);
+    let positions = root.push(accessor(
+        view,
+        count,
+        ComponentType::F32,
+        Type::Vec3,
+        Some(bounds(s.positions)),
+    ));
+    let view = push_view(root, bin, vec3_bytes(s.normals), Target::ArrayBuffer);
+    let normals = root.push(accessor(view, count, ComponentType::F32, Type::Vec3, None));
+    let colours: Vec<[f32; 3]> = s.damage.iter().map(|&d| damage_colour(d)).collect();
+    let view = push_view(root, bin, vec3_bytes(&colours), Target::ArrayBuffer);
+    let colours = root.push(accessor(view, count, ComponentType::F32, Type::Vec3, None));
+    let view = push_view(
+        root,
+        bin,
+        s.damage.iter().map(|d| d.to_le_bytes()),
+        Target::ArrayBuffer,
+    );
+    let damage = root.push(accessor(
+        view,
+        count,
+        ComponentType::F32,
+        Type::Scalar,
+        None,
+    ));
+    let morph: Vec<json::mesh::MorphTarget> = targets
+        .iter()
+        .map(|delta| {
+            let view = push_view(root, bin, vec3_bytes(delta), Target::ArrayBuffer);
+            json::mesh::MorphTarget {
+                positions: Some(root.push(accessor(
+                    view,
+                    count,
+                    ComponentType::F32,
+                    Type::Vec3,
+                    Some(bounds(delta)),
+                ))),
+                normals: None,
+                tangents: None,
+            }
+        })
+        .collect();
+    let surface_material = root.push(material("surface", [0.8, 0.8, 0.78, 1.0], 0.5));
+    let crack_material = root.push(material("crack", [0.85, 0.45, 0.3, 1.0], 0.9));
+    let mut primitives = Vec::new();
+    for (list, mat) in [
+        (s.surface_indices, surface_material),
+        (s.crack_indices, crack_material),
+    ] {
+        if list.is_empty() {
+            continue;
+        }
+        let view = push_view(
+            root,
+            bin,
+            list.iter().map(|i| i.to_le_bytes()),
+            Target::ElementArrayBuffer,
+        );
+        let indices = root.push(accessor(
+            view,
+            list.len(),
+            ComponentType::U32,
+            Type::Scalar,
+            None,
+        ));
+        primitives.push(json::mesh::Primitive {
+            attributes: [
+                (Checked::Valid(Semantic::Positions), positions),
+                (Checked::Valid(Semantic::Normals), normals),
+                (Checked::Valid(Semantic::Colors(0)), colours),
+                (Checked::Valid(Semantic::Extras("DAMAGE".into())), damage),
+            ]
+            .into_iter()
+            .collect(),
+            extensions: None,
+            extras: Default::default(),
+            indices: Some(indices),
+            material: Some(mat),
+            mode: Checked::Valid(json::mesh::Mode::Triangles),
+            targets: (!morph.is_empty()).then(|| morph.clone()),
+        });
+    }
+    let mesh = root.push(json::Mesh {
+        extensions: None,
+        extras: Default::default(),
+        name: Some(s.name.to_string()),
+        primitives,
+        weights: (!targets.is_empty()).then(|| vec![0.0; targets.len()]),
+    });
+    let node = root.push(json::Node {
+        mesh: Some(mesh),
+        name: Some(s.name.to_string()),
+        ..Default::default()
+    });
+    let scene = root.push(json::Scene {
+        extensions: None,
+        extras: Default::default(),
+        name: None,
+        nodes: vec![node],
+    });
+    root.scene = Some(scene);
+    node
+}
+
+/// Encodes a fractured surface as a .glb file (one mesh, two materials).
+pub fn crack_glb(surface: &CrackSurface<'_>) -> Result<Vec<u8>, RenderError> {
+    check_crack(surface)?;
+    let mut root = new_root();
+    let mut bin = Vec::new();
+    push_crack_surface(&mut root, &mut bin, surface, &[]);
+    finish(root, bin)
+}
+
+/// Encodes a fractured surface animated by morph targets: `frames[k]` are the
+/// vertex positions at time `times[k]` (s), one morph target each (its deltas from
+/// `surface.positions`), and a step-interpolated weights animation that shows
+/// target k alone from `times[k]` on.
+pub fn animated_glb(
+    surface: &CrackSurface<'_>,
+    times: &[f32],
+    frames: &[Vec<[f32; 3]>],
+) -> Result<Vec<u8>, RenderError> {
+    use json::accessor::{ComponentType, Type};
+
+    check_crack(surface)?;
+    let n = frames.len();
+    if n == 0 || times.len() != n {
+        return Err(invalid(format!(
+            "mesh '{}': {} frames and {} times (at least one frame, one time each)",
+            surface.name,
+            n,
+            times.len()
+        )));
+    }
+    if !times.iter().all(|t| t.is_finite()) || times.windows(2).any(|w| w[1] <= w[0]) {
+        return Err(invalid(format!(
+            "mesh '{}': frame times must be finite and increasing",
+            surface.name
+        )));
+    }
+    let base = surface.positions;
+    let mut targets = Vec::with_capacity(n);
+    for (k, frame) in frames.iter().enumerate() {
+        if frame.len() != base.len() || !frame.iter().flatten().all(|x| x.is_finite()) {
+            return Err(invalid(format!(
+                "mesh '{}': frame {} has {} positions (or non-finite ones), the mesh {}",
+                surface.name,
+                k + 1,
+                frame.len(),
+                base.len()
+            )));
+        }
+        targets.push(
+            frame
+                .iter()
+                .zip(base)
+                .map(|(p, b)| [p[0] - b[0], p[1] - b[1], p[2] - b[2]])
+                .collect::<Vec<_>>(),
+        );
+    }
+    let mut root = new_root();
+    let mut bin = Vec::new();
+    let node = push_crack_surface(&mut root, &mut bin, surface, &targets);
+    drop(targets);
+    // Keyframes: times, and one-hot weights (target k at time k).
+    let view = push_view_plain(&mut root, &mut bin, times.iter().map(|t| t.to_le_bytes()));
+    let mut input = accessor(view, n, ComponentType::F32, Type::Scalar, None);
+    input.min = Some(json::Value::from(vec![times[0]]));
+    input.max = Some(json::Value::from(vec![times[n - 1]]));
+    let input = root.push(input);
+    let weights = (0..n * n).map(|i| if i / n == i % n { 1.0f32 } else { 0.0 });
+    let view = push_view_plain(&mut root, &mut bin, weights.map(|w| w.to_le_bytes()));
+    let output = root.push(accessor(
+        view,
+        n * n,
+        ComponentType::F32,
+        Type::Scalar,
+        None,
+    ));
+    root.push(json::Animation {
+        extensions: None,
+        extras: Default::default(),
+        channels: vec![json::animation::Channel {
+            sampler: json::Index::new(0),
+            target: json::animation::Target {
+                extensions: None,
+                extras: Default::default(),
+                node,
+                path: Checked::Valid(json::animation::Property::MorphTargetWeights),
+            },
+            extensions: None,
+            extras: Default::default(),
+        }],
+        name: Some("frames".into()),
+        samplers: vec![json::animation::Sampler {
+            extensions: None,
+            extras: Default::default(),
+            input,
+            interpolation: Checked::Valid(json::animation::Interpolation::Step),
+            output,
+        }],
+    });
+    finish(root, bin)
+}
+
+/// A buffer view without a target (animation data), at a 4-byte boundary.
+fn push_view_plain(
+    root: &mut json::Root,
+    bin: &mut Vec<u8>,
+    bytes: impl Iterator<Item = [u8; 4]>,
+) -> json::Index<json::buffer::View> {
+    let view = push_view(root, bin, bytes, json::buffer::Target::ArrayBuffer);
+    if let Some(v) = root.buffer_views.last_mut() {
+        v.target = None;
+    }
+    view
+}
+
+fn new_root() -> json::Root {
+    json::Root {
         asset: json::Asset {
             generator: Some(format!("perifrac {}", env!("CARGO_PKG_VERSION"))),
             ..Default::default()
         },
         ..Default::default()
-    };
+    }
+}
+
+/// Adds the buffer and packs the JSON and binary chunks into a .glb.
+fn finish(mut root: json::Root, mut bin: Vec<u8>) -> Result<Vec<u8>, RenderError> {
+    if !bin.is_empty() {
+        while bin.len() % 4 != 0 {
+            bin.push(0);
+        }
+        root.push(json::Buffer {
+            byte_length: USize64::from(bin.len()),
+            name: None,
+            uri: None,
+            extensions: None,
+            extras: Default::default(),
+        });
+    }
+    let mut text = root
+        .to_vec()
+        .map_err(|e| invalid(format!("could not encode the JSON chunk: {e}")))?;
+    while text.len() % 4 != 0 {
+        text.push(b' ');
+    }
+    let total = 12 + 8 + text.len() + if bin.is_empty() { 0 } else { 8 + bin.len() };
+    let total = u32::try_from(total)
+        .map_err(|_| invalid(format!("{total} bytes is over the 4 GiB a .glb can hold")))?;
+    let mut out = Vec::with_capacity(total as usize);
+    out.extend_from_slice(GLB_MAGIC);
+    out.extend_from_slice(&GLB_VERSION.to_le_bytes());
+    out.extend_from_slice(&total.to_le_bytes());
+    out.extend_from_slice(&(text.len() as u32).to_le_bytes());
+    out.extend_from_slice(&CHUNK_JSON.to_le_bytes());
+    out.extend_from_slice(&text);
+    if !bin.is_empty() {
+        out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+        out.extend_from_slice(&CHUNK_BIN.to_le_bytes());
+        out.extend_from_slice(&bin);
+    }
+    Ok(out)
+}
+
+/// Encodes meshes as a .glb file (an asset with no scene when `meshes` is empty).
+pub fn to_glb(meshes: &[MeshData<'_>]) -> Result<Vec<u8>, RenderError> {
+    use json::accessor::{ComponentType, Type};
+    use json::buffer::Target;
+
+    let mut root = new_root();
     let mut bin: Vec<u8> = Vec::new();
     let mut nodes = Vec::with_capacity(meshes.len());
     for mesh in meshes {
@@ -219,39 +585,8 @@ pub fn to_glb(meshes: &[MeshData<'_>]) -> Result<Vec<u8>, RenderError> {
             nodes,
         });
         root.scene = Some(scene);
-        while bin.len() % 4 != 0 {
-            bin.push(0);
-        }
-        root.push(json::Buffer {
-            byte_length: USize64::from(bin.len()),
-            name: None,
-            uri: None,
-            extensions: None,
-            extras: Default::default(),
-        });
     }
-    let mut text = root
-        .to_vec()
-        .map_err(|e| invalid(format!("could not encode the JSON chunk: {e}")))?;
-    while text.len() % 4 != 0 {
-        text.push(b' ');
-    }
-    let total = 12 + 8 + text.len() + if bin.is_empty() { 0 } else { 8 + bin.len() };
-    let total = u32::try_from(total)
-        .map_err(|_| invalid(format!("{total} bytes is over the 4 GiB a .glb can hold")))?;
-    let mut out = Vec::with_capacity(total as usize);
-    out.extend_from_slice(GLB_MAGIC);
-    out.extend_from_slice(&GLB_VERSION.to_le_bytes());
-    out.extend_from_slice(&total.to_le_bytes());
-    out.extend_from_slice(&(text.len() as u32).to_le_bytes());
-    out.extend_from_slice(&CHUNK_JSON.to_le_bytes());
-    out.extend_from_slice(&text);
-    if !bin.is_empty() {
-        out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
-        out.extend_from_slice(&CHUNK_BIN.to_le_bytes());
-        out.extend_from_slice(&bin);
-    }
-    Ok(out)
+    finish(root, bin)
 }
 
 #[cfg(test)]

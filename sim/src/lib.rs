@@ -9,6 +9,7 @@
 
 pub mod cache;
 pub mod contact;
+pub mod embed;
 pub mod error;
 pub mod family;
 pub mod geometry;

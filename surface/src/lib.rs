@@ -9,10 +9,13 @@
 //!   `vdb/NNNN.vdb`;
 //! - [`mesh`]: the triangle meshes it returns (the CLI writes them as
 //!   `surface/NNNN.glb` with `perifrac-render`);
+//! - [`embedded`]: the `embedded` method, the boundary of the split tet mesh
+//!   (`tets/NNNN.vtu`, Chen §5.2) with smoothed crack faces (Chen §7);
 //! - [`debris`]: fragments too small to surface, as `surface/NNNN_debris.ply` points.
 #![warn(missing_docs)]
 
 pub mod debris;
+pub mod embedded;
 pub mod error;
 pub mod mesh;
 pub mod particles;

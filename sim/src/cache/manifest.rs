@@ -73,6 +73,14 @@ pub struct Timings {
     pub integrate_contact: f64,
     /// Writing frames.
     pub output: f64,
+    /// The embedded mesh at frame output (Chen §5.2): crack-face set, vertex
+    /// splitting and vertex positions (`tets = true`).
+    #[serde(default)]
+    pub split: f64,
+    /// Surface extraction of the `embedded` method over all frames (boundary,
+    /// smoothing, normals; not the writing of .glb files), set by the surface stage.
+    #[serde(default)]
+    pub surface: f64,
     /// Whole run.
     pub total: f64,
 }

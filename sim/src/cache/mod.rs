@@ -1,5 +1,5 @@
 //! The cache on disk, the contract between the stages (ARCHITECTURE.md):
-//! `manifest.json`, `scene.toml`, `particles/NNNN.ply`, `checkpoint/`.
+//! `manifest.json`, `scene.toml`, `particles/NNNN.ply`, `tets/NNNN.vtu`, `checkpoint/`.
 //!
 //! Every file is written to a temporary name in the same directory and renamed into
 //! place, so a killed run never leaves a half-written file.
@@ -7,6 +7,7 @@
 pub mod checkpoint;
 pub mod manifest;
 pub mod ply;
+pub mod vtu;
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -39,6 +40,11 @@ impl Layout {
     /// `particles/NNNN.ply` for frame `frame` (frames start at 1).
     pub fn particles(&self, frame: usize) -> PathBuf {
         self.root.join("particles").join(format!("{frame:04}.ply"))
+    }
+
+    /// `tets/NNNN.vtu`, the split tet mesh of frame `frame`.
+    pub fn tets(&self, frame: usize) -> PathBuf {
+        self.root.join("tets").join(format!("{frame:04}.vtu"))
     }
 
     /// The checkpoint file.

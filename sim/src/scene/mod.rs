@@ -396,13 +396,54 @@ pub struct OutputSpec {
     /// Write a checkpoint every this many frames (0: never). Default 10.
     #[serde(default = "default_checkpoint_every")]
     pub checkpoint_every: usize,
-    /// The surface stage `perifrac run` runs after simulating: `"none"` or `"vdb"`
-    /// (OpenVDB level sets and meshes, see `[output.vdb]`). Default `"none"`.
+    /// The surface stage `perifrac run` runs after simulating: `"none"`, `"vdb"`
+    /// (OpenVDB level sets and meshes, see `[output.vdb]`) or `"embedded"` (the
+    /// boundary of the split tet mesh, Chen §5.2, see `[output.embedded]`). Default
+    /// `"none"`.
     #[serde(default)]
     pub surface: SurfaceMethod,
+    /// Write the split tet mesh `tets/NNNN.vtu` each frame (Chen §5.2). Default false,
+    /// or true when `surface = "embedded"` (which reads it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tets: Option<bool>,
     /// Settings of the `vdb` surface method (`[output.vdb]`).
     #[serde(default)]
     pub vdb: VdbSpec,
+    /// Settings of the `embedded` surface method (`[output.embedded]`).
+    #[serde(default)]
+    pub embedded: EmbeddedSpec,
+}
+
+impl OutputSpec {
+    /// Whether the run writes `tets/NNNN.vtu` (and so maintains the embedded mesh).
+    pub fn writes_tets(&self) -> bool {
+        self.tets.unwrap_or(self.surface == SurfaceMethod::Embedded)
+    }
+}
+
+/// `[output.embedded]`: the crack-surface smoothing of the `embedded` method (the
+/// remedy Chen et al. §7 names for zig-zag cracks; see `perifrac_surface::embedded`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EmbeddedSpec {
+    /// Laplacian smoothing passes over the crack vertices (each moves a vertex half
+    /// way to its neighbours' mean, guarded against inverting tets, then fragment
+    /// volumes are restored); 0 turns smoothing off. Default 20 (a flat cut at
+    /// λ = 0.02 m is within 0.2λ of its plane after 20).
+    #[serde(default = "default_smoothing_passes")]
+    pub smoothing_passes: usize,
+}
+
+impl Default for EmbeddedSpec {
+    fn default() -> Self {
+        EmbeddedSpec {
+            smoothing_passes: default_smoothing_passes(),
+        }
+    }
+}
+
+fn default_smoothing_passes() -> usize {
+    20
 }
 
 impl Default for OutputSpec {
@@ -411,7 +452,9 @@ impl Default for OutputSpec {
             particles: true,
             checkpoint_every: default_checkpoint_every(),
             surface: SurfaceMethod::default(),
+            tets: None,
             vdb: VdbSpec::default(),
+            embedded: EmbeddedSpec::default(),
         }
     }
 }
@@ -426,6 +469,9 @@ pub enum SurfaceMethod {
     /// OpenVDB: particles → level sets per fragment → `vdb/NNNN.vdb` and
     /// `surface/NNNN.glb`.
     Vdb,
+    /// The embedded tet mesh (Chen §5.2): `tets/NNNN.vtu` → boundary with smoothed
+    /// crack faces → `surface/NNNN.glb` and `surface/animated.glb`.
+    Embedded,
 }
 
 /// `[output.vdb]`: how particles become level sets and meshes (the `vdb` method).
@@ -604,6 +650,7 @@ impl Scene {
                 message: issue.message,
             }
         })?;
+        scene.output.tets = Some(scene.output.writes_tets());
         Ok(scene)
     }
 

@@ -1,6 +1,6 @@
 //! Range checks on a parsed scene: each problem is reported with its dotted key.
 
-use super::{BodySpec, ColliderSpec, MaterialSpec, Scene, ShapeSpec, VdbSpec};
+use super::{BodySpec, ColliderSpec, MaterialSpec, Scene, ShapeSpec, SurfaceMethod, VdbSpec};
 
 /// One problem: where (dotted path) and what, with the fix.
 pub(super) struct Issue {
@@ -78,6 +78,12 @@ pub(super) fn validate(scene: &Scene) -> Check {
         collider(&i.to_string(), c)?;
     }
     vdb(&scene.output.vdb)?;
+    if scene.output.tets == Some(false) && scene.output.surface == SurfaceMethod::Embedded {
+        return Err(issue(
+            &["output", "tets"],
+            "surface = \"embedded\" reads the split tet meshes: set tets = true or leave it out",
+        ));
+    }
     Ok(())
 }
 

@@ -1,0 +1,277 @@
+//! End-to-end runs of the embedded method: `perifrac run` with `surface =
+//! "embedded"` on a block with a pre-broken crack whose halves are pulled apart.
+//! The split tet meshes are read back by an independent parser written here, every
+//! .glb passes the Khronos glTF validator, and `animated.glb` has one morph target a
+//! frame whose last frame matches the last per-frame .glb.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use perifrac_sim::cache::manifest::Manifest;
+
+const SCENE: &str = r#"[scene]
+name = "embedded-test"
+duration = 0.03
+fps = 100.0
+gravity = [0.0, 0.0, 0.0]
+
+[materials.m]
+density = 1000.0
+bulk_modulus = 1e5
+shear_modulus = 1e5
+
+[[body]]
+material = "m"
+shape = { type = "box", center = [0.0, 0.0, 0.0], size = [0.1, 0.1, 0.1] }
+resolution = 0.025
+
+[[body.crack]]
+point = [0.0, 0.003, 0.0]
+normal = [0.0, 1.0, 0.0]
+region = { type = "box", center = [0.0, 0.0, 0.0], size = [1.0, 1.0, 1.0] }
+
+[[body.anchor]]
+region = { type = "box", center = [0.0, 0.05, 0.0], size = [0.2, 0.03, 0.2] }
+velocity = [0.0, 1.0, 0.0]
+
+[output]
+surface = "embedded"
+checkpoint_every = 0
+"#;
+
+fn perifrac(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_perifrac"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+/// The Khronos validator's report on `file` (tools/gltf-validator, installed by
+/// scripts/setup.sh).
+fn validate(file: &Path) -> serde_json::Value {
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tools/gltf-validator/validate.mjs");
+    let out = Command::new("node")
+        .arg(script)
+        .arg(file)
+        .output()
+        .expect("node runs (scripts/setup.sh installs it and the validator)");
+    serde_json::from_slice(&out.stdout).unwrap_or_else(|e| {
+        panic!(
+            "no JSON report ({e}): {}",
+            String::from_utf8_lossy(&out.stderr)
+        )
+    })
+}
+
+/// The JSON chunk and binary chunk of a .glb.
+fn glb(path: &Path) -> (serde_json::Value, Vec<u8>) {
+    let bytes = std::fs::read(path).unwrap();
+    let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let doc = serde_json::from_slice(&bytes[20..20 + json_len]).unwrap();
+    (doc, bytes[20 + json_len + 8..].to_vec())
+}
+
+/// The f32 vec3 values of accessor `a`.
+fn vec3s(doc: &serde_json::Value, bin: &[u8], a: u64) -> Vec<[f32; 3]> {
+    let acc = &doc["accessors"][a as usize];
+    let view = &doc["bufferViews"][acc["bufferView"].as_u64().unwrap() as usize];
+    let start = view["byteOffset"].as_u64().unwrap_or(0) as usize
+        + acc["byteOffset"].as_u64().unwrap_or(0) as usize;
+    let count = acc["count"].as_u64().unwrap() as usize;
+    (0..count)
+        .map(|i| {
+            [0, 1, 2].map(|k| {
+                let o = start + 12 * i + 4 * k;
+                f32::from_le_bytes(bin[o..o + 4].try_into().unwrap())
+            })
+        })
+        .collect()
+}
+
+/// A tiny reader of VTK XML UnstructuredGrid files with raw appended data,
+/// independent of perifrac's: (points, connectivity, cell types, parents, damage).
+type Vtu = (Vec<[f64; 3]>, Vec<i32>, Vec<u8>, Vec<i32>, Vec<f32>);
+
+fn read_vtu(path: &Path) -> Vtu {
+    let bytes = std::fs::read(path).unwrap();
+    let marker = b"<AppendedData encoding=\"raw\">";
+    let at = bytes
+        .windows(marker.len())
+        .position(|w| w == marker)
+        .unwrap();
+    let xml = String::from_utf8(bytes[..at].to_vec()).unwrap();
+    assert!(xml.contains("type=\"UnstructuredGrid\""));
+    assert!(xml.contains("header_type=\"UInt64\""));
+    let data = &bytes[at + bytes[at..].iter().position(|&b| b == b'_').unwrap() + 1..];
+    let array = |name: &str| -> &[u8] {
+        let tag = xml
+            .split("<DataArray")
+            .find(|t| t.contains(&format!("Name=\"{name}\"")))
+            .unwrap_or_else(|| panic!("no {name}"));
+        let off: usize = tag
+            .split("offset=\"")
+            .nth(1)
+            .unwrap()
+            .split('"')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap();
+        let len = u64::from_le_bytes(data[off..off + 8].try_into().unwrap()) as usize;
+        &data[off + 8..off + 8 + len]
+    };
+    let f64s: Vec<f64> = array("Points")
+        .chunks(8)
+        .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
+        .collect();
+    let i32s = |b: &[u8]| -> Vec<i32> {
+        b.chunks(4)
+            .map(|c| i32::from_le_bytes(c.try_into().unwrap()))
+            .collect()
+    };
+    (
+        f64s.chunks(3).map(|c| [c[0], c[1], c[2]]).collect(),
+        i32s(array("connectivity")),
+        array("types").to_vec(),
+        i32s(array("parent")),
+        array("damage")
+            .chunks(4)
+            .map(|c| f32::from_le_bytes(c.try_into().unwrap()))
+            .collect(),
+    )
+}
+
+#[test]
+fn run_writes_split_tets_and_valid_animated_crack_surfaces() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("scene.toml");
+    std::fs::write(&scene, SCENE).unwrap();
+    let out_dir = dir.path().join("out");
+    let out = perifrac(&[
+        "run",
+        scene.to_str().unwrap(),
+        "-o",
+        out_dir.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let manifest = Manifest::read(&out_dir.join("manifest.json")).unwrap();
+    let frames = manifest.frame_times.len();
+    assert_eq!(frames, 4);
+    assert!(manifest.timings.surface > 0.0 && manifest.timings.split > 0.0);
+
+    // The split tet meshes: vertices are only added, the cut split them at once.
+    let mut last_count = 0;
+    for f in 1..=frames {
+        let (points, conn, types, parent, damage) =
+            read_vtu(&out_dir.join(format!("tets/{f:04}.vtu")));
+        assert_eq!(conn.len(), 4 * types.len());
+        assert!(types.iter().all(|&t| t == 10));
+        assert_eq!(parent.len(), points.len());
+        assert_eq!(damage.len(), types.len());
+        assert!(conn.iter().all(|&v| v >= 0 && (v as usize) < points.len()));
+        assert!(parent.iter().enumerate().all(|(v, &p)| p < v as i32));
+        assert!(parent.iter().any(|&p| p >= 0), "the crack split vertices");
+        assert!(points.len() >= last_count);
+        last_count = points.len();
+    }
+
+    // Per-frame surfaces and the animation pass the validator.
+    for f in 1..=frames {
+        let path = out_dir.join(format!("surface/{f:04}.glb"));
+        let report = validate(&path);
+        assert_eq!(report["numErrors"], 0, "{path:?}: {report:#}");
+        let (doc, _) = glb(&path);
+        let materials: Vec<&str> = doc["materials"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|m| m["name"].as_str().unwrap())
+            .collect();
+        assert_eq!(materials, ["surface", "crack"]);
+        let attributes = &doc["meshes"][0]["primitives"][1]["attributes"];
+        assert!(attributes["COLOR_0"].is_u64() && attributes["_DAMAGE"].is_u64());
+    }
+    let animated = out_dir.join("surface/animated.glb");
+    let report = validate(&animated);
+    assert_eq!(report["numErrors"], 0, "{report:#}");
+    let (doc, bin) = glb(&animated);
+    let primitive = &doc["meshes"][0]["primitives"][0];
+    let targets = primitive["targets"].as_array().unwrap();
+    assert_eq!(targets.len(), frames, "one morph target a frame");
+    assert_eq!(
+        doc["animations"][0]["channels"][0]["target"]["path"],
+        "weights"
+    );
+    // Last frame: base + last target = the last per-frame positions.
+    let base = vec3s(
+        &doc,
+        &bin,
+        primitive["attributes"]["POSITION"].as_u64().unwrap(),
+    );
+    let delta = vec3s(
+        &doc,
+        &bin,
+        targets[frames - 1]["POSITION"].as_u64().unwrap(),
+    );
+    let (last, last_bin) = glb(&out_dir.join(format!("surface/{frames:04}.glb")));
+    let expected = vec3s(
+        &last,
+        &last_bin,
+        last["meshes"][0]["primitives"][0]["attributes"]["POSITION"]
+            .as_u64()
+            .unwrap(),
+    );
+    assert_eq!(base.len(), expected.len());
+    let worst = base
+        .iter()
+        .zip(&delta)
+        .zip(&expected)
+        .flat_map(|((b, d), e)| (0..3).map(move |k| (b[k] + d[k] - e[k]).abs()))
+        .fold(0.0f32, f32::max);
+    assert!(worst <= 1e-6, "last frame differs by {worst}");
+    // The halves moved apart: the top one is higher in the last frame than at first.
+    let top = base
+        .iter()
+        .zip(&expected)
+        .filter(|(b, _)| b[1] > 0.03)
+        .map(|(b, e)| e[1] - b[1])
+        .fold(f32::INFINITY, f32::min);
+    assert!(top > 0.01, "the upper half rose by {top}");
+}
+
+#[test]
+fn surface_embedded_without_tets_is_an_input_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("scene.toml");
+    std::fs::write(
+        &scene,
+        SCENE.replace("surface = \"embedded\"", "surface = \"none\""),
+    )
+    .unwrap();
+    let out_dir = dir.path().join("out");
+    let out = perifrac(&[
+        "run",
+        scene.to_str().unwrap(),
+        "-o",
+        out_dir.to_str().unwrap(),
+        "--frames",
+        "1",
+        "--quiet",
+    ]);
+    assert!(out.status.success());
+    let out = perifrac(&[
+        "surface",
+        out_dir.to_str().unwrap(),
+        "--method",
+        "embedded",
+        "--quiet",
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("tets/0001.vtu is missing"), "{stderr}");
+}

@@ -1,0 +1,614 @@
+//! The embedded tet mesh and vertex splitting (Chen et al. 2018, §5.2, Eq. 20–22).
+//!
+//! Every particle is a tet of its body's mesh (the particle sits at the barycentre).
+//! Two face-adjacent tets are always joined by a bond (their barycentres are at most
+//! about λ apart, inside the horizon δ = 1.45λ); when that bond breaks, the shared
+//! triangle enters the *crack-face set*. Only the vertices of newly cracked faces are
+//! examined: the tets around such a vertex are grouped by connectivity through faces
+//! that are not cracked, and a vertex whose tets fall into k groups is split into k
+//! copies (k − 1 new vertices, each remembering the vertex it was split from). A
+//! crack face is *retired* once its two tets no longer share any of its vertices (it
+//! has become two boundary faces of the split mesh). Several vertices of one face can
+//! split in the same pass.
+//!
+//! The groups are a function of the crack-face set alone, and bonds never heal, so
+//! splitting once per output frame gives the same topology as splitting every step
+//! (only the order in which copies are numbered could differ); the run does it at
+//! frame output, where the mesh is needed, so a step pays nothing for it.
+//!
+//! Vertex positions: Chen Eq. 20–22 move a vertex with the mass-weighted mean
+//! velocity of the particles of its tets, ω_v = Σ_p m_p/4, v_v = Σ_p (m_p/4) v_p / ω_v,
+//! x_v ← x_v + Δt v_v. Integrated over a run with fixed weights this is the
+//! displacement interpolation x_v = X_v + Σ_p w_p u_p (w_p = m_p / 4ω_v), which is exact
+//! for translations only: under a rotation R it misses (R − I)(X_v − X̄_v), up to λ/2
+//! for a vertex a quarter of an edge from its tets' mass centre X̄_v. We use the
+//! same weights on each particle's first-order prediction of the vertex,
+//!
+//! ```text
+//! x_v = Σ_p w_p (x_p + F_p (X_v − X_p)),    w_p = m_p / (4 ω_v)   (Eq. 20–21 weights)
+//! ```
+//!
+//! with F_p the deformation gradient of particle p's intact bonds (the correspondence
+//! estimate F = (Σ_j η_ij ⊗ ξ_ij V_j) K⁻¹, K = Σ_j ξ_ij ⊗ ξ_ij V_j; F = I where the
+//! intact bonds do not span 3-D). It is exact for every affine motion (rigid
+//! rotations of fragments included) and needs no per-step work; see the test
+//! `affine_motion_is_exact`.
+
+use rayon::prelude::*;
+
+use crate::error::{Result, SimError};
+use crate::family::{BROKEN, Bonds, INDEX};
+use crate::geometry::discretize::Discretization;
+
+/// No neighbour across a face (a face of the body's surface).
+pub const NONE: u32 = u32::MAX;
+/// Parent of an original vertex.
+pub const NO_PARENT: u32 = u32::MAX;
+
+/// Local vertex indices of face f of a tet: the face opposite vertex f.
+const FACE: [[usize; 3]; 4] = [[1, 2, 3], [0, 2, 3], [0, 1, 3], [0, 1, 2]];
+
+/// The embedded mesh of all bodies: tet p belongs to particle p.
+#[derive(Debug, Clone)]
+pub struct EmbeddedMesh {
+    /// Reference position X of each vertex (a copy has its parent's).
+    pub reference: Vec<[f64; 3]>,
+    /// The vertex each copy was split from ([`NO_PARENT`] for original vertices).
+    pub parent: Vec<u32>,
+    /// The four vertices of each tet (tet p is particle p's), positively oriented.
+    pub tets: Vec<[u32; 4]>,
+    /// The tet across face f (opposite local vertex f), [`NONE`] on the surface.
+    pub adjacent: Vec<[u32; 4]>,
+    /// The bond p→q across each interior face (index into the bond arrays).
+    face_bond: Vec<[usize; 4]>,
+    /// Bit f set: face f is in the crack-face set.
+    cracked: Vec<u8>,
+    /// Crack faces (tet, face) whose tets still share a vertex of the face, with the
+    /// lower tet first.
+    active: Vec<(u32, u8)>,
+    /// Crack faces retired so far.
+    pub retired: usize,
+    /// Original vertex → tets around it (CSR rows; fixed).
+    star_offsets: Vec<usize>,
+    star_tets: Vec<u32>,
+    /// Number of original vertices.
+    original: usize,
+}
+
+/// What one [`EmbeddedMesh::update`] did.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct SplitStats {
+    /// Faces that entered the crack set.
+    pub new_crack_faces: usize,
+    /// Vertices examined.
+    pub examined: usize,
+    /// Vertices that split.
+    pub split: usize,
+    /// New vertex copies.
+    pub new_vertices: usize,
+    /// Crack faces retired.
+    pub retired: usize,
+}
+
+fn same_face(a: [u32; 3], b: [u32; 3]) -> bool {
+    let (mut a, mut b) = (a, b);
+    a.sort_unstable();
+    b.sort_unstable();
+    a == b
+}
+
+impl EmbeddedMesh {
+    /// Builds the mesh of a discretization: all bodies' vertices one after the other,
+    /// tet p = particle p, face adjacency, and the bond across every interior face.
+    /// Fails, naming the tets, if two face-adjacent tets have no bond (their
+    /// barycentres would be farther apart than the horizon).
+    pub fn build(disc: &Discretization, bonds: &Bonds, body_names: &[String]) -> Result<Self> {
+        let mut first = Vec::with_capacity(disc.meshes.len());
+        let mut reference = Vec::new();
+        for m in &disc.meshes {
+            first.push(reference.len() as u32);
+            reference.extend_from_slice(&m.vertices);
+        }
+        let n = disc.position.len();
+        let tets: Vec<[u32; 4]> = (0..n)
+            .map(|p| {
+                let b = disc.body[p] as usize;
+                disc.meshes[b].tets[disc.tet[p] as usize].map(|v| v + first[b])
+            })
+            .collect();
+        // Positively oriented tets, so that faces wound by `OUTWARD` face out.
+        let tets: Vec<[u32; 4]> = tets
+            .into_iter()
+            .map(|mut t| {
+                let [a, b, c, d] = t.map(|v| reference[v as usize]);
+                if dot(sub(b, a), cross(sub(c, a), sub(d, a))) < 0.0 {
+                    t.swap(0, 1);
+                }
+                t
+            })
+            .collect();
+        let original = reference.len();
+        // Faces keyed by sorted vertices; equal keys are the two sides of one face.
+        let mut keys: Vec<([u32; 3], u32)> = (0..n)
+            .into_par_iter()
+            .flat_map_iter(|p| {
+                let t = tets[p];
+                (0..4).map(move |f| {
+                    let mut k = FACE[f].map(|i| t[i]);
+                    k.sort_unstable();
+                    (k, (4 * p + f) as u32)
+                })
+            })
+            .collect();
+        keys.par_sort_unstable();
+        let mut adjacent = vec![[NONE; 4]; n];
+        let mut i = 0;
+        while i < keys.len() {
+            let mut j = i + 1;
+            while j < keys.len() && keys[j].0 == keys[i].0 {
+                j += 1;
+            }
+            if j - i == 2 {
+                let (a, b) = (keys[i].1 as usize, keys[i + 1].1 as usize);
+                adjacent[a / 4][a % 4] = (b / 4) as u32;
+                adjacent[b / 4][b % 4] = (a / 4) as u32;
+            }
+            i = j;
+        }
+        drop(keys);
+        let face_bond: Vec<[usize; 4]> = (0..n)
+            .into_par_iter()
+            .map(|p| {
+                let mut out = [usize::MAX; 4];
+                for f in 0..4 {
+                    let q = adjacent[p][f];
+                    if q == NONE {
+                        continue;
+                    }
+                    let r = bonds.range(p);
+                    let row = &bonds.neighbours[r.clone()];
+                    match row.binary_search_by_key(&q, |&x| x & INDEX) {
+                        Ok(k) => out[f] = r.start + k,
+                        Err(_) => {
+                            let b = disc.body[p] as usize;
+                            let (x, y) = (disc.position[p], disc.position[q as usize]);
+                            let d = ((x[0] - y[0]).powi(2)
+                                + (x[1] - y[1]).powi(2)
+                                + (x[2] - y[2]).powi(2))
+                            .sqrt();
+                            return Err(SimError::Mesh {
+                                body: body_names.get(b).cloned().unwrap_or_default(),
+                                message: format!(
+                                    "tets {p} and {q} share a face but their particles, {d:.4e} m \
+                                     apart, have no bond: the embedded mesh needs a horizon of at \
+                                     least {d:.4e} m (raise `horizon`)"
+                                ),
+                            });
+                        }
+                    }
+                }
+                Ok(out)
+            })
+            .collect::<Result<_>>()?;
+        let mut star_offsets = vec![0usize; original + 1];
+        for t in &tets {
+            for &v in t {
+                star_offsets[v as usize + 1] += 1;
+            }
+        }
+        for v in 0..original {
+            star_offsets[v + 1] += star_offsets[v];
+        }
+        let mut fill = star_offsets.clone();
+        let mut star_tets = vec![0u32; star_offsets[original]];
+        for (p, t) in tets.iter().enumerate() {
+            for &v in t {
+                star_tets[fill[v as usize]] = p as u32;
+                fill[v as usize] += 1;
+            }
+        }
+        Ok(EmbeddedMesh {
+            parent: vec![NO_PARENT; original],
+            reference,
+            tets,
+            adjacent,
+            face_bond,
+            cracked: vec![0; n],
+            active: Vec::new(),
+            retired: 0,
+            star_offsets,
+            star_tets,
+            original,
+        })
+    }
+
+    /// Number of vertices (original and copies).
+    pub fn vertex_count(&self) -> usize {
+        self.reference.len()
+    }
+
+    /// Number of original vertices.
+    pub fn original_vertices(&self) -> usize {
+        self.original
+    }
+
+    /// Crack faces that have not yet opened fully.
+    pub fn active_crack_faces(&self) -> usize {
+        self.active.len()
+    }
+
+    /// The original vertex a copy descends from.
+    pub fn root(&self, mut v: u32) -> u32 {
+        while self.parent[v as usize] != NO_PARENT {
+            v = self.parent[v as usize];
+        }
+        v
+    }
+
+    fn face_vertices(&self, p: u32, f: usize) -> [u32; 3] {
+        let t = self.tets[p as usize];
+        FACE[f].map(|i| t[i])
+    }
+
+    /// Adds the faces whose bonds broke to the crack-face set, splits the vertices
+    /// of those faces whose tets fall apart into groups, and retires the crack faces
+    /// that opened fully.
+    pub fn update(&mut self, bonds: &Bonds) -> SplitStats {
+        let broken = |k: usize| bonds.neighbours[k] & BROKEN != 0;
+        let new: Vec<(u32, u8)> = (0..self.tets.len())
+            .into_par_iter()
+            .flat_map_iter(|p| {
+                let (adj, fb, cracked) = (self.adjacent[p], self.face_bond[p], self.cracked[p]);
+                (0..4).filter_map(move |f| {
+                    let q = adj[f];
+                    (q != NONE && (q as usize) > p && cracked & (1 << f) == 0 && broken(fb[f]))
+                        .then_some((p as u32, f as u8))
+                })
+            })
+            .collect();
+        let mut stats = SplitStats {
+            new_crack_faces: new.len(),
+            ..SplitStats::default()
+        };
+        if new.is_empty() {
+            return stats;
+        }
+        // Cracked faces containing the examined vertices (from both sides).
+        let mut examine: Vec<u32> = Vec::with_capacity(6 * new.len());
+        for &(p, f) in &new {
+            let q = self.adjacent[p as usize][f as usize];
+            let g = self.back_face(p, f);
+            self.cracked[p as usize] |= 1 << f;
+            self.cracked[q as usize] |= 1 << g;
+            examine.extend(self.face_vertices(p, f as usize));
+            examine.extend(self.face_vertices(q, g));
+        }
+        examine.sort_unstable();
+        examine.dedup();
+        stats.examined = examine.len();
+        for v in examine {
+            let added = self.split_vertex(v);
+            if added > 0 {
+                stats.split += 1;
+                stats.new_vertices += added;
+            }
+        }
+        self.active.extend(new);
+        let before = self.active.len();
+        let tets = &self.tets;
+        let adjacent = &self.adjacent;
+        self.active.retain(|&(p, f)| {
+            let q = adjacent[p as usize][f as usize] as usize;
+            let t = tets[p as usize];
+            FACE[f as usize].iter().any(|&i| tets[q].contains(&t[i]))
+        });
+        stats.retired = before - self.active.len();
+        self.retired += stats.retired;
+        stats
+    }
+
+    /// The local face index, in tet q across face f of p, of the same face.
+    fn back_face(&self, p: u32, f: u8) -> usize {
+        let q = self.adjacent[p as usize][f as usize];
+        (0..4)
+            .find(|&g| self.adjacent[q as usize][g] == p)
+            .unwrap_or(0)
+    }
+
+    /// Splits vertex v into one copy per group of its tets (connected through
+    /// faces around v that are not cracked); returns how many copies were added.
+    fn split_vertex(&mut self, v: u32) -> usize {
+        let root = self.root(v) as usize;
+        let star: Vec<u32> = self.star_tets[self.star_offsets[root]..self.star_offsets[root + 1]]
+            .iter()
+            .copied()
+            .filter(|&t| self.tets[t as usize].contains(&v))
+            .collect();
+        // Union-find over the star, through uncracked faces that contain v.
+        let mut group: Vec<usize> = (0..star.len()).collect();
+        fn find(g: &mut [usize], mut i: usize) -> usize {
+            while g[i] != i {
+                g[i] = g[g[i]];
+                i = g[i];
+            }
+            i
+        }
+        for (a, &t) in star.iter().enumerate() {
+            let tv = self.tets[t as usize];
+            for (f, &w) in tv.iter().enumerate() {
+                if w == v || self.cracked[t as usize] & (1 << f) != 0 {
+                    continue;
+                }
+                let s = self.adjacent[t as usize][f];
+                if s == NONE {
+                    continue;
+                }
+                if let Some(b) = star.iter().position(|&x| x == s) {
+                    let (ra, rb) = (find(&mut group, a), find(&mut group, b));
+                    if ra != rb {
+                        group[ra.max(rb)] = ra.min(rb);
+                    }
+                }
+            }
+        }
+        // The group of the lowest tet keeps v; the others get new copies, in the
+        // order of their lowest tets (the star is sorted by tet).
+        let mut copy_of_root: Vec<(usize, u32)> = Vec::new();
+        let mut added = 0;
+        for (a, &t) in star.iter().enumerate() {
+            let r = find(&mut group, a);
+            let id = match copy_of_root.iter().find(|c| c.0 == r) {
+                Some(c) => c.1,
+                None => {
+                    let id = if copy_of_root.is_empty() {
+                        v
+                    } else {
+                        self.reference.push(self.reference[v as usize]);
+                        self.parent.push(v);
+                        added += 1;
+                        (self.reference.len() - 1) as u32
+                    };
+                    copy_of_root.push((r, id));
+                    id
+                }
+            };
+            if id != v {
+                for x in self.tets[t as usize].iter_mut() {
+                    if *x == v {
+                        *x = id;
+                    }
+                }
+            }
+        }
+        added
+    }
+
+    /// Restores the topology written at a frame (tets and parents, from
+    /// `tets/NNNN.vtu`) and the crack-face set from the bonds' broken flags.
+    pub fn restore(&mut self, tets: Vec<[u32; 4]>, parent: Vec<u32>, bonds: &Bonds) -> Result<()> {
+        if tets.len() != self.tets.len() || parent.len() < self.original {
+            return Err(SimError::Refused(format!(
+                "the split tet mesh to resume from has {} tets and {} vertices; the scene has {} \
+                 tets and {} vertices",
+                tets.len(),
+                parent.len(),
+                self.tets.len(),
+                self.original
+            )));
+        }
+        let vertices = parent.len() as u32;
+        let mut reference = self.reference[..self.original].to_vec();
+        for (v, &p) in parent.iter().enumerate().skip(self.original) {
+            if p >= v as u32 {
+                return Err(SimError::Refused(format!(
+                    "the split tet mesh to resume from has vertex {v} with parent {p}: a copy's \
+                     parent must come before it"
+                )));
+            }
+            reference.push(reference[p as usize]);
+        }
+        for (p, t) in tets.iter().enumerate() {
+            let roots_match = t.iter().zip(&self.tets[p]).all(|(&a, &b)| {
+                a < vertices && {
+                    let mut r = a;
+                    while parent[r as usize] != NO_PARENT {
+                        r = parent[r as usize];
+                    }
+                    r == self.root(b)
+                }
+            });
+            if !roots_match {
+                return Err(SimError::Refused(format!(
+                    "the split tet mesh to resume from does not match the scene's mesh at tet {p}"
+                )));
+            }
+        }
+        self.tets = tets;
+        self.parent = parent;
+        self.reference = reference;
+        for p in 0..self.tets.len() {
+            let adjacent = self.adjacent[p];
+            for (f, &q) in adjacent.iter().enumerate() {
+                if q != NONE && bonds.neighbours[self.face_bond[p][f]] & BROKEN != 0 {
+                    self.cracked[p] |= 1 << f;
+                    let open = {
+                        let t = self.tets[p];
+                        !FACE[f]
+                            .iter()
+                            .any(|&i| self.tets[q as usize].contains(&t[i]))
+                    };
+                    if (q as usize) > p {
+                        if open {
+                            self.retired += 1;
+                        } else {
+                            self.active.push((p as u32, f as u8));
+                        }
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Vertex positions for particles at `position`, from their reference positions
+    /// `reference`, masses `mass` and deformation gradients `gradient` (see the
+    /// module doc: Chen Eq. 20–21 weights on first-order predictions).
+    pub fn positions(
+        &self,
+        reference: &[[f64; 3]],
+        position: &[[f64; 3]],
+        mass: &[f64],
+        gradient: &[[[f64; 3]; 3]],
+    ) -> Vec<[f64; 3]> {
+        let nv = self.reference.len();
+        let mut offsets = vec![0usize; nv + 1];
+        for t in &self.tets {
+            for &v in t {
+                offsets[v as usize + 1] += 1;
+            }
+        }
+        for v in 0..nv {
+            offsets[v + 1] += offsets[v];
+        }
+        let mut fill = offsets.clone();
+        let mut incident = vec![0u32; offsets[nv]];
+        for (p, t) in self.tets.iter().enumerate() {
+            for &v in t {
+                incident[fill[v as usize]] = p as u32;
+                fill[v as usize] += 1;
+            }
+        }
+        (0..nv)
+            .into_par_iter()
+            .map(|v| {
+                let xv = self.reference[v];
+                let mut sum = [0.0; 3];
+                let mut omega = 0.0;
+                for &p in &incident[offsets[v]..offsets[v + 1]] {
+                    let p = p as usize;
+                    // ω_v = Σ_p m_p/4 (Eq. 20).
+                    let w = 0.25 * mass[p];
+                    let d = sub(xv, reference[p]);
+                    let f = &gradient[p];
+                    for a in 0..3 {
+                        let pred =
+                            position[p][a] + f[a][0] * d[0] + f[a][1] * d[1] + f[a][2] * d[2];
+                        sum[a] += w * pred;
+                    }
+                    omega += w;
+                }
+                if omega > 0.0 {
+                    sum.map(|s| s / omega)
+                } else {
+                    xv
+                }
+            })
+            .collect()
+    }
+
+    /// Boundary faces of the split mesh, wound outward from the tet owning them
+    /// (tets are positively oriented), with whether each is a crack face (its
+    /// original face was shared by two tets).
+    pub fn boundary(&self) -> Vec<([u32; 3], u32, bool)> {
+        let mut out = Vec::new();
+        for (p, t) in self.tets.iter().enumerate() {
+            for (f, &q) in self.adjacent[p].iter().enumerate() {
+                let face = self.face_vertices(p as u32, f);
+                let open = q == NONE
+                    || !same_face(
+                        face,
+                        self.face_vertices(q, self.back_face(p as u32, f as u8)),
+                    );
+                if open {
+                    out.push((OUTWARD[f].map(|i| t[i]), p as u32, q != NONE));
+                }
+            }
+        }
+        out
+    }
+}
+
+/// Face f (opposite local vertex f) of a positively oriented tet, wound outward.
+const OUTWARD: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// Each particle's deformation gradient from its intact bonds:
+/// F = (Σ_j η_ij ⊗ ξ_ij V_j) K⁻¹ with K = Σ_j ξ_ij ⊗ ξ_ij V_j (the correspondence
+/// estimate; exact for affine motions); the identity where the intact bonds do not
+/// span 3-D.
+pub fn deformation_gradients(
+    bonds: &Bonds,
+    reference: &[[f64; 3]],
+    position: &[[f64; 3]],
+    volume: &[f64],
+) -> Vec<[[f64; 3]; 3]> {
+    (0..reference.len())
+        .into_par_iter()
+        .map(|i| {
+            let mut k = [[0.0; 3]; 3];
+            let mut m = [[0.0; 3]; 3];
+            for b in bonds.range(i) {
+                let nb = bonds.neighbours[b];
+                if nb & BROKEN != 0 {
+                    continue;
+                }
+                let j = (nb & INDEX) as usize;
+                let xi = sub(reference[j], reference[i]);
+                let eta = sub(position[j], position[i]);
+                let vj = volume[j];
+                for r in 0..3 {
+                    for c in 0..3 {
+                        k[r][c] += xi[r] * xi[c] * vj;
+                        m[r][c] += eta[r] * xi[c] * vj;
+                    }
+                }
+            }
+            match inverse(k) {
+                Some(ki) => {
+                    let mut f = [[0.0; 3]; 3];
+                    for r in 0..3 {
+                        for c in 0..3 {
+                            f[r][c] = (0..3).map(|s| m[r][s] * ki[s][c]).sum();
+                        }
+                    }
+                    f
+                }
+                None => [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+            }
+        })
+        .collect()
+}
+
+/// Inverse of a symmetric positive semi-definite 3×3 matrix, `None` when it is
+/// nearly singular (det < 10⁻⁶ (tr/3)³: the bonds lie nearly in a plane).
+fn inverse(a: [[f64; 3]; 3]) -> Option<[[f64; 3]; 3]> {
+    let c = |r: usize, s: usize| {
+        let (r1, r2) = ((r + 1) % 3, (r + 2) % 3);
+        let (s1, s2) = ((s + 1) % 3, (s + 2) % 3);
+        a[r1][s1] * a[r2][s2] - a[r1][s2] * a[r2][s1]
+    };
+    let det = a[0][0] * c(0, 0) + a[0][1] * c(0, 1) + a[0][2] * c(0, 2);
+    let tr = (a[0][0] + a[1][1] + a[2][2]) / 3.0;
+    if det.is_nan() || det <= 1e-6 * tr * tr * tr {
+        return None;
+    }
+    Some([0, 1, 2].map(|r| [0, 1, 2].map(|s| c(s, r) / det)))
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,348 @@
+//! Topology and interpolation tests of the embedded mesh (Chen §5.2): a plane cut
+//! splits a block into two closed surfaces, a vertex with k groups yields k − 1
+//! copies, nothing splits while no bond breaks, and vertices follow affine motions
+//! exactly.
+
+use std::collections::HashMap;
+
+use super::*;
+use crate::family;
+use crate::geometry::{Cuboid, TetMesh, stuff};
+
+/// A box of `size` centred at the origin, meshed at λ, horizon 1.45λ.
+fn block(size: [f64; 3], lambda: f64) -> (Discretization, Bonds) {
+    let mesh = stuff(
+        &Cuboid {
+            center: [0.0; 3],
+            half_extents: size.map(|s| s / 2.0),
+        },
+        lambda,
+    )
+    .expect("box meshes");
+    let n = mesh.tets.len();
+    let disc = Discretization {
+        position: (0..n).map(|t| mesh.barycentre(t)).collect(),
+        volume: (0..n).map(|t| mesh.volume(t)).collect(),
+        body: vec![0; n],
+        tet: (0..n as u32).collect(),
+        quality: vec![mesh.quality()],
+        meshes: vec![mesh],
+    };
+    let delta = vec![1.45 * lambda; n];
+    let (bonds, _) =
+        family::build(&disc.position, &disc.volume, &disc.body, &delta, false).expect("bonds");
+    (disc, bonds)
+}
+
+fn names() -> Vec<String> {
+    vec!["block".into()]
+}
+
+/// Breaks every bond i→j with `cut(i, j)` (both directions when it is symmetric).
+fn cut(bonds: &mut Bonds, cut: impl Fn(usize, usize) -> bool) {
+    for i in 0..bonds.offsets.len() - 1 {
+        for k in bonds.range(i) {
+            let j = (bonds.neighbours[k] & INDEX) as usize;
+            if cut(i, j) {
+                bonds.neighbours[k] |= BROKEN;
+            }
+        }
+    }
+}
+
+/// Connected components of a triangle set (through shared vertices).
+fn components(faces: &[[u32; 3]]) -> Vec<Vec<[u32; 3]>> {
+    let mut label: HashMap<u32, usize> = HashMap::new();
+    let mut parent: Vec<usize> = Vec::new();
+    fn find(p: &mut [usize], mut i: usize) -> usize {
+        while p[i] != i {
+            p[i] = p[p[i]];
+            i = p[i];
+        }
+        i
+    }
+    for f in faces {
+        let ids: Vec<usize> = f
+            .iter()
+            .map(|v| {
+                *label.entry(*v).or_insert_with(|| {
+                    parent.push(parent.len());
+                    parent.len() - 1
+                })
+            })
+            .collect();
+        for w in &ids[1..] {
+            let (a, b) = (find(&mut parent, ids[0]), find(&mut parent, *w));
+            parent[a.max(b)] = a.min(b);
+        }
+    }
+    let mut out: HashMap<usize, Vec<[u32; 3]>> = HashMap::new();
+    for f in faces {
+        let r = find(&mut parent, label[&f[0]]);
+        out.entry(r).or_default().push(*f);
+    }
+    let mut v: Vec<_> = out.into_values().collect();
+    v.sort_by_key(|c| c.len());
+    v
+}
+
+/// Every edge of `faces` is used by exactly two faces, once in each direction.
+fn assert_closed_manifold(faces: &[[u32; 3]]) {
+    let mut directed: HashMap<(u32, u32), usize> = HashMap::new();
+    for f in faces {
+        for e in 0..3 {
+            *directed.entry((f[e], f[(e + 1) % 3])).or_default() += 1;
+        }
+    }
+    for (&(a, b), &n) in &directed {
+        assert_eq!(n, 1, "edge {a}→{b} used {n} times in one direction");
+        assert_eq!(
+            directed.get(&(b, a)),
+            Some(&1),
+            "edge {a}–{b} has no opposite half-edge: the surface is open there"
+        );
+    }
+}
+
+/// Volume enclosed by outward-wound triangles (divergence theorem).
+fn enclosed_volume(faces: &[[u32; 3]], x: &[[f64; 3]]) -> f64 {
+    faces
+        .iter()
+        .map(|f| {
+            let [a, b, c] = f.map(|v| x[v as usize]);
+            (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+                + a[2] * (b[0] * c[1] - b[1] * c[0]))
+                / 6.0
+        })
+        .sum()
+}
+
+#[test]
+fn nothing_splits_while_no_bond_breaks() {
+    let (disc, bonds) = block([0.1, 0.1, 0.1], 0.02);
+    let mut mesh = EmbeddedMesh::build(&disc, &bonds, &names()).unwrap();
+    let vertices = mesh.vertex_count();
+    let tets = mesh.tets.clone();
+    for _ in 0..3 {
+        assert_eq!(mesh.update(&bonds), SplitStats::default());
+    }
+    assert_eq!(mesh.vertex_count(), vertices);
+    assert_eq!(mesh.tets, tets);
+    let boundary = mesh.boundary();
+    assert!(boundary.iter().all(|b| !b.2), "no crack faces");
+    let faces: Vec<[u32; 3]> = boundary.iter().map(|b| b.0).collect();
+    assert_eq!(components(&faces).len(), 1);
+    assert_closed_manifold(&faces);
+    let volume = enclosed_volume(&faces, &mesh.reference);
+    assert!((volume - disc.meshes[0].total_volume()).abs() < 1e-12);
+}
+
+#[test]
+fn a_plane_cut_splits_the_block_into_two_closed_surfaces() {
+    let lambda = 0.02;
+    let (disc, mut bonds) = block([0.12, 0.1, 0.08], lambda);
+    let mut mesh = EmbeddedMesh::build(&disc, &bonds, &names()).unwrap();
+    let x = disc.position.clone();
+    let side = |p: [f64; 3]| p[1] - 0.003;
+    cut(&mut bonds, |i, j| side(x[i]) * side(x[j]) < 0.0);
+    let stats = mesh.update(&bonds);
+    println!("plane cut: {stats:?}");
+    assert!(stats.new_crack_faces > 0 && stats.split > 0);
+    // Every crack face opened: all its vertices were split in this one pass.
+    assert_eq!(mesh.active_crack_faces(), 0);
+    assert_eq!(mesh.retired, stats.new_crack_faces);
+    assert_eq!(stats.retired, stats.new_crack_faces);
+    let boundary = mesh.boundary();
+    let faces: Vec<[u32; 3]> = boundary.iter().map(|b| b.0).collect();
+    let parts = components(&faces);
+    assert_eq!(parts.len(), 2, "two fragments");
+    for part in &parts {
+        assert_closed_manifold(part);
+    }
+    // Each fragment's surface encloses the volume of its tets, and the crack
+    // faces come in pairs.
+    let below: f64 = (0..x.len())
+        .filter(|&p| side(x[p]) < 0.0)
+        .map(|p| disc.volume[p])
+        .sum();
+    let total = disc.meshes[0].total_volume();
+    let mut volumes: Vec<f64> = parts
+        .iter()
+        .map(|p| enclosed_volume(p, &mesh.reference))
+        .collect();
+    volumes.sort_by(f64::total_cmp);
+    let mut expected = [below, total - below];
+    expected.sort_by(f64::total_cmp);
+    for (v, e) in volumes.iter().zip(expected) {
+        assert!((v - e).abs() < 1e-12 * total.max(1.0), "{v} vs {e}");
+    }
+    let crack = boundary.iter().filter(|b| b.2).count();
+    assert_eq!(crack, 2 * stats.new_crack_faces);
+    // Copies: every new vertex descends from an original one, and splitting again
+    // changes nothing.
+    assert!(
+        mesh.parent[mesh.original_vertices()..]
+            .iter()
+            .all(|&p| p != NO_PARENT)
+    );
+    assert_eq!(mesh.update(&bonds), SplitStats::default());
+}
+
+#[test]
+fn a_vertex_with_k_groups_yields_k_minus_one_copies() {
+    let (disc, mut bonds) = block([0.1, 0.1, 0.1], 0.02);
+    let mut mesh = EmbeddedMesh::build(&disc, &bonds, &names()).unwrap();
+    // The interior vertex nearest the centre; crack every face around it.
+    let v = (0..mesh.vertex_count())
+        .min_by(|&a, &b| {
+            let n = |p: [f64; 3]| p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
+            n(mesh.reference[a]).total_cmp(&n(mesh.reference[b]))
+        })
+        .unwrap() as u32;
+    let star: Vec<usize> = (0..mesh.tets.len())
+        .filter(|&p| mesh.tets[p].contains(&v))
+        .collect();
+    let k = star.len();
+    assert!(k >= 4, "an interior vertex has at least 4 tets, got {k}");
+    cut(&mut bonds, |i, j| star.contains(&i) && star.contains(&j));
+    let stats = mesh.update(&bonds);
+    let copies = (0..mesh.vertex_count() as u32)
+        .filter(|&w| w != v && mesh.root(w) == v)
+        .count();
+    assert_eq!(copies, k - 1, "{k} groups, {stats:?}");
+    // Each tet of the star now has its own copy.
+    let mut ids: Vec<u32> = star
+        .iter()
+        .map(|&p| *mesh.tets[p].iter().find(|&&w| mesh.root(w) == v).unwrap())
+        .collect();
+    ids.sort_unstable();
+    ids.dedup();
+    assert_eq!(ids.len(), k);
+}
+
+#[test]
+fn splits_over_several_updates_match_one_update() {
+    // The topology depends on the crack set only: cutting in two halves, split
+    // after each, gives the same boundary (up to copy numbering) as one update.
+    let (disc, mut bonds) = block([0.1, 0.1, 0.1], 0.02);
+    let x = disc.position.clone();
+    let on_plane = |i: usize, j: usize| (x[i][1] - 0.003) * (x[j][1] - 0.003) < 0.0;
+    let mut once = EmbeddedMesh::build(&disc, &bonds, &names()).unwrap();
+    let mut twice = once.clone();
+    let mut half = bonds.clone();
+    cut(&mut half, |i, j| on_plane(i, j) && x[i][0] + x[j][0] < 0.0);
+    twice.update(&half);
+    cut(&mut bonds, on_plane);
+    twice.update(&bonds);
+    once.update(&bonds);
+    assert_eq!(once.vertex_count(), twice.vertex_count());
+    let canon = |m: &EmbeddedMesh| {
+        let mut f: Vec<(u32, [u32; 3])> = m
+            .boundary()
+            .iter()
+            .map(|b| {
+                let mut r = b.0.map(|v| m.root(v));
+                r.sort_unstable();
+                (b.1, r)
+            })
+            .collect();
+        f.sort_unstable();
+        f
+    };
+    assert_eq!(canon(&once), canon(&twice));
+}
+
+#[test]
+fn affine_motion_is_exact() {
+    let (disc, mut bonds) = block([0.1, 0.08, 0.06], 0.02);
+    let mut mesh = EmbeddedMesh::build(&disc, &bonds, &names()).unwrap();
+    let x = disc.position.clone();
+    cut(&mut bonds, |i, j| x[i][1] * x[j][1] < 0.0);
+    mesh.update(&bonds);
+    let mass: Vec<f64> = disc.volume.iter().map(|v| 1000.0 * v).collect();
+    // Upper part: a rotation by 1 rad about z with a stretch; lower part: a shift.
+    let (c, s) = (1.0f64.cos(), 1.0f64.sin());
+    let upper = [[1.1 * c, -s, 0.0], [1.1 * s, c, 0.0], [0.0, 0.0, 0.9]];
+    let motion = |p: [f64; 3], up: bool| -> [f64; 3] {
+        if up {
+            [0, 1, 2].map(|a| (0..3).map(|b| upper[a][b] * p[b]).sum::<f64>() + 0.5)
+        } else {
+            [p[0] + 0.01, p[1] - 0.2, p[2]]
+        }
+    };
+    let y: Vec<[f64; 3]> = x.iter().map(|&p| motion(p, p[1] > 0.0)).collect();
+    let gradient = deformation_gradients(&bonds, &x, &y, &disc.volume);
+    let positions = mesh.positions(&x, &y, &mass, &gradient);
+    let mut worst = 0.0f64;
+    for (v, p) in positions.iter().enumerate() {
+        // A copy belongs to the side of its tets.
+        let t = mesh
+            .tets
+            .iter()
+            .position(|t| t.contains(&(v as u32)))
+            .unwrap();
+        let expected = motion(mesh.reference[v], x[t][1] > 0.0);
+        worst = worst.max(
+            (0..3)
+                .map(|a| (p[a] - expected[a]).abs())
+                .fold(0.0, f64::max),
+        );
+    }
+    // The same weights on displacements alone (Eq. 20–22 integrated exactly).
+    let identity = vec![[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]; x.len()];
+    let plain = mesh.positions(&x, &y, &mass, &identity);
+    let mut plain_worst = 0.0f64;
+    for (v, p) in plain.iter().enumerate() {
+        let t = mesh
+            .tets
+            .iter()
+            .position(|t| t.contains(&(v as u32)))
+            .unwrap();
+        let expected = motion(mesh.reference[v], x[t][1] > 0.0);
+        plain_worst = plain_worst.max(
+            (0..3)
+                .map(|a| (p[a] - expected[a]).abs())
+                .fold(0.0, f64::max),
+        );
+    }
+    println!(
+        "affine motion, λ = 0.02 m: max vertex error {worst:.2e} m (first-order), \
+         {plain_worst:.2e} m (displacement average, Eq. 20–22)"
+    );
+    assert!(worst < 1e-12, "{worst}");
+    assert!(
+        plain_worst > 1e-3,
+        "the plain average is not exact: {plain_worst}"
+    );
+}
+
+#[test]
+fn a_face_without_a_bond_is_reported() {
+    let mesh = TetMesh {
+        vertices: vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [1.0, 1.0, 1.0],
+        ],
+        tets: vec![[0, 1, 2, 3], [1, 2, 4, 3]],
+    };
+    let n = 2;
+    let disc = Discretization {
+        position: (0..n).map(|t| mesh.barycentre(t)).collect(),
+        volume: (0..n).map(|t| mesh.volume(t)).collect(),
+        body: vec![0; n],
+        tet: vec![0, 1],
+        quality: vec![mesh.quality()],
+        meshes: vec![mesh],
+    };
+    let (bonds, _) =
+        family::build(&disc.position, &disc.volume, &disc.body, &[0.1, 0.1], false).unwrap();
+    let err = EmbeddedMesh::build(&disc, &bonds, &names()).unwrap_err();
+    assert!(
+        err.to_string()
+            .contains("body 'block': tets 0 and 1 share a face"),
+        "{err}"
+    );
+}

@@ -1,0 +1,584 @@
+//! The `embedded` surface method: the boundary of the split tet mesh of a frame
+//! (`tets/NNNN.vtu`, Chen et al. 2018 §5.2) — the original surface plus the crack
+//! faces — with per-face flags, normals split where crack meets original surface, and
+//! the crack-surface smoothing that Chen §7 names as the remedy for the zig-zag
+//! artefact of cracks that follow tet faces.
+//!
+//! Smoothing moves only *crack vertices*: vertices of crack faces, inside the body
+//! (free to move), or on the rim where a crack meets a flat part of the original
+//! surface (they slide within that plane, or along the edge of two such planes, so
+//! the original surface keeps its shape; rim vertices on curved surface stay put).
+//! Vertices on an edge not shared by exactly two boundary faces (a crack front
+//! inside the body) stay put. Each pass moves every crack vertex half way to the mean
+//! of its neighbours (along crack edges inside, along the rim on it; Jacobi updates,
+//! deterministic): an umbrella Laplacian, which on a crack surface with a fixed rim
+//! converges to the flattest surface spanning the rim; it shrinks a fragment, which
+//! the volume correction below undoes, so no Taubin inflation step is needed (with
+//! the guard below, Taubin's λ/μ pairs were measured to diverge: inflation steps
+//! were cut less often than shrink steps). After each pass every tet touching a
+//! moved vertex must keep at least [`MIN_VOLUME_FRACTION`] of its signed volume: a
+//! tet mesh whose tets stay positively oriented maps each vertex's neighbourhood
+//! one-to-one, so a fragment's surface cannot fold over itself locally; where a tet
+//! would fall below, the moves of its vertices are halved (four times, then
+//! dropped). Finally each fragment's volume (the sum of its tets' signed volumes,
+//! equal to the volume its surface encloses) is restored by moving its inside crack
+//! vertices along their normals by a common offset h = ΔV / A (three Newton steps),
+//! under the same guard.
+
+use perifrac_sim::cache::vtu::TetFrame;
+
+/// Face f (opposite local vertex f) of a positively oriented tet, wound outward.
+const OUTWARD: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
+
+/// Fraction of the way to the neighbours' mean a smoothing pass moves a vertex.
+const STEP: f64 = 0.5;
+/// Original faces whose unit normals have a larger dot product lie in one plane
+/// (about 2°).
+const PLANE_COS: f64 = 0.9994;
+
+/// How a crack vertex may move: freely inside the body, within the plane of the
+/// flat original surface it lies on, or along the edge of two such planes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Constraint {
+    Free,
+    Plane([f64; 3]),
+    Line([f64; 3]),
+}
+
+impl Constraint {
+    fn project(self, m: [f64; 3]) -> [f64; 3] {
+        match self {
+            Constraint::Free => m,
+            Constraint::Plane(n) => {
+                let d = dot(m, n);
+                [0, 1, 2].map(|a| m[a] - d * n[a])
+            }
+            Constraint::Line(t) => {
+                let d = dot(m, t);
+                t.map(|c| d * c)
+            }
+        }
+    }
+}
+/// Fraction of its volume below which a tet counts as (nearly) inverted.
+/// (10% stopped rim vertices short of the plane of a flat cut; 2% lets them reach it.)
+const MIN_VOLUME_FRACTION: f64 = 0.02;
+
+/// The surface of one frame.
+#[derive(Debug, Clone, Default)]
+pub struct EmbeddedSurface {
+    /// Every vertex of the split tet mesh after smoothing (the ids of the .vtu).
+    pub points: Vec<[f64; 3]>,
+    /// Boundary triangles (vertex ids), counter-clockwise seen from outside.
+    pub triangles: Vec<[u32; 3]>,
+    /// Whether each triangle is a crack face (inside of the object) or original.
+    pub crack: Vec<bool>,
+    /// The tet (and particle) each triangle bounds.
+    pub owner: Vec<u32>,
+    /// Fragment (connected set of tets) of each tet.
+    pub fragment: Vec<u32>,
+    /// What smoothing did.
+    pub stats: SmoothingStats,
+}
+
+/// What the smoothing of one frame did.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct SmoothingStats {
+    /// Vertices it was allowed to move.
+    pub crack_vertices: usize,
+    /// Moves halved or dropped to keep tets from inverting.
+    pub backed_off: usize,
+    /// Largest relative volume change of a fragment after the volume correction.
+    pub volume_error: f64,
+}
+
+/// Vertices of one class (original or crack) with their own normals, ready for
+/// export: crack and original faces meeting at a vertex get a copy each.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct RenderMesh {
+    /// The split-mesh vertex of each render vertex.
+    pub vertex: Vec<u32>,
+    /// Whether each render vertex belongs to crack faces.
+    pub crack: Vec<bool>,
+    /// Positions (m).
+    pub positions: Vec<[f32; 3]>,
+    /// Area-weighted unit normals, per class.
+    pub normals: Vec<[f32; 3]>,
+    /// Mean damage of the tets the vertex's faces bound.
+    pub damage: Vec<f32>,
+    /// Triangles of the original surface (indices into the render vertices).
+    pub surface_indices: Vec<u32>,
+    /// Triangles of the crack surfaces.
+    pub crack_indices: Vec<u32>,
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn tet_volume(x: &[[f64; 3]], t: [u32; 4]) -> f64 {
+    let [a, b, c, d] = t.map(|v| x[v as usize]);
+    dot(sub(b, a), cross(sub(c, a), sub(d, a))) / 6.0
+}
+
+/// Area vector (twice the area, along the normal) of a triangle.
+fn area_vector(x: &[[f64; 3]], f: [u32; 3]) -> [f64; 3] {
+    let [a, b, c] = f.map(|v| x[v as usize]);
+    cross(sub(b, a), sub(c, a))
+}
+
+/// Sorted keys of `keys`, with how many times each occurs, found by sorting.
+fn counts<K: Ord + Copy>(keys: &[K]) -> Vec<(K, usize)> {
+    let mut sorted = keys.to_vec();
+    sorted.sort_unstable();
+    let mut out: Vec<(K, usize)> = Vec::new();
+    for k in sorted {
+        match out.last_mut() {
+            Some((last, n)) if *last == k => *n += 1,
+            _ => out.push((k, 1)),
+        }
+    }
+    out
+}
+
+fn count_of<K: Ord + Copy>(table: &[(K, usize)], k: K) -> usize {
+    table
+        .binary_search_by(|e| e.0.cmp(&k))
+        .map_or(0, |i| table[i].1)
+}
+
+fn sorted3(mut f: [u32; 3]) -> [u32; 3] {
+    f.sort_unstable();
+    f
+}
+
+/// The boundary of a split tet mesh: triangles (outward), crack flags, owners.
+/// A face is on the boundary when no other tet has it (by vertex ids); it is a crack
+/// face when its original face (by root vertices) was shared by two tets.
+pub fn boundary(frame: &TetFrame) -> (Vec<[u32; 3]>, Vec<bool>, Vec<u32>) {
+    let mut root: Vec<u32> = Vec::with_capacity(frame.parent.len());
+    for (v, &p) in frame.parent.iter().enumerate() {
+        root.push(if p < 0 { v as u32 } else { root[p as usize] });
+    }
+    let faces: Vec<[u32; 3]> = frame
+        .tets
+        .iter()
+        .flat_map(|t| OUTWARD.map(|f| sorted3(f.map(|i| t[i]))))
+        .collect();
+    let roots: Vec<[u32; 3]> = faces
+        .iter()
+        .map(|f| sorted3(f.map(|v| root[v as usize])))
+        .collect();
+    let face_counts = counts(&faces);
+    let root_counts = counts(&roots);
+    let mut triangles = Vec::new();
+    let mut crack = Vec::new();
+    let mut owner = Vec::new();
+    for (t, tet) in frame.tets.iter().enumerate() {
+        for (f, local) in OUTWARD.iter().enumerate() {
+            if count_of(&face_counts, faces[4 * t + f]) == 1 {
+                triangles.push(local.map(|i| tet[i]));
+                crack.push(count_of(&root_counts, roots[4 * t + f]) == 2);
+                owner.push(t as u32);
+            }
+        }
+    }
+    (triangles, crack, owner)
+}
+
+/// Fragments: tets connected through shared vertices, labelled in order of their
+/// lowest tet.
+pub fn fragments(frame: &TetFrame) -> Vec<u32> {
+    let nv = frame.points.len();
+    let mut parent: Vec<u32> = (0..(nv + frame.tets.len()) as u32).collect();
+    fn find(p: &mut [u32], mut i: u32) -> u32 {
+        while p[i as usize] != i {
+            p[i as usize] = p[p[i as usize] as usize];
+            i = p[i as usize];
+        }
+        i
+    }
+    for (t, tet) in frame.tets.iter().enumerate() {
+        for &v in tet {
+            let (a, b) = (find(&mut parent, (nv + t) as u32), find(&mut parent, v));
+            if a != b {
+                parent[a.max(b) as usize] = a.min(b);
+            }
+        }
+    }
+    let mut label = vec![u32::MAX; nv + frame.tets.len()];
+    let mut next = 0;
+    (0..frame.tets.len())
+        .map(|t| {
+            let r = find(&mut parent, (nv + t) as u32) as usize;
+            if label[r] == u32::MAX {
+                label[r] = next;
+                next += 1;
+            }
+            label[r]
+        })
+        .collect()
+}
+
+/// Extracts the surface of a frame and smooths its cracks with `passes` passes.
+pub fn surface(frame: &TetFrame, passes: usize) -> EmbeddedSurface {
+    let (triangles, crack, owner) = boundary(frame);
+    let fragment = fragments(frame);
+    let mut points = frame.points.clone();
+    let nv = points.len();
+    // Vertex classes: on crack faces / original faces / an edge not shared by exactly
+    // two boundary faces (a crack front inside the body: fixed). Rim edges join a
+    // crack face and an original face.
+    let mut on_crack = vec![false; nv];
+    let mut on_original = vec![false; nv];
+    let mut fixed = vec![false; nv];
+    let mut edges: Vec<(u32, u32, u32)> = Vec::with_capacity(3 * triangles.len());
+    for (i, (f, c)) in triangles.iter().zip(&crack).enumerate() {
+        for e in 0..3 {
+            let (a, b) = (f[e], f[(e + 1) % 3]);
+            edges.push((a.min(b), a.max(b), i as u32));
+            if *c {
+                on_crack[a as usize] = true;
+            } else {
+                on_original[a as usize] = true;
+            }
+        }
+    }
+    edges.sort_unstable();
+    let mut crack_edges: Vec<(u32, u32)> = Vec::new();
+    let mut rim_edges: Vec<(u32, u32)> = Vec::new();
+    let mut i = 0;
+    while i < edges.len() {
+        let mut j = i + 1;
+        while j < edges.len() && edges[j].0 == edges[i].0 && edges[j].1 == edges[i].1 {
+            j += 1;
+        }
+        let (a, b) = (edges[i].0, edges[i].1);
+        if j - i != 2 {
+            fixed[a as usize] = true;
+            fixed[b as usize] = true;
+        } else {
+            let (c0, c1) = (crack[edges[i].2 as usize], crack[edges[i + 1].2 as usize]);
+            if c0 && c1 {
+                crack_edges.push((a, b));
+            } else if c0 != c1 {
+                rim_edges.push((a, b));
+            }
+        }
+        i = j;
+    }
+    // Planes of the original faces at rim vertices (up to two distinct ones).
+    let mut planes: Vec<Vec<[f64; 3]>> = vec![Vec::new(); nv];
+    for (f, _) in triangles.iter().zip(&crack).filter(|(_, c)| !**c) {
+        let n = area_vector(&points, *f);
+        let l = dot(n, n).sqrt();
+        if l <= 0.0 {
+            continue;
+        }
+        let n = n.map(|c| c / l);
+        for &v in f {
+            let list = &mut planes[v as usize];
+            if on_crack[v as usize] && !list.iter().any(|m| dot(*m, n) > PLANE_COS) {
+                list.push(n);
+            }
+        }
+    }
+    let constraint: Vec<Option<Constraint>> = (0..nv)
+        .map(|v| {
+            if !on_crack[v] || fixed[v] {
+                return None;
+            }
+            if !on_original[v] {
+                return Some(Constraint::Free);
+            }
+            match planes[v].as_slice() {
+                [n] => Some(Constraint::Plane(*n)),
+                [n, m] => {
+                    let d = cross(*n, *m);
+                    let l = dot(d, d).sqrt();
+                    (l > 0.0).then(|| Constraint::Line(d.map(|c| c / l)))
+                }
+                _ => None,
+            }
+        })
+        .collect();
+    let movable: Vec<u32> = (0..nv as u32)
+        .filter(|&v| constraint[v as usize].is_some())
+        .collect();
+    let mut stats = SmoothingStats {
+        crack_vertices: movable.len(),
+        ..SmoothingStats::default()
+    };
+    if movable.is_empty() || passes == 0 {
+        return EmbeddedSurface {
+            points,
+            triangles,
+            crack,
+            owner,
+            fragment,
+            stats,
+        };
+    }
+    let mut slot = vec![u32::MAX; nv];
+    for (i, &v) in movable.iter().enumerate() {
+        slot[v as usize] = i as u32;
+    }
+    // Neighbours: along crack edges inside the crack surface, along the rim on it.
+    let mut neighbours: Vec<Vec<u32>> = vec![Vec::new(); movable.len()];
+    for (list, rim) in [(&crack_edges, false), (&rim_edges, true)] {
+        for &(a, b) in list {
+            for (x, y) in [(a, b), (b, a)] {
+                let s = slot[x as usize];
+                let free = constraint[x as usize] == Some(Constraint::Free);
+                if s != u32::MAX && free != rim {
+                    neighbours[s as usize].push(y);
+                }
+            }
+        }
+    }
+    for n in &mut neighbours {
+        n.sort_unstable();
+        n.dedup();
+    }
+    // Tets touching movable vertices, with their volumes before smoothing.
+    let guarded: Vec<usize> = (0..frame.tets.len())
+        .filter(|&t| frame.tets[t].iter().any(|&v| slot[v as usize] != u32::MAX))
+        .collect();
+    let rest: Vec<f64> = guarded
+        .iter()
+        .map(|&t| tet_volume(&points, frame.tets[t]))
+        .collect();
+    let fragment_volume = |x: &[[f64; 3]]| -> Vec<f64> {
+        let count = fragment.iter().map(|&f| f as usize + 1).max().unwrap_or(0);
+        let mut v = vec![0.0; count];
+        for &t in &guarded {
+            v[fragment[t] as usize] += tet_volume(x, frame.tets[t]);
+        }
+        v
+    };
+    let before = fragment_volume(&points);
+    let mut frag_of = vec![0usize; movable.len()];
+    for &t in &guarded {
+        for &v in &frame.tets[t] {
+            if slot[v as usize] != u32::MAX {
+                frag_of[slot[v as usize] as usize] = fragment[t] as usize;
+            }
+        }
+    }
+    let mut whole = vec![0.0; before.len()];
+    for (t, &k) in frame.tets.iter().zip(&fragment) {
+        whole[k as usize] += tet_volume(&points, *t);
+    }
+    for _ in 0..passes {
+        let moves: Vec<[f64; 3]> = movable
+            .iter()
+            .zip(&neighbours)
+            .map(|(&v, n)| {
+                if n.is_empty() {
+                    return [0.0; 3];
+                }
+                let x = points[v as usize];
+                let mut mean = [0.0; 3];
+                for &w in n {
+                    let y = points[w as usize];
+                    for a in 0..3 {
+                        mean[a] += y[a] / n.len() as f64;
+                    }
+                }
+                let m = [0, 1, 2].map(|a| STEP * (mean[a] - x[a]));
+                constraint[v as usize].map_or([0.0; 3], |c| c.project(m))
+            })
+            .collect();
+        stats.backed_off +=
+            guarded_move(&mut points, &movable, moves, frame, &guarded, &rest, &slot);
+    }
+    // Restore each fragment's volume with a common normal offset of its vertices.
+    for _ in 0..3 {
+        let now = fragment_volume(&points);
+        let mut normal = vec![[0.0; 3]; movable.len()];
+        for (f, _) in triangles.iter().zip(&crack).filter(|(_, c)| **c) {
+            let n = area_vector(&points, *f);
+            for &v in f {
+                let s = slot[v as usize];
+                if s != u32::MAX && constraint[v as usize] == Some(Constraint::Free) {
+                    for a in 0..3 {
+                        normal[s as usize][a] += n[a] / 6.0;
+                    }
+                }
+            }
+        }
+        // dV/dh of fragment k = Σ over its vertices of |area vector|/3 along n̂.
+        let mut rate = vec![0.0; now.len()];
+        for (i, n) in normal.iter().enumerate() {
+            rate[frag_of[i]] += dot(*n, *n).sqrt();
+        }
+        let moves: Vec<[f64; 3]> = normal
+            .iter()
+            .enumerate()
+            .map(|(i, n)| {
+                let k = frag_of[i];
+                let len = dot(*n, *n).sqrt();
+                if rate[k] <= 0.0 || len <= 0.0 {
+                    return [0.0; 3];
+                }
+                let h = (before[k] - now[k]) / rate[k];
+                n.map(|c| h * c / len)
+            })
+            .collect();
+        stats.backed_off +=
+            guarded_move(&mut points, &movable, moves, frame, &guarded, &rest, &slot);
+    }
+    let after = fragment_volume(&points);
+    stats.volume_error = (0..before.len())
+        .filter(|&k| whole[k] > 0.0)
+        .map(|k| ((after[k] - before[k]) / whole[k]).abs())
+        .fold(0.0, f64::max);
+    EmbeddedSurface {
+        points,
+        triangles,
+        crack,
+        owner,
+        fragment,
+        stats,
+    }
+}
+
+/// Applies `moves` to the movable vertices, halving (up to four times, then
+/// dropping) the moves of the vertices of any guarded tet that would keep less than
+/// [`MIN_VOLUME_FRACTION`] of its rest volume; returns how many moves were cut.
+fn guarded_move(
+    points: &mut [[f64; 3]],
+    movable: &[u32],
+    mut moves: Vec<[f64; 3]>,
+    frame: &TetFrame,
+    guarded: &[usize],
+    rest: &[f64],
+    slot: &[u32],
+) -> usize {
+    let start: Vec<[f64; 3]> = movable.iter().map(|&v| points[v as usize]).collect();
+    let mut cut = 0;
+    for attempt in 0..=4 {
+        for (i, &v) in movable.iter().enumerate() {
+            points[v as usize] = [0, 1, 2].map(|a| start[i][a] + moves[i][a]);
+        }
+        let bad: Vec<usize> = guarded
+            .iter()
+            .zip(rest)
+            .filter(|&(&t, &r)| tet_volume(points, frame.tets[t]) < MIN_VOLUME_FRACTION * r)
+            .map(|(&t, _)| t)
+            .collect();
+        if bad.is_empty() {
+            return cut;
+        }
+        for t in bad {
+            for &v in &frame.tets[t] {
+                let s = slot[v as usize];
+                if s != u32::MAX {
+                    let m = &mut moves[s as usize];
+                    if *m != [0.0; 3] {
+                        cut += 1;
+                        *m = if attempt < 4 {
+                            m.map(|c| c / 2.0)
+                        } else {
+                            [0.0; 3]
+                        };
+                    }
+                }
+            }
+        }
+    }
+    for (i, &v) in movable.iter().enumerate() {
+        points[v as usize] = [0, 1, 2].map(|a| start[i][a] + moves[i][a]);
+    }
+    cut
+}
+
+impl EmbeddedSurface {
+    /// Render vertices (one per split-mesh vertex and class), normals, damage and
+    /// the two index lists, with positions from `points` (this frame's, or another
+    /// frame's positions of the same vertices).
+    pub fn render_mesh(&self, damage: &[f32]) -> RenderMesh {
+        let mut key: Vec<(u32, bool)> = self
+            .triangles
+            .iter()
+            .zip(&self.crack)
+            .flat_map(|(f, &c)| f.map(|v| (v, c)))
+            .collect();
+        key.sort_unstable();
+        key.dedup();
+        let index = |v: u32, c: bool| key.binary_search(&(v, c)).unwrap_or(0) as u32;
+        let mut out = RenderMesh {
+            vertex: key.iter().map(|k| k.0).collect(),
+            crack: key.iter().map(|k| k.1).collect(),
+            ..RenderMesh::default()
+        };
+        let mut damage_sum = vec![(0.0f64, 0usize); key.len()];
+        for ((f, &c), &t) in self.triangles.iter().zip(&self.crack).zip(&self.owner) {
+            let ids = f.map(|v| index(v, c));
+            let list = if c {
+                &mut out.crack_indices
+            } else {
+                &mut out.surface_indices
+            };
+            list.extend_from_slice(&ids);
+            for i in ids {
+                let d = &mut damage_sum[i as usize];
+                d.0 += f64::from(damage.get(t as usize).copied().unwrap_or(0.0));
+                d.1 += 1;
+            }
+        }
+        out.damage = damage_sum
+            .iter()
+            .map(|(s, n)| (s / (*n).max(1) as f64) as f32)
+            .collect();
+        out.positions = self.positions_of(&out, &self.points);
+        out.normals = self.normals(&out, &self.points);
+        out
+    }
+
+    /// Positions of `mesh`'s render vertices in `points`.
+    pub fn positions_of(&self, mesh: &RenderMesh, points: &[[f64; 3]]) -> Vec<[f32; 3]> {
+        mesh.vertex
+            .iter()
+            .map(|&v| points[v as usize].map(|c| c as f32))
+            .collect()
+    }
+
+    /// Area-weighted unit normals of `mesh`'s render vertices at `points`.
+    pub fn normals(&self, mesh: &RenderMesh, points: &[[f64; 3]]) -> Vec<[f32; 3]> {
+        let mut n = vec![[0.0f64; 3]; mesh.vertex.len()];
+        for list in [&mesh.surface_indices, &mesh.crack_indices] {
+            for tri in list.chunks_exact(3) {
+                let f = [0, 1, 2].map(|k| mesh.vertex[tri[k] as usize]);
+                let a = area_vector(points, f);
+                for &i in tri {
+                    for c in 0..3 {
+                        n[i as usize][c] += a[c];
+                    }
+                }
+            }
+        }
+        n.iter()
+            .map(|v| {
+                let l = dot(*v, *v).sqrt();
+                if l > 0.0 {
+                    v.map(|c| (c / l) as f32)
+                } else {
+                    [0.0, 1.0, 0.0]
+                }
+            })
+            .collect()
+    }
+}
