@@ -357,6 +357,11 @@ pub fn run(
         broken_total = resume.broken_bonds;
         if let Ok(old) = Manifest::read(&layout.manifest()) {
             manifest.frame_times = old.frame_times.into_iter().take(resume.frame).collect();
+            manifest.collider_centers = old
+                .collider_centers
+                .into_iter()
+                .take(resume.frame)
+                .collect();
         }
     }
     let sim = &mut prepared.sim;
@@ -432,6 +437,9 @@ pub fn run(
             snapshot(sim, frame).write(&layout.particles(frame))?;
         }
         manifest.frame_times.push(sim.time);
+        manifest
+            .collider_centers
+            .push(sim.colliders.iter().map(|c| c.center).collect());
         manifest.status = if frame == frames + 1 {
             "complete".into()
         } else {
