@@ -366,6 +366,10 @@ pub struct OutputSpec {
     /// Settings of the `vdb` surface method (`[output.vdb]`).
     #[serde(default)]
     pub vdb: VdbSpec,
+    /// Render `preview/NNNN.png` and `preview/contact_sheet.png` after the run (the
+    /// render stage, Mesa's software OpenGL). Default true.
+    #[serde(default = "default_true")]
+    pub preview: bool,
 }
 
 impl Default for OutputSpec {
@@ -375,6 +379,7 @@ impl Default for OutputSpec {
             checkpoint_every: default_checkpoint_every(),
             surface: SurfaceMethod::default(),
             vdb: VdbSpec::default(),
+            preview: true,
         }
     }
 }
