@@ -191,7 +191,8 @@ impl FrameGeometry {
         b
     }
 
-    /// How many vertices and points land inside the view volume of `view_projection`.
+    /// How many mesh vertices and points of the simulated bodies (colliders not
+    /// counted) land inside the view volume of `view_projection`.
     pub fn count_in_view(&self, view_projection: &Mat4) -> usize {
         let inside = |p: [f32; 3]| {
             let c = camera::transform(view_projection, p);
@@ -199,7 +200,7 @@ impl FrameGeometry {
         };
         self.mesh_vertices
             .chunks_exact(MESH_STRIDE)
-            .filter(|v| inside([v[0], v[1], v[2]]))
+            .filter(|v| v[9] != Shading::Collider as u32 as f32 && inside([v[0], v[1], v[2]]))
             .count()
             + self
                 .points

@@ -66,7 +66,8 @@ pub struct Rendered {
     pub image: RgbImage,
     /// Pass timings.
     pub times: PassTimes,
-    /// Mesh vertices and points inside the view volume (0: an empty frame).
+    /// Mesh vertices and points of the simulated bodies inside the view volume (0: an
+    /// empty frame, whatever colliders remain).
     pub in_view: usize,
 }
 
@@ -545,13 +546,14 @@ impl Renderer {
                 glow::NEAREST,
             );
             gl.bind_framebuffer(glow::READ_FRAMEBUFFER, Some(self.targets.resolve));
-            self.pixels.resize((w * h * 4) as usize, 0);
+            let row = (w * 3) as usize;
+            self.pixels.resize(row * h as usize, 0);
             gl.read_pixels(
                 0,
                 0,
                 w,
                 h,
-                glow::RGBA,
+                glow::RGB,
                 glow::UNSIGNED_BYTE,
                 glow::PixelPackData::Slice(Some(&mut self.pixels)),
             );
@@ -560,12 +562,10 @@ impl Renderer {
             if error != glow::NO_ERROR {
                 return Err(gl_error("rendering", format!("GL error {error:#x}")));
             }
-            let row = (w * 4) as usize;
-            let mut rgb = Vec::with_capacity((w * h * 3) as usize);
-            for y in (0..h as usize).rev() {
-                for px in self.pixels[y * row..(y + 1) * row].chunks_exact(4) {
-                    rgb.extend_from_slice(&px[..3]);
-                }
+            // GL's rows run bottom-up; images top-down.
+            let mut rgb = Vec::with_capacity(self.pixels.len());
+            for line in self.pixels.chunks_exact(row).rev() {
+                rgb.extend_from_slice(line);
             }
             times.readback = t.elapsed().as_secs_f64();
             let image = RgbImage::from_raw(w as u32, h as u32, rgb)

@@ -19,7 +19,8 @@ uniform float u_bias; // depth-comparison bias (shadow-map depth units)
 float key_visibility(vec3 p, int taps, float spread) {
     vec4 l = u_light_view_proj * vec4(p, 1.0);
     vec3 s = l.xyz / l.w * 0.5 + 0.5;
-    if (s.z >= 1.0) return 1.0;
+    if (s.z >= 1.0 || any(lessThan(s.xy, vec2(0.0))) || any(greaterThan(s.xy, vec2(1.0))))
+        return 1.0;
     float sum = 0.0;
     float h = 0.5 * float(taps - 1);
     for (int i = 0; i < taps; ++i)
@@ -163,7 +164,7 @@ uniform vec3 u_background;
 in vec3 v_position;
 out vec4 o_color;
 void main() {
-    float vis = key_visibility(v_position, 4, 1.5);
+    float vis = key_visibility(v_position, 3, 2.0);
     vec3 albedo = vec3(0.55, 0.55, 0.56);
     vec3 c = studio(v_position, vec3(0.0, 1.0, 0.0), albedo, 0.0, vis);
     float r = length(v_position.xz - u_center.xz);
