@@ -23,6 +23,18 @@ pub fn run(which: BenchCommand, quiet: bool) -> Result<(), Failure> {
             set_threads(threads)?;
             throughput(particles, steps, &out, quiet)
         }
+        BenchCommand::Render {
+            size,
+            triangles,
+            particles,
+            frames,
+            demo,
+            out,
+        } => {
+            let size = crate::args::parse_size("--size", &size)
+                .map_err(|m| Failure::input(anyhow::anyhow!(m)))?;
+            crate::bench_render::run(size, triangles, particles, frames.max(1), demo, &out, quiet)
+        }
     }
 }
 

@@ -4,7 +4,9 @@
 
 mod args;
 mod bench;
+mod bench_render;
 mod commands;
+mod render;
 mod surface;
 
 use std::process::ExitCode;
@@ -22,6 +24,10 @@ fn main() -> ExitCode {
         },
         Command::Surface(args) => match args::SurfaceConfig::try_from(args) {
             Ok(config) => surface::command(&config, cli.quiet),
+            Err(message) => Err(commands::Failure::input(anyhow::anyhow!(message))),
+        },
+        Command::Render(args) => match args::RenderConfig::try_from(args) {
+            Ok(config) => render::command(&config, cli.quiet),
             Err(message) => Err(commands::Failure::input(anyhow::anyhow!(message))),
         },
         Command::Check { scene } => commands::check(&scene),

@@ -393,6 +393,11 @@ pub fn run(
         broken_total = resume.broken_bonds;
         if let Ok(old) = Manifest::read(&layout.manifest()) {
             manifest.frame_times = old.frame_times.into_iter().take(resume.frame).collect();
+            manifest.collider_centers = old
+                .collider_centers
+                .into_iter()
+                .take(resume.frame)
+                .collect();
         }
         if let Some(mesh) = embedded.as_mut() {
             // The topology written at the checkpoint's frame keeps the vertex
@@ -488,6 +493,9 @@ pub fn run(
             tets.write(&layout.tets(frame))?;
         }
         manifest.frame_times.push(sim.time);
+        manifest
+            .collider_centers
+            .push(sim.colliders.iter().map(|c| c.center).collect());
         manifest.status = if frame == frames + 1 {
             "complete".into()
         } else {

@@ -409,6 +409,10 @@ pub struct OutputSpec {
     /// Settings of the `vdb` surface method (`[output.vdb]`).
     #[serde(default)]
     pub vdb: VdbSpec,
+    /// Render `preview/NNNN.png` and `preview/contact_sheet.png` after the run (the
+    /// render stage, Mesa's software OpenGL). Default true.
+    #[serde(default = "default_true")]
+    pub preview: bool,
     /// Settings of the `embedded` surface method (`[output.embedded]`).
     #[serde(default)]
     pub embedded: EmbeddedSpec,
@@ -455,6 +459,7 @@ impl Default for OutputSpec {
             tets: None,
             vdb: VdbSpec::default(),
             embedded: EmbeddedSpec::default(),
+            preview: true,
         }
     }
 }
