@@ -412,3 +412,47 @@ fn a_time_step_above_the_bound_is_refused_with_the_bound() {
         "{err}"
     );
 }
+
+/// A cantilever L × h × h along x, clamped at x = −L/2 (the vertices of the end face),
+/// under gravity with air damping near the first mode's critical value; returns the
+/// tip deflection at rest (mean over the tip face's vertices) and the Euler–Bernoulli
+/// one, q L⁴ / (8 E I) with q = ρ g h², I = h⁴/12.
+fn cantilever_tip(model: &str, lambda: f64) -> (f64, f64) {
+    let (length, h, e, rho, g): (f64, f64, f64, f64, f64) = (1.0, 0.1, 2.0e8, 1000.0, 9.81);
+    // ω₁ = 1.875² √(E I / (ρ A L⁴)); critical air damping is 2ω₁.
+    let omega = 1.875f64.powi(2) * (e * h * h / 12.0 / (rho * length.powi(4))).sqrt();
+    let s = scene(&format!(
+        "[scene]\ngravity = [0, -{g}, 0]\nduration = 1\n[materials.m]\ndensity = {rho}\n\
+         youngs_modulus = {e}\npoisson_ratio = 0.25\nair_damping = {}\n\
+         [[body]]\nmaterial = \"m\"\nmodel = \"{model}\"\nresolution = {lambda}\n\
+         shape = {{ type = \"box\", center = [0, 0, 0], size = [{length}, {h}, {h}] }}\n\
+         [[body.anchor]]\nregion = {{ type = \"box\", center = [-0.5, 0, 0], size = [0.002, 0.2, 0.2] }}\n",
+        1.5 * omega
+    ));
+    let mut p = run::prepare_fem(&s).expect("prepares");
+    let settle = 8.0 / omega;
+    while p.sim.time < settle {
+        p.sim.step().expect("stable");
+    }
+    let m = &p.sim.model;
+    let tip: Vec<f64> = (0..m.len())
+        .filter(|&i| m.rest[i][0] > 0.5 - 1e-6)
+        .map(|i| m.position[i][1] - m.rest[i][1])
+        .collect();
+    let deflection = -tip.iter().sum::<f64>() / tip.len() as f64;
+    let q = rho * g * h * h;
+    let euler_bernoulli = q * length.powi(4) / (8.0 * e * h.powi(4) / 12.0);
+    (deflection, euler_bernoulli)
+}
+
+#[test]
+fn fem_cantilevers_match_euler_bernoulli() {
+    for model in ["fem-linear", "fem-corotated"] {
+        let (tip, eb) = cantilever_tip(model, 0.02);
+        println!(
+            "{model}: tip deflection {tip:.5e} m, Euler–Bernoulli {eb:.5e} m ({:+.2}%)",
+            100.0 * (tip / eb - 1.0)
+        );
+        assert!((tip / eb - 1.0).abs() < 0.05, "{model}: {tip} vs {eb}");
+    }
+}
