@@ -232,83 +232,67 @@ impl FemModel {
     /// The strain ε (in the rotated frame for corotated bodies) and the rotation R of
     /// tet e at the current positions; `q` is the warm start of R and is updated.
     fn strain(&self, e: usize, q: &mut rotation::Quaternion) -> (M3, Option<M3>) {
-        let t = &self.tets[e];
-        // ∇u = (D_s − D_m) B, computed from displacements so small strains keep
-        // their digits.
-        let mut du = [[0.0; 3]; 3];
-        let u0 = sub(self.position[t[0] as usize], self.rest[t[0] as usize]);
-        for a in 0..3 {
-            let v = t[a + 1] as usize;
-            let ua = sub(self.position[v], self.rest[v]);
-            for k in 0..3 {
-                du[k][a] = ua[k] - u0[k];
-            }
-        }
-        let grad = mul(&du, &self.inverse_rest[e]);
-        let body = &self.bodies[self.tet_body[e] as usize];
-        if body.corotated {
-            let mut f = grad;
-            for k in 0..3 {
-                f[k][k] += 1.0;
-            }
-            let r = rotation::extract(&f, q);
-            // RᵀF − I = Rᵀ∇u + (Rᵀ − I): both parts stay accurate for small strains.
-            let mut g = [[0.0; 3]; 3];
-            for i in 0..3 {
-                for j in 0..3 {
-                    g[i][j] = (0..3).map(|k| r[k][i] * grad[k][j]).sum::<f64>() + r[j][i];
-                }
-                g[i][i] -= 1.0;
-            }
-            (sym(&g), Some(r))
-        } else {
-            (sym(&grad), None)
-        }
+        let corotated = self.bodies[self.tet_body[e] as usize].corotated;
+        strain(
+            &self.position,
+            &self.rest,
+            &self.tets[e],
+            &self.inverse_rest[e],
+            corotated.then_some(q),
+        )
     }
 
     /// Fills `force` with the internal nodal forces at the current positions
     /// (per tet, then gathered per vertex).
     pub fn internal_forces(&mut self) {
-        let this = &*self;
-        let (tet_force, rotation): (Vec<[[f64; 3]; 4]>, Vec<rotation::Quaternion>) =
-            (0..this.tets.len())
-                .into_par_iter()
-                .with_min_len(256)
-                .map(|e| {
-                    let mut q = this.rotation[e];
-                    let (eps, r) = this.strain(e, &mut q);
-                    let body = &this.bodies[this.tet_body[e] as usize];
-                    let stress = body.hooke(&eps);
-                    let p = match r {
-                        Some(r) => mul(&r, &stress),
-                        None => stress,
-                    };
-                    // H = −V P Bᵀ: column a is the force on vertex a + 1.
-                    let b = &this.inverse_rest[e];
-                    let v = this.volume[e];
-                    let mut f = [[0.0; 3]; 4];
-                    for a in 0..3 {
-                        for k in 0..3 {
-                            let h = -v * (0..3).map(|j| p[k][j] * b[a][j]).sum::<f64>();
-                            f[a + 1][k] = h;
-                            f[0][k] -= h;
-                        }
+        let FemModel {
+            position,
+            rest,
+            tets,
+            inverse_rest,
+            volume,
+            tet_body,
+            bodies,
+            rotation,
+            tet_force,
+            incidence_offsets,
+            incidence,
+            force,
+            ..
+        } = self;
+        tet_force
+            .par_iter_mut()
+            .zip(rotation.par_iter_mut())
+            .enumerate()
+            .with_min_len(512)
+            .for_each(|(e, (f, q))| {
+                let body = &bodies[tet_body[e] as usize];
+                let b = &inverse_rest[e];
+                let (eps, r) = strain(position, rest, &tets[e], b, body.corotated.then_some(q));
+                let stress = body.hooke(&eps);
+                let p = match r {
+                    Some(r) => mul(&r, &stress),
+                    None => stress,
+                };
+                // H = −V P Bᵀ: column a is the force on vertex a + 1.
+                let v = volume[e];
+                *f = [[0.0; 3]; 4];
+                for a in 0..3 {
+                    for k in 0..3 {
+                        let h = -v * (p[k][0] * b[a][0] + p[k][1] * b[a][1] + p[k][2] * b[a][2]);
+                        f[a + 1][k] = h;
+                        f[0][k] -= h;
                     }
-                    (f, q)
-                })
-                .unzip();
-        self.tet_force = tet_force;
-        self.rotation = rotation;
-        let offsets = &self.incidence_offsets;
-        let incidence = &self.incidence;
-        let tet_force = &self.tet_force;
-        self.force
+                }
+            });
+        let tet_force = &*tet_force;
+        force
             .par_iter_mut()
             .enumerate()
-            .with_min_len(256)
+            .with_min_len(512)
             .for_each(|(v, f)| {
                 let mut s = [0.0; 3];
-                for &(e, c) in &incidence[offsets[v]..offsets[v + 1]] {
+                for &(e, c) in &incidence[incidence_offsets[v]..incidence_offsets[v + 1]] {
                     let g = tet_force[e as usize][c as usize];
                     for k in 0..3 {
                         s[k] += g[k];
@@ -446,6 +430,45 @@ fn det_sum(n: usize, f: impl Fn(usize) -> f64 + Sync) -> f64 {
         .map(|c| (c * CHUNK..((c + 1) * CHUNK).min(n)).map(&f).sum())
         .collect();
     partial.into_iter().sum()
+}
+
+/// The strain of a tet with corners `t` and B = `b`: ½(∇u + ∇uᵀ) (linear), or with a
+/// rotation warm start `q`, ½(RᵀF + FᵀR) − I and R (corotated).
+fn strain(
+    position: &[[f64; 3]],
+    rest: &[[f64; 3]],
+    t: &[u32; 4],
+    b: &M3,
+    q: Option<&mut rotation::Quaternion>,
+) -> (M3, Option<M3>) {
+    // ∇u = (D_s − D_m) B, from displacements so that small strains keep their digits.
+    let mut du = [[0.0; 3]; 3];
+    let u0 = sub(position[t[0] as usize], rest[t[0] as usize]);
+    for a in 0..3 {
+        let v = t[a + 1] as usize;
+        let ua = sub(position[v], rest[v]);
+        for k in 0..3 {
+            du[k][a] = ua[k] - u0[k];
+        }
+    }
+    let grad = mul(&du, b);
+    let Some(q) = q else {
+        return (sym(&grad), None);
+    };
+    let mut f = grad;
+    for k in 0..3 {
+        f[k][k] += 1.0;
+    }
+    let r = rotation::extract(&f, q);
+    // RᵀF − I = Rᵀ∇u + (Rᵀ − I): both parts stay accurate for small strains.
+    let mut g = [[0.0; 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            g[i][j] = r[0][i] * grad[0][j] + r[1][i] * grad[1][j] + r[2][i] * grad[2][j] + r[j][i];
+        }
+        g[i][i] -= 1.0;
+    }
+    (sym(&g), Some(r))
 }
 
 fn edge_matrix(x: &[[f64; 3]], t: &[u32; 4]) -> M3 {
