@@ -63,6 +63,23 @@ pub enum BenchCommand {
         #[arg(long)]
         threads: Option<usize>,
     },
+    /// Run time against error on the validation scenes (Chen §6): peridynamics and
+    /// both FEM references against the converged corotated FEM; writes
+    /// `accuracy.md` and `accuracy.png`.
+    Accuracy {
+        /// Two scenes, two resolutions, a short run (under five minutes).
+        #[arg(long)]
+        quick: bool,
+        /// Directory of the validation scene files.
+        #[arg(long, default_value = "assets/scenes")]
+        scenes: PathBuf,
+        /// Where to write the report and the plot.
+        #[arg(short, long, default_value = "bench")]
+        out: PathBuf,
+        /// Worker threads (default: all cores).
+        #[arg(long)]
+        threads: Option<usize>,
+    },
 }
 
 /// `perifrac run` as typed.

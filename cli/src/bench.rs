@@ -23,7 +23,34 @@ pub fn run(which: BenchCommand, quiet: bool) -> Result<(), Failure> {
             set_threads(threads)?;
             throughput(particles, steps, &out, quiet)
         }
+        BenchCommand::Accuracy {
+            quick,
+            scenes,
+            out,
+            threads,
+        } => {
+            set_threads(threads)?;
+            accuracy(quick, &scenes, &out, quiet)
+        }
     }
+}
+
+fn accuracy(quick: bool, scenes: &Path, out: &Path, quiet: bool) -> Result<(), Failure> {
+    let sweep = if quick {
+        &crate::accuracy::QUICK
+    } else {
+        &crate::accuracy::FULL
+    };
+    let (points, same_tets) = crate::accuracy::sweep(sweep, scenes, quiet)?;
+    let report = crate::accuracy::report(&points, &same_tets, sweep, rayon::current_num_threads());
+    std::fs::create_dir_all(out)
+        .map_err(|e| Failure::from(anyhow::anyhow!("{}: {e}", out.display())))?;
+    let path = out.join("accuracy.md");
+    std::fs::write(&path, &report)
+        .map_err(|e| Failure::from(anyhow::anyhow!("{}: {e}", path.display())))?;
+    crate::plot::accuracy_png(&points, &out.join("accuracy.png"))?;
+    println!("{report}");
+    Ok(())
 }
 
 /// The three walls of Chen Table 1 (glass, plastic, elastic) at `particles`

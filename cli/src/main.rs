@@ -2,9 +2,11 @@
 //!
 //! Exit codes: 0 success, 1 a run failed (I/O, blow-up), 2 bad input (scene, flags).
 
+mod accuracy;
 mod args;
 mod bench;
 mod commands;
+mod plot;
 mod surface;
 
 use std::process::ExitCode;
