@@ -56,7 +56,22 @@ pub enum BenchCommand {
         /// Steps to time (after one warm-up step).
         #[arg(long, default_value_t = 10)]
         steps: usize,
+        /// Also time the scenes of Chen Table 1 (`assets/scenes` files) rescaled to
+        /// the paper's particle counts, where memory allows (`throughput-table1.md`).
+        #[arg(long)]
+        table1: Option<PathBuf>,
         /// Where to write `throughput.md`.
+        #[arg(short, long, default_value = "bench")]
+        out: PathBuf,
+        /// Worker threads (default: all cores).
+        #[arg(long)]
+        threads: Option<usize>,
+    },
+    /// Edge cases (time step past the stable bound, ν = 0.45, stiffness ratio 10^6,
+    /// a 500 m/s projectile, a single layer of particles, a shattered body): each
+    /// stays finite and bounded or is caught; writes `stability.md`.
+    Stability {
+        /// Where to write the report.
         #[arg(short, long, default_value = "bench")]
         out: PathBuf,
         /// Worker threads (default: all cores).

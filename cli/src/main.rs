@@ -7,6 +7,7 @@ mod args;
 mod bench;
 mod commands;
 mod plot;
+mod stability;
 mod surface;
 
 use std::process::ExitCode;
