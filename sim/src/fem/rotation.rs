@@ -14,7 +14,7 @@
 //! Method to Extract the Rotational Part of Deformations", Eq. 4–5), ω = (…)/|tr G|.
 //! Either way R stays a rotation (det R = +1), also for inverted tets.
 
-use super::{M3, col, cross, dot3};
+use super::{M3, col, dot3};
 
 /// A unit quaternion [w, x, y, z].
 pub type Quaternion = [f64; 4];
