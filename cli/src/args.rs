@@ -59,6 +59,10 @@ pub enum BenchCommand {
         /// Steps to time (after one warm-up step).
         #[arg(long, default_value_t = 10)]
         steps: usize,
+        /// Also time the scenes of Chen Table 1 (`assets/scenes` files) rescaled to
+        /// the paper's particle counts, where memory allows (`throughput-table1.md`).
+        #[arg(long)]
+        table1: Option<PathBuf>,
         /// Where to write `throughput.md`.
         #[arg(short, long, default_value = "bench")]
         out: PathBuf,
@@ -88,6 +92,34 @@ pub enum BenchCommand {
         /// Where to write `render.md` (and the demo's cache).
         #[arg(short, long, default_value = "bench")]
         out: PathBuf,
+    },
+    /// Edge cases (time step past the stable bound, ν = 0.45, stiffness ratio 10^6,
+    /// a 500 m/s projectile, a single layer of particles, a shattered body): each
+    /// stays finite and bounded or is caught; writes `stability.md`.
+    Stability {
+        /// Where to write the report.
+        #[arg(short, long, default_value = "bench")]
+        out: PathBuf,
+        /// Worker threads (default: all cores).
+        #[arg(long)]
+        threads: Option<usize>,
+    },
+    /// Run time against error on the validation scenes (Chen §6): peridynamics and
+    /// both FEM references against the converged corotated FEM; writes
+    /// `accuracy.md` and `accuracy.png`.
+    Accuracy {
+        /// Two scenes, two resolutions, a short run (under five minutes).
+        #[arg(long)]
+        quick: bool,
+        /// Directory of the validation scene files.
+        #[arg(long, default_value = "assets/scenes")]
+        scenes: PathBuf,
+        /// Where to write the report and the plot.
+        #[arg(short, long, default_value = "bench")]
+        out: PathBuf,
+        /// Worker threads (default: all cores).
+        #[arg(long)]
+        threads: Option<usize>,
     },
 }
 

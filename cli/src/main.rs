@@ -2,11 +2,14 @@
 //!
 //! Exit codes: 0 success, 1 a run failed (I/O, blow-up), 2 bad input (scene, flags).
 
+mod accuracy;
 mod args;
 mod bench;
 mod bench_render;
 mod commands;
+mod plot;
 mod render;
+mod stability;
 mod surface;
 
 use std::process::ExitCode;

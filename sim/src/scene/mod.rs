@@ -265,6 +265,20 @@ pub enum ModelKind {
     /// State-based peridynamics of Chen et al. 2018.
     #[default]
     Peridynamics,
+    /// Reference solver: explicit linear-tet FEM with the linear (Cauchy) strain, on
+    /// the body's tet mesh (Chen et al. 2018 §6, Figs. 11–12 left). Not objective:
+    /// rotations cause ghost forces.
+    FemLinear,
+    /// Reference solver: explicit linear-tet FEM, corotated linear (Chen et al. 2018
+    /// §6, Figs. 10–13): the linear stress of each tet in its rotated frame.
+    FemCorotated,
+}
+
+impl ModelKind {
+    /// Whether this is one of the FEM reference solvers.
+    pub fn is_fem(self) -> bool {
+        matches!(self, ModelKind::FemLinear | ModelKind::FemCorotated)
+    }
 }
 
 /// `[[body]]`: a deformable body.
@@ -283,7 +297,9 @@ pub struct BodySpec {
     /// Horizon δ in units of λ, at least 1.0. Default 1.45 (Chen Table 1).
     #[serde(default = "default_horizon")]
     pub horizon: f64,
-    /// Simulation model. Default `"peridynamics"`.
+    /// Simulation model: `"peridynamics"`, or a FEM reference solver on the same tet
+    /// mesh, `"fem-linear"` or `"fem-corotated"` (elastic only; every body of a scene
+    /// must then use FEM). Default `"peridynamics"`.
     #[serde(default)]
     pub model: ModelKind,
     /// Initial velocity in m/s. Default 0.
