@@ -208,6 +208,34 @@ pub enum ShapeSpec {
     },
 }
 
+impl ShapeSpec {
+    /// Makes every mesh path in this shape absolute: `base` joined with it,
+    /// canonicalized where the file exists.
+    fn resolve_mesh_paths(&mut self, base: &Path) {
+        match self {
+            ShapeSpec::Mesh { path, .. } => {
+                let joined = base.join(&*path);
+                *path = std::fs::canonicalize(&joined)
+                    .or_else(|_| std::path::absolute(&joined))
+                    .unwrap_or(joined);
+            }
+            ShapeSpec::Union { parts } => {
+                for part in parts {
+                    part.resolve_mesh_paths(base);
+                }
+            }
+            ShapeSpec::Difference { base: b, minus } => {
+                b.resolve_mesh_paths(base);
+                minus.resolve_mesh_paths(base);
+            }
+            ShapeSpec::Box { .. }
+            | ShapeSpec::Slab { .. }
+            | ShapeSpec::Sphere { .. }
+            | ShapeSpec::Cylinder { .. } => {}
+        }
+    }
+}
+
 /// The scale of a mesh shape: uniform or per axis.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(untagged)]
@@ -675,9 +703,23 @@ impl Scene {
         Ok(scene)
     }
 
-    /// The scene as resolved, with every default written out.
+    /// The scene as resolved, with every default written out and mesh paths made
+    /// absolute (canonical where the file exists), so that the copy in a cache
+    /// directory (`OUT/scene.toml`) still finds its meshes.
     pub fn to_toml(&self) -> String {
-        toml::to_string(self).unwrap_or_else(|e| format!("# could not serialize: {e}\n"))
+        let mut resolved = self.clone();
+        let base = &self.base_dir;
+        let absolute = |shape: &mut ShapeSpec| shape.resolve_mesh_paths(base);
+        for body in &mut resolved.bodies {
+            absolute(&mut body.shape);
+            for anchor in &mut body.anchors {
+                absolute(&mut anchor.region);
+            }
+            for crack in &mut body.cracks {
+                absolute(&mut crack.region);
+            }
+        }
+        toml::to_string(&resolved).unwrap_or_else(|e| format!("# could not serialize: {e}\n"))
     }
 
     /// Seconds between output frames.
@@ -785,6 +827,33 @@ resolution = 0.1
             message.contains("bunny.obj") && message.contains("does not exist"),
             "{message}"
         );
+    }
+
+    #[test]
+    fn resolved_scene_finds_its_mesh_from_anywhere() {
+        // Regression: OUT/scene.toml kept the mesh path relative to the original
+        // scene file, so `perifrac surface OUT` could not load it.
+        let dir = tempfile::tempdir().expect("tempdir");
+        std::fs::write(dir.path().join("cube.obj"), "v 0 0 0\n").expect("write");
+        let text = GOOD.replace(
+            r#"shape = { type = "box", center = [0, 0, 0], size = [1, 1, 1] }"#,
+            r#"shape = { type = "mesh", path = "cube.obj", scale = [1, 2, 3] }"#,
+        );
+        let s = Scene::parse(&text, Path::new("good.toml"), dir.path()).expect("valid");
+        let resolved = s.to_toml();
+        let again = Scene::parse(
+            &resolved,
+            Path::new("OUT/scene.toml"),
+            Path::new("/elsewhere"),
+        )
+        .expect("the resolved scene is valid from another directory");
+        match &again.bodies[0].shape {
+            ShapeSpec::Mesh { path, scale, .. } => {
+                assert!(path.is_absolute() && path.ends_with("cube.obj"), "{path:?}");
+                assert_eq!(scale.factors(), [1.0, 2.0, 3.0]);
+            }
+            other => panic!("{other:?}"),
+        }
     }
 
     #[test]

@@ -53,16 +53,16 @@ pub fn assets() -> Vec<Asset> {
 }
 
 /// Vase wall thickness in m.
-const VASE_WALL: f64 = 0.02;
+const VASE_WALL: f64 = 0.024;
 /// Vase height of the wall's centreline in m.
-const VASE_HEIGHT: f64 = 0.18;
+const VASE_HEIGHT: f64 = 0.16;
 /// Radius of the vase's body at the foot (centreline), in m.
-const VASE_FOOT_RADIUS: f64 = 0.045;
+const VASE_FOOT_RADIUS: f64 = 0.04;
 /// How much the body bulges beyond the foot radius, in m.
-const VASE_BULGE: f64 = 0.025;
+const VASE_BULGE: f64 = 0.022;
 /// Radius of the foot's rounded corner (centreline), in m: the inside corner is
 /// rounded at this minus half the wall.
-const VASE_CORNER: f64 = 0.02;
+const VASE_CORNER: f64 = 0.024;
 /// Segments around the axis.
 const VASE_SEGMENTS: usize = 72;
 /// Profile sample spacing in m.
@@ -292,10 +292,10 @@ pub fn figure_field(p: [f64; 3]) -> f64 {
     let parts = [
         ellipsoid(p, [0.0, 0.16, 0.0], [0.055, 0.07, 0.04]),
         length([p[0], p[1] - 0.27, p[2]]) - 0.045,
-        capsule(p, [0.03, 0.195, 0.0], [0.16, 0.2, 0.0], 0.022),
-        capsule(p, [-0.03, 0.195, 0.0], [-0.16, 0.2, 0.0], 0.022),
-        capsule(p, [0.028, 0.12, 0.0], [0.045, 0.025, 0.0], 0.024),
-        capsule(p, [-0.028, 0.12, 0.0], [-0.045, 0.025, 0.0], 0.024),
+        capsule(p, [0.03, 0.195, 0.0], [0.155, 0.2, 0.0], 0.027),
+        capsule(p, [-0.03, 0.195, 0.0], [-0.155, 0.2, 0.0], 0.027),
+        capsule(p, [0.03, 0.12, 0.0], [0.045, 0.029, 0.0], 0.028),
+        capsule(p, [-0.03, 0.12, 0.0], [-0.045, 0.029, 0.0], 0.028),
     ];
     parts[1..]
         .iter()

@@ -6,7 +6,8 @@
 //! the lattice is cut off: the boundary triangles span across it. [`conform`]
 //! moves, for every surface vertex and every sample (λ/4 apart) along a crease
 //! ([`CREASE_ANGLE_DEG`]) farther than [`SNAP_THRESHOLD`]·λ from the tet
-//! boundary, the nearest boundary vertex onto the feature, and projects every other
+//! boundary, the nearest boundary vertex onto the feature (in a few passes),
+//! and projects every other
 //! boundary vertex onto its closest surface point; each move is kept only if
 //! every tet around the vertex stays positive and within the dihedral bounds
 //! ([`MIN_DIHEDRAL_DEG`], [`MAX_DIHEDRAL_DEG`], or no worse than before),
@@ -30,6 +31,9 @@ pub const MIN_DIHEDRAL_DEG: f64 = 10.0;
 /// A snapped vertex's tets keep dihedral angles of at most this (degrees),
 /// unless they had larger ones before.
 pub const MAX_DIHEDRAL_DEG: f64 = 165.0;
+
+/// Passes of feature snapping.
+const SNAP_PASSES: usize = 3;
 
 /// Sample spacing on the surfaces when measuring, in λ.
 const SAMPLE_SPACING: f64 = 0.1;
@@ -61,30 +65,44 @@ pub fn conform(tets: &mut TetMesh, surface: &TriMesh, sdf: &MeshSdf, lambda: f64
             on_boundary[v as usize] = true;
         }
     }
+    // (b) Features (surface vertices, then crease samples): each far from the
+    // boundary pulls the nearest unmoved vertex of the closest boundary face
+    // onto it. Moved vertices stay put; a few passes, each with the boundary
+    // as moved so far. (Pulling vertices to face centroids as well was tried
+    // and made the fit worse: a vertex slid along a curved surface leaves
+    // longer chords behind.)
+    let features = feature_points(surface, lambda);
     let mut snapped = vec![false; tets.vertices.len()];
-    // (b) Features: surface vertices and points along creases that are far
-    // from the boundary pull the nearest boundary vertex onto the feature.
-    let boundary_bvh = face_bvh(tets, &boundary);
-    let pulls: Vec<Option<(u32, [f64; 3])>> = feature_points(surface, lambda)
-        .par_iter()
-        .map(|feature| {
-            let p = feature.point;
-            let c = boundary_bvh.closest(p)?;
-            if c.distance_squared.sqrt() <= SNAP_THRESHOLD * lambda {
-                return None;
+    for _ in 0..SNAP_PASSES {
+        let boundary_bvh = face_bvh(tets, &boundary);
+        let pulls: Vec<Option<(u32, [f64; 3])>> = features
+            .par_iter()
+            .map(|feature| {
+                let p = feature.point;
+                let c = boundary_bvh.closest(p)?;
+                if c.distance_squared.sqrt() <= SNAP_THRESHOLD * lambda {
+                    return None;
+                }
+                let v = boundary[c.triangle]
+                    .into_iter()
+                    .filter(|&v| !snapped[v as usize])
+                    .min_by(|&a, &b| {
+                        dist(tets.vertices[a as usize], p)
+                            .total_cmp(&dist(tets.vertices[b as usize], p))
+                            .then(a.cmp(&b))
+                    })?;
+                Some((v, feature.target(tets.vertices[v as usize])))
+            })
+            .collect();
+        let mut moved = false;
+        for (v, target) in pulls.into_iter().flatten() {
+            if !snapped[v as usize] && try_move(tets, &incident, v, target) {
+                snapped[v as usize] = true;
+                moved = true;
             }
-            let face = boundary[c.triangle];
-            let v = *face.iter().min_by(|&&a, &&b| {
-                dist(tets.vertices[a as usize], p)
-                    .total_cmp(&dist(tets.vertices[b as usize], p))
-                    .then(a.cmp(&b))
-            })?;
-            Some((v, feature.target(tets.vertices[v as usize])))
-        })
-        .collect();
-    for (v, target) in pulls.into_iter().flatten() {
-        if !snapped[v as usize] && try_move(tets, &incident, v, target) {
-            snapped[v as usize] = true;
+        }
+        if !moved {
+            break;
         }
     }
     // (a) Every other boundary vertex onto its closest surface point.
