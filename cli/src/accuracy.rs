@@ -74,13 +74,24 @@ pub struct Point {
     pub max: f64,
 }
 
+/// Peridynamics against corotated FEM on the same tets (finest λ of the sweep).
+#[derive(Debug, Clone)]
+pub struct SameTets {
+    /// Scene stem.
+    pub scene: String,
+    /// Mean over frames of the deviation.
+    pub mean: f64,
+    /// Max over frames.
+    pub max: f64,
+}
+
 /// Runs the sweep over the scenes in `dir`; returns the runs and, per scene, the
 /// deviation of peridynamics from corotated FEM on the same tets at the finest λ.
 pub fn sweep(
     sweep: &Sweep,
     dir: &Path,
     quiet: bool,
-) -> Result<(Vec<Point>, Vec<(String, f64, f64)>), Failure> {
+) -> Result<(Vec<Point>, Vec<SameTets>), Failure> {
     let mut points = Vec::new();
     let mut same_tets = Vec::new();
     for name in sweep.scenes {
@@ -160,7 +171,11 @@ pub fn sweep(
         }
         if let (Some(pd), Some(fem)) = finest_runs {
             let dev = deviation(&pd.particles, &fem.particles, diagonal(&fem.particles.rest));
-            same_tets.push((name.to_string(), dev.mean, dev.max));
+            same_tets.push(SameTets {
+                scene: name.to_string(),
+                mean: dev.mean,
+                max: dev.max,
+            });
         }
     }
     Ok((points, same_tets))
@@ -188,12 +203,7 @@ fn error_at(curve: &[(f64, f64)], wall: f64) -> Option<f64> {
 
 /// The report: the table of runs, PD against corotated FEM on the same tets, and
 /// PD's error over corotated FEM's at equal wall time.
-pub fn report(
-    points: &[Point],
-    same_tets: &[(String, f64, f64)],
-    sweep: &Sweep,
-    threads: usize,
-) -> String {
+pub fn report(points: &[Point], same_tets: &[SameTets], sweep: &Sweep, threads: usize) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -221,13 +231,14 @@ pub fn report(
         "\n## Peridynamics against corotated FEM on the same tets, finest λ of the sweep\n\n\
          | scene | deviation mean | deviation max | under 3%? |\n|---|---|---|---|"
     );
-    for (scene, mean, max) in same_tets {
+    for t in same_tets {
         let _ = writeln!(
             s,
-            "| {scene} | {:.2}% | {:.2}% | {} |",
-            100.0 * mean,
-            100.0 * max,
-            if *max < 0.03 { "yes" } else { "no" }
+            "| {} | {:.2}% | {:.2}% | {} |",
+            t.scene,
+            100.0 * t.mean,
+            100.0 * t.max,
+            if t.max < 0.03 { "yes" } else { "no" }
         );
     }
     let _ = writeln!(
