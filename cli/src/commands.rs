@@ -222,6 +222,9 @@ pub fn check(path: &Path) -> Result<(), Failure> {
             q.max_dihedral_deg
         );
     }
+    if run::uses_fem(&scene) {
+        return check_fem(&scene, disc);
+    }
     run::check_memory(&estimate)?;
     let bonds = family::count_bonds(&disc.position, &disc.body, &horizon)?;
     let particles = disc.position.len();
@@ -255,6 +258,42 @@ pub fn check(path: &Path) -> Result<(), Failure> {
     );
     println!(
         "  estimate:  {:.3} s a step, {:.0} s for the run on {} threads",
+        per_step,
+        per_step * steps_total as f64,
+        rayon::current_num_threads()
+    );
+    Ok(())
+}
+
+/// `perifrac check` of a FEM reference scene: mesh size, stable step and cost.
+fn check_fem(
+    scene: &Scene,
+    disc: perifrac_sim::geometry::discretize::Discretization,
+) -> Result<(), Failure> {
+    let vertices: usize = disc.meshes.iter().map(|m| m.vertices.len()).sum();
+    println!(
+        "  FEM reference: {} tets, {vertices} vertices (no bonds)",
+        disc.position.len()
+    );
+    let mut prepared = run::prepare_fem_discretized(scene, disc)?;
+    let steps_total = prepared.steps_per_frame * scene.frame_count();
+    let t = Instant::now();
+    let probe = 3;
+    for _ in 0..probe {
+        prepared.sim.step().map_err(Failure::from)?;
+    }
+    let per_step = t.elapsed().as_secs_f64() / probe as f64;
+    println!(
+        "  stable dt: {:.3e} s (limited at particle {}); dt used: {:.3e} s",
+        prepared.stable_dt.0, prepared.stable_dt.1, prepared.sim.dt
+    );
+    println!(
+        "  steps:     {} frames × {} = {steps_total}",
+        scene.frame_count(),
+        prepared.steps_per_frame
+    );
+    println!(
+        "  estimate:  {:.4} s a step, {:.0} s for the run on {} threads",
         per_step,
         per_step * steps_total as f64,
         rayon::current_num_threads()

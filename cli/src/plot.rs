@@ -64,7 +64,9 @@ pub fn accuracy_png(points: &[Point], path: &Path) -> anyhow::Result<()> {
                 .configure_mesh()
                 .x_desc("wall time (s)")
                 .y_desc("error (mean, / bbox diagonal)")
-                .x_label_formatter(&|v| format!("{v:.2}"))
+                .x_labels(6)
+                .y_labels(6)
+                .x_label_formatter(&|v| format!("{v:.3}"))
                 .y_label_formatter(&|v| format!("{v:.0e}"))
                 .label_style(("sans-serif", 13))
                 .draw()
@@ -121,4 +123,33 @@ pub fn accuracy_png(points: &[Point], path: &Path) -> anyhow::Result<()> {
 
 fn draw<E: std::fmt::Debug>(e: E) -> anyhow::Error {
     anyhow::anyhow!("drawing the accuracy plot: {e:?}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn draws_a_png() {
+        let point = |method: &str, wall: f64, mean: f64| Point {
+            scene: "bar".into(),
+            method: method.into(),
+            resolution: 0.05,
+            particles: 100,
+            steps: 10,
+            wall,
+            mean,
+            max: 2.0 * mean,
+        };
+        let points = [
+            point("FEM corotated", 1.0, 1e-3),
+            point("FEM corotated", 4.0, 3e-4),
+            point("PD δ/λ = 1.45", 2.0, 5e-4),
+        ];
+        let dir = tempfile::tempdir().expect("temp dir");
+        let path = dir.path().join("a.png");
+        accuracy_png(&points, &path).expect("draws");
+        let bytes = std::fs::read(&path).expect("written");
+        assert_eq!(&bytes[1..4], b"PNG");
+    }
 }

@@ -61,7 +61,7 @@ fn cases() -> Vec<(&'static str, String)> {
                 .into(),
         ),
         (
-            "single layer of particles (slab 1.5 λ thick) falling on the ground",
+            "thinnest body the tet mesher makes (slab 1.5 λ thick) falling on the ground",
             "[scene]\nname = \"layer\"\nduration = 0.2\nfps = 50\n\
              [materials.m]\ndensity = 1000.0\nyoungs_modulus = 1.0e6\npoisson_ratio = 0.25\n\
              [[body]]\nmaterial = \"m\"\nresolution = 0.01\nvelocity = [0, -2, 0]\n\
@@ -93,26 +93,31 @@ fn run_case(name: &str, text: &str, scratch: &Path, quiet: bool) -> Result<Strin
     let t = Instant::now();
     let result = run::run(&scene, &dir, &run::RunOptions::default(), &mut |_| {});
     let wall = t.elapsed().as_secs_f64();
-    let (outcome, steps, particles) = match result {
+    let (outcome, m) = match result {
         Ok(m) => (
             format!(
                 "stayed finite, kinetic energy within {}× the energy the scene can supply",
                 scene.scene.blowup_energy_growth
             ),
-            m.steps,
-            m.particles,
+            m,
         ),
         Err(e @ SimError::BlowUp { .. }) => {
             let m = perifrac_sim::cache::manifest::Manifest::read(&dir.join("manifest.json"))?;
-            (format!("caught: {e}"), m.steps, m.particles)
+            (format!("caught: {e}"), m)
         }
         Err(e) => return Err(e.into()),
+    };
+    let (steps, particles) = (m.steps, m.particles);
+    let broken = if m.bonds > 0 {
+        format!("{:.1}%", 100.0 * m.broken_bonds as f64 / m.bonds as f64)
+    } else {
+        "–".into()
     };
     if !quiet {
         eprintln!("{name}: {outcome} ({steps} steps, {wall:.1} s)");
     }
     Ok(format!(
-        "| {name} | {particles} | {steps} | {wall:.1} | {outcome} |"
+        "| {name} | {particles} | {steps} | {broken} | {wall:.1} | {outcome} |"
     ))
 }
 
@@ -157,7 +162,7 @@ pub fn stability(out: &Path, quiet: bool) -> Result<(), Failure> {
          every frame for non-finite positions or velocities and for kinetic energy above \
          `blowup_energy_growth` (10) × what the scene can supply (initial kinetic and strain energy, free fall, \
          colliders, anchors); a caught run stops with the step, the particle and the last good frame on disk.\n\n\
-         | case | particles | steps | wall (s) | outcome |\n|---|---|---|---|---|"
+         | case | particles | steps | bonds broken | wall (s) | outcome |\n|---|---|---|---|---|---|"
     );
     for r in rows {
         let _ = writeln!(report, "{r}");

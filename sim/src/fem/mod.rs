@@ -456,8 +456,8 @@ fn strain(
         return (sym(&grad), None);
     };
     let mut f = grad;
-    for k in 0..3 {
-        f[k][k] += 1.0;
+    for (k, row) in f.iter_mut().enumerate() {
+        row[k] += 1.0;
     }
     let r = rotation::extract(&f, q);
     // RᵀF − I = Rᵀ∇u + (Rᵀ − I): both parts stay accurate for small strains.

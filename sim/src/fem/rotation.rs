@@ -92,7 +92,7 @@ pub fn extract(f: &M3, q: &mut Quaternion) -> M3 {
             v.map(|x| x / (tr.abs() + 1e-9))
         };
         let angle = dot3(omega, omega).sqrt();
-        if !(angle >= TOLERANCE) {
+        if angle.is_nan() || angle < TOLERANCE {
             break;
         }
         let (s, c) = (0.5 * angle).sin_cos();
@@ -169,10 +169,10 @@ mod tests {
                 [r[0][2], r[1][2], r[2][2]],
             ],
         );
-        for i in 0..3 {
-            for j in 0..3 {
+        for (i, row) in rtr.iter().enumerate() {
+            for (j, x) in row.iter().enumerate() {
                 let id = if i == j { 1.0 } else { 0.0 };
-                assert!((rtr[i][j] - id).abs() < 1e-12);
+                assert!((x - id).abs() < 1e-12);
             }
         }
     }

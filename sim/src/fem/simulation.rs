@@ -92,21 +92,6 @@ impl FemSimulation {
         self.energy_budget = self.initial_energy_budget(duration);
     }
 
-    /// Sets every vertex's position from its rest position (a deformed start pose),
-    /// recomputes the forces and the energy budget.
-    pub fn set_position(&mut self, position: impl Fn([f64; 3]) -> [f64; 3] + Sync, duration: f64) {
-        let x = &self.model.rest;
-        self.model
-            .position
-            .par_iter_mut()
-            .zip(x.par_iter())
-            .for_each(|(y, x)| *y = position(*x));
-        self.apply_anchors();
-        self.model.internal_forces();
-        self.update_acceleration();
-        self.energy_budget = self.initial_energy_budget(duration);
-    }
-
     /// The most energy the scene can hold over `duration` (as for peridynamics):
     /// kinetic and strain energy now, free fall, dynamic colliders' kinetic energy,
     /// and what kinematic colliders and anchors can impart.
