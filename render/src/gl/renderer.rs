@@ -624,7 +624,7 @@ fn visible_points(
         .filter_map(|(i, p)| {
             let c = crate::camera::transform(view_proj, [p[0], p[1], p[2]]);
             let w = if perspective { c[3] } else { 1.0 };
-            if !(w > 0.0) || !c.iter().all(|v| v.is_finite()) {
+            if w.is_nan() || w <= 0.0 || !c.iter().all(|v| v.is_finite()) {
                 return None;
             }
             let (x, y, z) = (c[0] / c[3], c[1] / c[3], c[2] / c[3]);
@@ -634,8 +634,7 @@ fn visible_points(
                 (y * 0.5 + 0.5) * height as f32 / CELL,
             );
             let margin = r + 1.0;
-            if z < -1.0
-                || z > 1.0
+            if !(-1.0..=1.0).contains(&z)
                 || cx < -margin
                 || cy < -margin
                 || cx > gw as f32 + margin
