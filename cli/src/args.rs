@@ -126,7 +126,7 @@ pub struct RenderArgs {
     #[arg(long)]
     pub threads: Option<String>,
     /// Camera azimuth in degrees about the vertical axis (0 looks from +z, 90 from +x).
-    #[arg(long, default_value = "35")]
+    #[arg(long, default_value = "35", allow_hyphen_values = true)]
     pub azimuth: String,
 }
 
