@@ -18,6 +18,6 @@ demo 30 10 145
 jello-bullet 14 14 35
 plastic-wall 16 16 35
 glass-wall 12 12 35
-thin-sheet-tear 8 8 35
-bar-twist 8 8 35
+thin-sheet-tear 8 9 35
+bar-twist 8 9 35
 LIST
