@@ -157,6 +157,9 @@ pub struct RenderArgs {
     /// Worker threads, each with its own GL context (default: all cores).
     #[arg(long)]
     pub threads: Option<String>,
+    /// Camera azimuth in degrees about the vertical axis (0 looks from +z, 90 from +x).
+    #[arg(long, default_value = "35", allow_hyphen_values = true)]
+    pub azimuth: String,
 }
 
 /// A validated `perifrac render`.
@@ -174,6 +177,8 @@ pub struct RenderConfig {
     pub color_by: Option<ColorByArg>,
     /// Worker threads.
     pub threads: Option<usize>,
+    /// Camera azimuth (degrees).
+    pub azimuth: f32,
 }
 
 /// Parses `WIDTHxHEIGHT` (each 1–8192).
@@ -200,6 +205,12 @@ impl TryFrom<RenderArgs> for RenderConfig {
             size: parse_size("--size", &a.size)?,
             color_by: a.color_by,
             threads: positive("--threads", a.threads.as_deref())?,
+            azimuth: a
+                .azimuth
+                .parse::<f32>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| format!("--azimuth takes degrees, e.g. 35; got '{}'", a.azimuth))?,
             out: a.out,
         })
     }
@@ -437,6 +448,17 @@ mod tests {
                 .contains("--frame")
         );
         assert!(parse(&["perifrac", "render", "o", "--color-by", "heat"]).is_err());
+        assert_eq!(
+            parse(&["perifrac", "render", "o", "--azimuth", "-90"])
+                .unwrap()
+                .azimuth,
+            -90.0
+        );
+        assert!(
+            parse(&["perifrac", "render", "o", "--azimuth", "left"])
+                .unwrap_err()
+                .contains("--azimuth")
+        );
     }
 
     #[test]

@@ -104,6 +104,7 @@ pub fn command(config: &RenderConfig, quiet: bool) -> Result<(), Failure> {
             frame: config.frame,
             turntable: config.turntable,
             workers: workers(config.threads),
+            azimuth: config.azimuth.to_radians(),
         };
         previews(&config.out, &options, quiet).map_err(|e| {
             let code = match e {

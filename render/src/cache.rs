@@ -234,8 +234,8 @@ impl Cache {
                 }
             };
             g.points.reserve(p.len() * geometry::POINT_STRIDE);
-            for i in 0..p.len() {
-                g.push_point(p.position[i], self.radius(p.material[i]), colors[i]);
+            for ((&position, &material), color) in p.position.iter().zip(&p.material).zip(colors) {
+                g.push_point(position, self.radius(material), color);
             }
         }
         self.push_colliders(frame, &mut g);

@@ -30,10 +30,8 @@ impl Bounds {
     /// Grows the box to hold `p` (non-finite points are ignored).
     pub fn add(&mut self, p: [f32; 3]) {
         if p.iter().all(|v| v.is_finite()) {
-            for k in 0..3 {
-                self.min[k] = self.min[k].min(p[k]);
-                self.max[k] = self.max[k].max(p[k]);
-            }
+            self.min = std::array::from_fn(|k| self.min[k].min(p[k]));
+            self.max = std::array::from_fn(|k| self.max[k].max(p[k]));
         }
     }
 
@@ -109,11 +107,11 @@ impl Camera {
     }
 
     /// `views` cameras around the vertical axis through the bounds' centre, the first
-    /// at the default azimuth.
-    pub fn turntable(bounds: &Bounds, aspect: f32, views: usize) -> Vec<Camera> {
+    /// at `azimuth`.
+    pub fn turntable(bounds: &Bounds, aspect: f32, azimuth: f32, views: usize) -> Vec<Camera> {
         (0..views)
             .map(|i| {
-                let a = AZIMUTH + std::f32::consts::TAU * i as f32 / views as f32;
+                let a = azimuth + std::f32::consts::TAU * i as f32 / views as f32;
                 Camera::framing(bounds, aspect, a)
             })
             .collect()
@@ -272,7 +270,7 @@ mod tests {
     #[test]
     fn framing_keeps_the_bounds_in_view() {
         for aspect in [0.5, 4.0 / 3.0, 16.0 / 9.0, 3.0] {
-            for cam in Camera::turntable(&bounds(), aspect, 7) {
+            for cam in Camera::turntable(&bounds(), aspect, AZIMUTH, 7) {
                 let vp = cam.view_projection();
                 let b = bounds();
                 for i in 0..8 {

@@ -31,6 +31,9 @@ pub struct PreviewOptions {
     pub turntable: usize,
     /// Worker threads (each with its own GL context).
     pub workers: usize,
+    /// Camera azimuth (radians about +y; 0 looks from +z), of the frames and of the
+    /// first turntable view.
+    pub azimuth: f32,
 }
 
 impl Default for PreviewOptions {
@@ -42,6 +45,7 @@ impl Default for PreviewOptions {
             frame: None,
             turntable: 0,
             workers: 1,
+            azimuth: AZIMUTH,
         }
     }
 }
@@ -96,7 +100,7 @@ pub fn render_cache(
     }
     let (bounds, ranges) = cache.sequence_bounds(options.color_by)?;
     let aspect = options.width as f32 / options.height as f32;
-    let camera = Camera::framing(&bounds, aspect, AZIMUTH);
+    let camera = Camera::framing(&bounds, aspect, options.azimuth);
     let dir = out.join("preview");
     std::fs::create_dir_all(&dir).map_err(|e| RenderError::io(&dir, e))?;
     let frames: Vec<usize> = match options.frame {
@@ -115,7 +119,7 @@ pub fn render_cache(
     let turntable_frame = options
         .frame
         .unwrap_or(cache.frames[cache.frames.len() - 1]);
-    for (i, camera) in Camera::turntable(&bounds, aspect, options.turntable)
+    for (i, camera) in Camera::turntable(&bounds, aspect, options.azimuth, options.turntable)
         .into_iter()
         .enumerate()
     {

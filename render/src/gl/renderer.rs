@@ -102,6 +102,7 @@ pub struct Renderer {
     point_vbo: glow::Buffer,
     empty_vao: glow::VertexArray,
     pixels: Vec<u8>,
+    sorted_points: Vec<f32>,
     context: Context,
 }
 
@@ -351,6 +352,7 @@ impl Renderer {
                 point_vbo,
                 empty_vao,
                 pixels: Vec::new(),
+                sorted_points: Vec::new(),
                 context,
             })
         }
@@ -410,14 +412,35 @@ impl Renderer {
         let light_view_proj = shadow_view_projection(lights.key, center, 1.05 * radius);
         let in_view = geometry.count_in_view(&view_proj);
         let triangles = geometry.mesh_indices.len() as i32;
-        let points = geometry.point_count() as i32;
+        let shadow_pixels_per_unit = SHADOW_SIZE as f32 / (2.0 * 1.05 * radius);
+        let camera_pixels_per_unit = camera.projection()[1][1] * 0.5 * h as f32;
         let background = background();
 
         // SAFETY (whole block): GL calls on this renderer's current context, with
         // objects it created; buffer uploads copy from live slices.
         unsafe {
-            // 1. Upload.
+            // 1. Upload: the points the key light sees, then those the camera sees
+            // (front to back, hidden ones dropped: see `visible_points`).
             let t = Instant::now();
+            self.sorted_points.clear();
+            visible_points(
+                &geometry.points,
+                &light_view_proj,
+                shadow_pixels_per_unit,
+                false,
+                (SHADOW_SIZE, SHADOW_SIZE),
+                &mut self.sorted_points,
+            );
+            let shadow_points = (self.sorted_points.len() / POINT_STRIDE) as i32;
+            visible_points(
+                &geometry.points,
+                &view_proj,
+                camera_pixels_per_unit,
+                true,
+                (w, h),
+                &mut self.sorted_points,
+            );
+            let camera_points = (self.sorted_points.len() / POINT_STRIDE) as i32 - shadow_points;
             gl.bind_vertex_array(Some(self.mesh_vao));
             gl.bind_buffer(glow::ARRAY_BUFFER, Some(self.mesh_vbo));
             gl.buffer_data_u8_slice(
@@ -434,7 +457,7 @@ impl Renderer {
             gl.bind_buffer(glow::ARRAY_BUFFER, Some(self.point_vbo));
             gl.buffer_data_u8_slice(
                 glow::ARRAY_BUFFER,
-                as_bytes(&geometry.points),
+                as_bytes(&self.sorted_points),
                 glow::STREAM_DRAW,
             );
             gl.finish();
@@ -456,19 +479,14 @@ impl Renderer {
                 gl.bind_vertex_array(Some(self.mesh_vao));
                 gl.draw_elements(glow::TRIANGLES, triangles, glow::UNSIGNED_INT, 0);
             }
-            if points > 0 {
+            if shadow_points > 0 {
                 let p = self.programs.shadow_points;
                 gl.use_program(Some(p));
                 set_mat4(gl, p, "u_view_proj", &light_view_proj);
-                set_f32(
-                    gl,
-                    p,
-                    "u_pixels_per_unit",
-                    SHADOW_SIZE as f32 / (2.0 * 1.05 * radius),
-                );
+                set_f32(gl, p, "u_pixels_per_unit", shadow_pixels_per_unit);
                 set_f32(gl, p, "u_perspective", 0.0);
                 gl.bind_vertex_array(Some(self.point_vao));
-                gl.draw_arrays(glow::POINTS, 0, points);
+                gl.draw_arrays(glow::POINTS, 0, shadow_points);
             }
             gl.disable(glow::POLYGON_OFFSET_FILL);
             gl.finish();
@@ -501,21 +519,15 @@ impl Renderer {
                 gl.bind_vertex_array(Some(self.mesh_vao));
                 gl.draw_elements(glow::TRIANGLES, triangles, glow::UNSIGNED_INT, 0);
             }
-            if points > 0 {
+            if camera_points > 0 {
                 let p = self.programs.points;
                 lit(p);
-                let projection = camera.projection();
-                set_f32(
-                    gl,
-                    p,
-                    "u_pixels_per_unit",
-                    projection[1][1] * 0.5 * h as f32,
-                );
+                set_f32(gl, p, "u_pixels_per_unit", camera_pixels_per_unit);
                 set_f32(gl, p, "u_perspective", 1.0);
                 set_vec3(gl, p, "u_cam_right", camera.right());
                 set_vec3(gl, p, "u_cam_up", camera.up());
                 gl.bind_vertex_array(Some(self.point_vao));
-                gl.draw_arrays(glow::POINTS, 0, points);
+                gl.draw_arrays(glow::POINTS, shadow_points, camera_points);
             }
             let p = self.programs.ground;
             lit(p);
@@ -575,6 +587,96 @@ impl Renderer {
                 times,
                 in_view,
             })
+        }
+    }
+}
+
+/// Cell size (pixels) of the occlusion grid of [`visible_points`].
+const CELL: f32 = 1.0;
+
+/// The points that can be seen through `view_proj` on a `width`×`height` target, nearest
+/// first, appended to `out` (interleaved, [`POINT_STRIDE`] floats each).
+///
+/// Impostors are flat discs at their centre's depth (no `gl_FragDepth`), so a disc is
+/// hidden exactly where a disc with a nearer centre covers it. Going front to back over a
+/// grid of `CELL`-pixel cells, a disc is kept unless every cell it overlaps is already
+/// covered; a kept disc covers the cells that lie wholly inside it. This is
+/// conservative (only wholly hidden discs are dropped), so the image is the same as
+/// drawing all of them, while a dense block of particles shades only its outer layer
+/// (llvmpipe cannot reject fragments early in a shader that discards). Ties keep the
+/// input order, so the result is the same on every run.
+fn visible_points(
+    points: &[f32],
+    view_proj: &Mat4,
+    pixels_per_unit: f32,
+    perspective: bool,
+    (width, height): (i32, i32),
+    out: &mut Vec<f32>,
+) {
+    let (gw, gh) = (
+        (width as f32 / CELL).ceil() as usize,
+        (height as f32 / CELL).ceil() as usize,
+    );
+    // (depth key, index, centre x, centre y in cells, radius in cells)
+    let mut order: Vec<(u32, u32, f32, f32, f32)> = points
+        .chunks_exact(POINT_STRIDE)
+        .enumerate()
+        .filter_map(|(i, p)| {
+            let c = crate::camera::transform(view_proj, [p[0], p[1], p[2]]);
+            let w = if perspective { c[3] } else { 1.0 };
+            if w.is_nan() || w <= 0.0 || !c.iter().all(|v| v.is_finite()) {
+                return None;
+            }
+            let (x, y, z) = (c[0] / c[3], c[1] / c[3], c[2] / c[3]);
+            let r = p[3] * pixels_per_unit / w / CELL;
+            let (cx, cy) = (
+                (x * 0.5 + 0.5) * width as f32 / CELL,
+                (y * 0.5 + 0.5) * height as f32 / CELL,
+            );
+            let margin = r + 1.0;
+            if !(-1.0..=1.0).contains(&z)
+                || cx < -margin
+                || cy < -margin
+                || cx > gw as f32 + margin
+                || cy > gh as f32 + margin
+            {
+                return None;
+            }
+            // Depth in [0, 2]: non-negative floats order like their bit patterns.
+            Some(((z + 1.0).to_bits(), i as u32, cx, cy, r))
+        })
+        .collect();
+    order.sort_unstable_by_key(|o| (o.0, o.1));
+    let mut covered = vec![false; gw * gh];
+    for (_, i, cx, cy, r) in order {
+        let x0 = ((cx - r).floor().max(0.0) as usize).min(gw);
+        let x1 = ((cx + r).ceil().max(0.0) as usize).min(gw);
+        let y0 = ((cy - r).floor().max(0.0) as usize).min(gh);
+        let y1 = ((cy + r).ceil().max(0.0) as usize).min(gh);
+        // Hidden if every cell the disc overlaps (nearest point within r) is covered.
+        let hidden = x0 < x1
+            && y0 < y1
+            && (y0..y1).all(|y| {
+                let dy = (cy - cy.clamp(y as f32, y as f32 + 1.0)).abs();
+                (x0..x1).all(|x| {
+                    let dx = (cx - cx.clamp(x as f32, x as f32 + 1.0)).abs();
+                    covered[y * gw + x] || dx * dx + dy * dy > r * r
+                })
+            });
+        if hidden {
+            continue;
+        }
+        let i = i as usize * POINT_STRIDE;
+        out.extend_from_slice(&points[i..i + POINT_STRIDE]);
+        // Cells wholly inside the disc: their farthest corner is within r.
+        for y in y0..y1 {
+            let dy = (y as f32 - cy).abs().max((y as f32 + 1.0 - cy).abs());
+            for x in x0..x1 {
+                let dx = (x as f32 - cx).abs().max((x as f32 + 1.0 - cx).abs());
+                if dx * dx + dy * dy <= r * r {
+                    covered[y * gw + x] = true;
+                }
+            }
         }
     }
 }

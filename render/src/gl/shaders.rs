@@ -81,7 +81,7 @@ in float v_material;
 out vec4 o_color;
 void main() {
     vec3 n = normalize(v_normal);
-    float vis = key_visibility(v_position, 2, 1.0);
+    float vis = key_visibility(v_position, 1, 1.0);
     o_color = vec4(studio(v_position, n, v_color, v_material, vis), 1.0);
 }
 "#
@@ -130,7 +130,7 @@ void main() {
     vec3 back = cross(u_cam_right, u_cam_up);
     vec3 n = d.x * u_cam_right + d.y * u_cam_up + sqrt(1.0 - r2) * back;
     vec3 p = v_center + n * v_radius;
-    float vis = key_visibility(p, 2, 1.0);
+    float vis = key_visibility(p, 1, 1.0);
     o_color = vec4(studio(p, n, v_color, 0.0, vis), 1.0);
 }
 "#
@@ -164,7 +164,7 @@ uniform vec3 u_background;
 in vec3 v_position;
 out vec4 o_color;
 void main() {
-    float vis = key_visibility(v_position, 3, 2.0);
+    float vis = key_visibility(v_position, 2, 2.0);
     vec3 albedo = vec3(0.55, 0.55, 0.56);
     vec3 c = studio(v_position, vec3(0.0, 1.0, 0.0), albedo, 0.0, vis);
     float r = length(v_position.xz - u_center.xz);

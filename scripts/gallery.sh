@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Renders docs/gallery/*.png: one representative frame (960×540) of each gallery scene,
+# simulated with a limited frame count so each takes a few minutes on 2 cores.
+# Usage: scripts/gallery.sh [OUT_DIR]   (caches go to OUT_DIR, default out/gallery)
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+out="${1:-$root/out/gallery}"
+cargo build --release -q -p perifrac --manifest-path "$root/Cargo.toml"
+bin="$root/target/release/perifrac"
+# scene, frames to simulate, the frame shown, camera azimuth (degrees)
+while read -r scene frames shown azimuth; do
+  "$bin" run "$root/assets/scenes/$scene.toml" -o "$out/$scene" --frames "$frames" --quiet
+  "$bin" render "$out/$scene" --frame "$shown" --size 960x540 --azimuth "$azimuth" --quiet
+  cp "$out/$scene/preview/$(printf '%04d' "$shown").png" "$root/docs/gallery/$scene.png"
+  echo "docs/gallery/$scene.png: frame $shown of $frames"
+done <<'LIST'
+demo 30 10 145
+jello-bullet 14 14 35
+plastic-wall 16 16 35
+glass-wall 12 12 35
+thin-sheet-tear 8 9 35
+bar-twist 8 9 35
+LIST
