@@ -13,6 +13,10 @@ packages=(
   libopenvdb-dev libboost-dev
   # vdb_print: an independent reader of the .vdb files, used by the surface tests.
   libopenvdb-tools
+  # Mesa's software OpenGL (llvmpipe) for the render stage's `gl` feature: EGL with the
+  # surfaceless platform (no display), and OSMesa as the fallback. Both are loaded at
+  # run time, so a missing library is reported by name instead of failing to start.
+  libegl1 libegl-mesa0 libgl1-mesa-dri libegl-dev libosmesa6-dev
   # node runs the Khronos glTF validator (npm package gltf-validator) in the tests.
   nodejs
 )

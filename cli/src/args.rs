@@ -23,6 +23,9 @@ pub enum Command {
     Run(RunArgs),
     /// Surface a cache's particle frames (level sets, .vdb files and meshes).
     Surface(SurfaceArgs),
+    /// Render preview images of a cache: `preview/NNNN.png`, turntables, a contact
+    /// sheet.
+    Render(RenderArgs),
     /// Validate a scene and print what it would cost.
     Check {
         /// The scene file.
@@ -56,6 +59,10 @@ pub enum BenchCommand {
         /// Steps to time (after one warm-up step).
         #[arg(long, default_value_t = 10)]
         steps: usize,
+        /// Also time the scenes of Chen Table 1 (`assets/scenes` files) rescaled to
+        /// the paper's particle counts, where memory allows (`throughput-table1.md`).
+        #[arg(long)]
+        table1: Option<PathBuf>,
         /// Where to write `throughput.md`.
         #[arg(short, long, default_value = "bench")]
         out: PathBuf,
@@ -63,6 +70,139 @@ pub enum BenchCommand {
         #[arg(long)]
         threads: Option<usize>,
     },
+    /// Render time of a 1280×720 frame of a 200k-triangle mesh and of 3×10^5
+    /// particles (warm, per pass), and the demo's preview time against its simulation
+    /// time.
+    Render {
+        /// Image size, WIDTHxHEIGHT.
+        #[arg(long, default_value = "1280x720")]
+        size: String,
+        /// Triangles of the mesh.
+        #[arg(long, default_value_t = 200_000)]
+        triangles: usize,
+        /// Particles.
+        #[arg(long, default_value_t = 300_000)]
+        particles: usize,
+        /// Timed frames of each (after one warm-up frame).
+        #[arg(long, default_value_t = 5)]
+        frames: usize,
+        /// Also run the demo and time its previews against its simulation.
+        #[arg(long)]
+        demo: bool,
+        /// Where to write `render.md` (and the demo's cache).
+        #[arg(short, long, default_value = "bench")]
+        out: PathBuf,
+    },
+    /// Edge cases (time step past the stable bound, ν = 0.45, stiffness ratio 10^6,
+    /// a 500 m/s projectile, a single layer of particles, a shattered body): each
+    /// stays finite and bounded or is caught; writes `stability.md`.
+    Stability {
+        /// Where to write the report.
+        #[arg(short, long, default_value = "bench")]
+        out: PathBuf,
+        /// Worker threads (default: all cores).
+        #[arg(long)]
+        threads: Option<usize>,
+    },
+    /// Run time against error on the validation scenes (Chen §6): peridynamics and
+    /// both FEM references against the converged corotated FEM; writes
+    /// `accuracy.md` and `accuracy.png`.
+    Accuracy {
+        /// Two scenes, two resolutions, a short run (under five minutes).
+        #[arg(long)]
+        quick: bool,
+        /// Directory of the validation scene files.
+        #[arg(long, default_value = "assets/scenes")]
+        scenes: PathBuf,
+        /// Where to write the report and the plot.
+        #[arg(short, long, default_value = "bench")]
+        out: PathBuf,
+        /// Worker threads (default: all cores).
+        #[arg(long)]
+        threads: Option<usize>,
+    },
+}
+
+/// What the particles (and meshes, for damage) are coloured by.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ColorByArg {
+    /// Damage, blue intact → red broken (Chen et al. 2018, Fig. 6).
+    Damage,
+    /// Fragment id.
+    Fragment,
+    /// Plastic strain.
+    Plastic,
+    /// Temperature (scenes with heat diffusion).
+    Temperature,
+}
+
+/// `perifrac render` as typed.
+#[derive(Debug, clap::Args)]
+pub struct RenderArgs {
+    /// The output directory of a `perifrac run`.
+    pub out: PathBuf,
+    /// Also render N turntable views (`preview/turntable_NNN.png`) of `--frame` or of
+    /// the last frame.
+    #[arg(long)]
+    pub turntable: Option<String>,
+    /// Render only this frame (default: every frame, and the contact sheet).
+    #[arg(long)]
+    pub frame: Option<String>,
+    /// Image size, WIDTHxHEIGHT.
+    #[arg(long, default_value = "960x540")]
+    pub size: String,
+    /// Colouring (default: meshes by material, crack faces apart; particles by damage).
+    #[arg(long, value_enum)]
+    pub color_by: Option<ColorByArg>,
+    /// Worker threads, each with its own GL context (default: all cores).
+    #[arg(long)]
+    pub threads: Option<String>,
+}
+
+/// A validated `perifrac render`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RenderConfig {
+    /// The cache.
+    pub out: PathBuf,
+    /// Turntable views (0: none).
+    pub turntable: usize,
+    /// Only this frame.
+    pub frame: Option<usize>,
+    /// Width and height in pixels.
+    pub size: (u32, u32),
+    /// Colouring.
+    pub color_by: Option<ColorByArg>,
+    /// Worker threads.
+    pub threads: Option<usize>,
+}
+
+/// Parses `WIDTHxHEIGHT` (each 1–8192).
+pub fn parse_size(flag: &str, value: &str) -> Result<(u32, u32), String> {
+    let bad = || {
+        format!("{flag} takes WIDTHxHEIGHT in pixels (each 1–8192), e.g. 1280x720; got '{value}'")
+    };
+    let (w, h) = value.split_once(['x', 'X', '×']).ok_or_else(bad)?;
+    let w: u32 = w.trim().parse().map_err(|_| bad())?;
+    let h: u32 = h.trim().parse().map_err(|_| bad())?;
+    if !(1..=8192).contains(&w) || !(1..=8192).contains(&h) {
+        return Err(bad());
+    }
+    Ok((w, h))
+}
+
+impl TryFrom<RenderArgs> for RenderConfig {
+    type Error = String;
+
+    fn try_from(a: RenderArgs) -> Result<Self, Self::Error> {
+        Ok(RenderConfig {
+            turntable: positive("--turntable", a.turntable.as_deref())?.unwrap_or(0),
+            frame: positive("--frame", a.frame.as_deref())?,
+            size: parse_size("--size", &a.size)?,
+            color_by: a.color_by,
+            threads: positive("--threads", a.threads.as_deref())?,
+            out: a.out,
+        })
+    }
 }
 
 /// `perifrac run` as typed.
@@ -249,6 +389,54 @@ mod tests {
                 .unwrap_err()
                 .contains("--threads")
         );
+    }
+
+    #[test]
+    fn render_flags() {
+        let parse = |args: &[&str]| -> Result<RenderConfig, String> {
+            let cli = Cli::try_parse_from(args).map_err(|e| e.to_string())?;
+            match cli.command {
+                Command::Render(r) => RenderConfig::try_from(r),
+                other => Err(format!("not render: {other:?}")),
+            }
+        };
+        let c = parse(&[
+            "perifrac",
+            "render",
+            "out/x",
+            "--turntable",
+            "12",
+            "--frame",
+            "7",
+            "--size",
+            "320x200",
+            "--color-by",
+            "fragment",
+        ])
+        .unwrap();
+        assert_eq!(c.turntable, 12);
+        assert_eq!(c.frame, Some(7));
+        assert_eq!(c.size, (320, 200));
+        assert_eq!(c.color_by, Some(ColorByArg::Fragment));
+        let d = parse(&["perifrac", "render", "o"]).unwrap();
+        assert_eq!(
+            (d.turntable, d.frame, d.size, d.color_by),
+            (0, None, (960, 540), None)
+        );
+        for bad in ["0x10", "10", "axb", "9000x10"] {
+            assert!(
+                parse(&["perifrac", "render", "o", "--size", bad])
+                    .unwrap_err()
+                    .contains("--size"),
+                "{bad}"
+            );
+        }
+        assert!(
+            parse(&["perifrac", "render", "o", "--frame", "0"])
+                .unwrap_err()
+                .contains("--frame")
+        );
+        assert!(parse(&["perifrac", "render", "o", "--color-by", "heat"]).is_err());
     }
 
     #[test]

@@ -17,13 +17,60 @@ pub fn run(which: BenchCommand, quiet: bool) -> Result<(), Failure> {
         BenchCommand::Throughput {
             particles,
             steps,
+            table1,
             out,
             threads,
         } => {
             set_threads(threads)?;
-            throughput(particles, steps, &out, quiet)
+            match table1 {
+                Some(dir) => table1_throughput(&dir, steps, &out, quiet),
+                None => throughput(particles, steps, &out, quiet),
+            }
+        }
+        BenchCommand::Accuracy {
+            quick,
+            scenes,
+            out,
+            threads,
+        } => {
+            set_threads(threads)?;
+            accuracy(quick, &scenes, &out, quiet)
+        }
+        BenchCommand::Stability { out, threads } => {
+            set_threads(threads)?;
+            crate::stability::stability(&out, quiet)
+        }
+        BenchCommand::Render {
+            size,
+            triangles,
+            particles,
+            frames,
+            demo,
+            out,
+        } => {
+            let size = crate::args::parse_size("--size", &size)
+                .map_err(|m| Failure::input(anyhow::anyhow!(m)))?;
+            crate::bench_render::run(size, triangles, particles, frames.max(1), demo, &out, quiet)
         }
     }
+}
+
+fn accuracy(quick: bool, scenes: &Path, out: &Path, quiet: bool) -> Result<(), Failure> {
+    let sweep = if quick {
+        &crate::accuracy::QUICK
+    } else {
+        &crate::accuracy::FULL
+    };
+    let (points, same_tets) = crate::accuracy::sweep(sweep, scenes, quiet)?;
+    let report = crate::accuracy::report(&points, &same_tets, sweep, rayon::current_num_threads());
+    std::fs::create_dir_all(out)
+        .map_err(|e| Failure::from(anyhow::anyhow!("{}: {e}", out.display())))?;
+    let path = out.join("accuracy.md");
+    std::fs::write(&path, &report)
+        .map_err(|e| Failure::from(anyhow::anyhow!("{}: {e}", path.display())))?;
+    crate::plot::accuracy_png(&points, &out.join("accuracy.png"))?;
+    println!("{report}");
+    Ok(())
 }
 
 /// The three walls of Chen Table 1 (glass, plastic, elastic) at `particles`
@@ -48,6 +95,87 @@ pub fn wall_scene(kind: &str, particles: usize) -> String {
          [[collider]]\ntype = \"ground\"\n\n\
          [[collider]]\ntype = \"sphere\"\ncenter = [0, 0.5, 0.2]\nradius = 0.1\nvelocity = [0, 0, -20]\nmass = 50\n"
     )
+}
+
+/// Chen Table 1 rows we have scenes for: scene file, paper particle count, paper
+/// s/step. The armadillos and the bunny need mesh input, which this build lacks.
+const TABLE1: [(&str, f64, f64); 12] = [
+    ("glass-wall", 3.0e5, 2.4),
+    ("plastic-wall", 3.0e5, 2.4),
+    ("elastic-wall", 3.0e5, 2.4),
+    ("plastic-wall-fig4", 3.0e5, 2.4),
+    ("wall-fig5-gamma-0.15", 3.0e5, 2.4),
+    ("jello-bullet", 4.6e5, 3.8),
+    ("beam-stretch-nu-0.30", 2.2e4, 0.2),
+    ("soft-beam-bend", 4.5e4, 0.6),
+    ("stiff-beam-bend", 4.5e4, 0.6),
+    ("bar-swing", 9.2e3, 0.05),
+    ("bar-twist", 9.2e3, 0.06),
+    ("thin-sheet-tear", 1.6e5, 1.8),
+];
+
+/// The Table 1 scenes rescaled (λ × (N_scene / N_paper)^(1/3)) to the paper's
+/// particle counts, `steps` timed steps each after one warm-up.
+fn table1_throughput(dir: &Path, steps: usize, out: &Path, quiet: bool) -> Result<(), Failure> {
+    let mut table = String::new();
+    let _ = writeln!(
+        table,
+        "| scene | particles (paper) | particles | bonds | s/step (paper) | s/step | bond-updates/s |"
+    );
+    let _ = writeln!(table, "|---|---|---|---|---|---|---|");
+    for (name, paper_particles, paper_step) in TABLE1 {
+        let mut scene = Scene::load(&dir.join(format!("{name}.toml")))?;
+        let disc = perifrac_sim::geometry::discretize::discretize(&scene)?;
+        let scale = (disc.position.len() as f64 / paper_particles).cbrt();
+        for b in &mut scene.bodies {
+            b.resolution *= scale;
+        }
+        let disc = perifrac_sim::geometry::discretize::discretize(&scene)?;
+        let estimate = run::estimate_memory(&scene, &disc);
+        if let Err(e) = run::check_memory(&estimate) {
+            let _ = writeln!(
+                table,
+                "| {name} | {paper_particles:.1e} | {} | – | {paper_step} | does not fit: {e} | – |",
+                disc.position.len()
+            );
+            continue;
+        }
+        let mut p = run::prepare_discretized(&scene, disc)?;
+        p.sim.step()?;
+        let t = Instant::now();
+        for _ in 0..steps {
+            p.sim.step()?;
+        }
+        let per_step = t.elapsed().as_secs_f64() / steps as f64;
+        let m = &p.sim.model;
+        let updates = m.bonds.len() as f64 / per_step;
+        let _ = writeln!(
+            table,
+            "| {name} | {paper_particles:.1e} | {} | {:.2e} | {paper_step} | {per_step:.3} | {updates:.3e} |",
+            m.len(),
+            m.bonds.len() as f64
+        );
+        if !quiet {
+            eprintln!(
+                "{name}: {} particles, {per_step:.3} s/step, {updates:.3e} bond-updates/s",
+                m.len()
+            );
+        }
+    }
+    let threads = rayon::current_num_threads();
+    let report = format!(
+        "# Throughput: Chen Table 1 scenes at the paper's particle counts\n\n\
+         Scene files of `assets/scenes` with λ scaled to the paper's particle count, the paper's δ/λ; \
+         {steps} timed steps after one warm-up, {threads} threads. The paper's s/step is on its own \
+         machine (not ours). The armadillos and the bunny need mesh input and are not included.\n\n{table}"
+    );
+    std::fs::create_dir_all(out)
+        .map_err(|e| Failure::from(anyhow::anyhow!("{}: {e}", out.display())))?;
+    let path = out.join("throughput-table1.md");
+    std::fs::write(&path, &report)
+        .map_err(|e| Failure::from(anyhow::anyhow!("{}: {e}", path.display())))?;
+    println!("{report}");
+    Ok(())
 }
 
 fn throughput(particles: usize, steps: usize, out: &Path, quiet: bool) -> Result<(), Failure> {

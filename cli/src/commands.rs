@@ -75,8 +75,10 @@ pub fn run(config: &RunConfig, quiet: bool) -> Result<(), Failure> {
             frames: config.frames,
             resume: config.resume,
         },
+        config.threads,
         quiet,
-    )
+    )?;
+    Ok(())
 }
 
 /// `perifrac demo`.
@@ -87,7 +89,15 @@ pub fn demo(out: &Path, threads: Option<usize>, quiet: bool) -> Result<(), Failu
         Path::new("demo.toml (built in)"),
         Path::new("."),
     )?;
-    simulate(&scene, out, &RunOptions::default(), quiet)?;
+    let timing = simulate(&scene, out, &RunOptions::default(), threads, quiet)?;
+    if let (false, Some(preview)) = (quiet, timing.preview) {
+        eprintln!(
+            "demo: simulation {:.1} s, previews {:.1} s ({:.1} % of the simulation)",
+            timing.simulation,
+            preview,
+            100.0 * preview / timing.simulation.max(1e-9)
+        );
+    }
     println!("demo outputs:");
     println!(
         "  particles (PLY, one per frame): {}",
@@ -113,10 +123,32 @@ pub fn demo(out: &Path, threads: Option<usize>, quiet: bool) -> Result<(), Failu
         "  resolved scene:                 {}",
         out.join("scene.toml").display()
     );
+    if timing.preview.is_some() {
+        println!(
+            "  previews (PNG, contact sheet):  {}",
+            out.join("preview").display()
+        );
+    }
     Ok(())
 }
 
-fn simulate(scene: &Scene, out: &Path, options: &RunOptions, quiet: bool) -> Result<(), Failure> {
+/// Wall-clock seconds of a [`simulate`] call's stages.
+pub struct StageSeconds {
+    /// The simulation (with its output).
+    pub simulation: f64,
+    /// The previews, if they were rendered.
+    pub preview: Option<f64>,
+}
+
+/// Simulates `scene` into `out`, then runs the stages its `[output]` asks for
+/// (surfaces, previews).
+pub fn simulate(
+    scene: &Scene,
+    out: &Path,
+    options: &RunOptions,
+    threads: Option<usize>,
+    quiet: bool,
+) -> Result<StageSeconds, Failure> {
     let bar = if quiet {
         ProgressBar::hidden()
     } else {
@@ -143,6 +175,7 @@ fn simulate(scene: &Scene, out: &Path, options: &RunOptions, quiet: bool) -> Res
     let result = run::run(scene, out, options, &mut report);
     bar.finish_and_clear();
     let manifest = result?;
+    let simulation = start.elapsed().as_secs_f64();
     if !quiet {
         eprintln!(
             "{}: {} particles, {} bonds, {} steps of {:.3e} s in {:.1} s; output in {}",
@@ -162,7 +195,15 @@ fn simulate(scene: &Scene, out: &Path, options: &RunOptions, quiet: bool) -> Res
             crate::surface::embedded_stage(out, &scene.output.embedded, quiet)?
         }
     }
-    Ok(())
+    let preview = if scene.output.preview {
+        crate::render::stage(out, threads, quiet)
+    } else {
+        None
+    };
+    Ok(StageSeconds {
+        simulation,
+        preview,
+    })
 }
 
 /// `perifrac check`: validates the scene and prints its cost.
@@ -178,8 +219,14 @@ pub fn check(path: &Path) -> Result<(), Failure> {
     println!("scene {}: {}", scene.scene.name, path.display());
     for (b, spec) in scene.bodies.iter().enumerate() {
         let q = &disc.quality[b];
+        let fit = disc.conformity[b].map_or(String::new(), |c| {
+            format!(
+                ", fit to the mesh {:.3}λ max / {:.3}λ mean ({} vertices snapped)",
+                c.max, c.mean, c.snapped
+            )
+        });
         println!(
-            "  body {}: {} particles, mean edge {:.4} m, dihedral angles {:.1}°–{:.1}°",
+            "  body {}: {} particles, mean edge {:.4} m, dihedral angles {:.1}°–{:.1}°{fit}",
             spec.name,
             disc.meshes[b].tets.len(),
             q.mean_edge,

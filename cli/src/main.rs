@@ -2,9 +2,14 @@
 //!
 //! Exit codes: 0 success, 1 a run failed (I/O, blow-up), 2 bad input (scene, flags).
 
+mod accuracy;
 mod args;
 mod bench;
+mod bench_render;
 mod commands;
+mod plot;
+mod render;
+mod stability;
 mod surface;
 
 use std::process::ExitCode;
@@ -22,6 +27,10 @@ fn main() -> ExitCode {
         },
         Command::Surface(args) => match args::SurfaceConfig::try_from(args) {
             Ok(config) => surface::command(&config, cli.quiet),
+            Err(message) => Err(commands::Failure::input(anyhow::anyhow!(message))),
+        },
+        Command::Render(args) => match args::RenderConfig::try_from(args) {
+            Ok(config) => render::command(&config, cli.quiet),
             Err(message) => Err(commands::Failure::input(anyhow::anyhow!(message))),
         },
         Command::Check { scene } => commands::check(&scene),

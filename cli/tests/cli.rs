@@ -149,3 +149,49 @@ fn a_scene_that_cannot_fit_in_memory_is_refused() {
     assert_eq!(result.status.code(), Some(2), "{err}");
     assert!(err.contains("GiB"), "{err}");
 }
+
+/// A cube mesh 0.05 m across as OBJ text, with one face left out when `open`.
+fn cube_obj(open: bool) -> String {
+    let mut s = String::new();
+    for i in 0..8 {
+        let c = |bit: usize| if i & bit == 0 { -0.025 } else { 0.025 };
+        s += &format!("v {} {} {}\n", c(1), c(2), c(4));
+    }
+    let quads = [
+        [1, 3, 4, 2],
+        [5, 6, 8, 7],
+        [1, 2, 6, 5],
+        [3, 7, 8, 4],
+        [1, 5, 7, 3],
+        [2, 4, 8, 6],
+    ];
+    for q in &quads[..if open { 5 } else { 6 }] {
+        s += &format!("f {} {} {} {}\n", q[0], q[1], q[2], q[3]);
+    }
+    s
+}
+
+#[test]
+fn mesh_bodies_are_checked_and_their_fit_printed() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let shape = r#"shape = { type = "box", center = [0, 0.03, 0], size = [0.05, 0.05, 0.05] }"#;
+    let mesh = r#"shape = { type = "mesh", path = "cube.obj", translation = [0, 0.03, 0] }"#;
+    let scene = write_scene(dir.path(), &TINY.replace(shape, mesh));
+    std::fs::write(dir.path().join("cube.obj"), cube_obj(false)).expect("write mesh");
+    let result = perifrac(&["check", &scene]);
+    let text = String::from_utf8_lossy(&result.stdout);
+    assert!(
+        result.status.success(),
+        "{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+    assert!(text.contains("fit to the mesh 0.000λ max"), "{text}");
+    std::fs::write(dir.path().join("cube.obj"), cube_obj(true)).expect("write mesh");
+    let result = perifrac(&["check", &scene]);
+    assert_eq!(result.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&result.stderr);
+    assert!(
+        err.contains("cube.obj") && err.contains("not closed: 4 boundary edges"),
+        "{err}"
+    );
+}

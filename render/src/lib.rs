@@ -1,10 +1,27 @@
 //! perifrac's render stage: surfaces and particles from the cache become files a DCC
-//! or a viewer opens.
+//! or a viewer opens, and preview images.
 //!
 //! - [`gltf`]: a glTF 2.0 binary (.glb) writer for triangle meshes.
+//! - [`cache`]: an output directory read for previews (frames, colliders, surfaces,
+//!   particles) as [`geometry::FrameGeometry`].
+//! - [`camera`]: automatic framing, turntables, the studio lights.
+//! - [`gl`] (feature `gl`): the offscreen OpenGL renderer on Mesa (EGL surfaceless, or
+//!   OSMesa).
+//! - [`preview`] (feature `gl`): `preview/NNNN.png`, turntables, the contact sheet.
+//! - [`sheet`]: PNG writing, contact sheets, a built-in bitmap font for frame numbers.
 #![warn(missing_docs)]
 
+pub mod cache;
+pub mod camera;
+pub mod geometry;
+#[cfg(feature = "gl")]
+pub mod gl;
 pub mod gltf;
+#[cfg(feature = "gl")]
+pub mod preview;
+pub mod sheet;
+
+use std::path::{Path, PathBuf};
 
 /// Everything that can go wrong in the render stage.
 #[derive(Debug, thiserror::Error)]
@@ -13,4 +30,41 @@ pub enum RenderError {
     /// of range, non-finite positions, a file over the format's size limit).
     #[error("glTF: {0}")]
     Gltf(String),
+    /// No OpenGL context: neither EGL nor OSMesa could be loaded or initialised.
+    #[error(
+        "no OpenGL context for previews ({0}); install Mesa's software OpenGL with scripts/setup.sh (Debian: libegl1 libegl-mesa0 libgl1-mesa-dri, or libosmesa6)"
+    )]
+    NoContext(String),
+    /// The GL implementation refused something (a shader, a framebuffer).
+    #[error("OpenGL: {0}")]
+    Gl(String),
+    /// An image size that cannot be rendered.
+    #[error("image size: {0}")]
+    Size(String),
+    /// A file of the cache is missing or malformed.
+    #[error("{path}: {message}")]
+    Input {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong and how to fix it.
+        message: String,
+    },
+    /// Reading or writing a file failed.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+}
+
+impl RenderError {
+    /// An I/O error on `path`.
+    pub fn io(path: &Path, source: std::io::Error) -> RenderError {
+        RenderError::Io {
+            path: path.to_path_buf(),
+            source,
+        }
+    }
 }

@@ -7,11 +7,13 @@
 //! that the surface and render stages read.
 #![warn(missing_docs)]
 
+pub mod accuracy;
 pub mod cache;
 pub mod contact;
 pub mod embed;
 pub mod error;
 pub mod family;
+pub mod fem;
 pub mod geometry;
 pub mod material;
 pub mod pd;

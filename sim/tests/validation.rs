@@ -425,3 +425,178 @@ fn a_time_step_above_the_bound_is_refused_with_the_bound() {
         "{err}"
     );
 }
+
+/// A cantilever L × h × h along x, clamped at x = −L/2 (the vertices of the end face),
+/// under gravity with air damping at the first mode's critical value 2ω₁ (the
+/// transient is down to (1 + 7) e⁻⁷ < 1% after 7/ω₁); returns the
+/// tip deflection at rest (mean over the tip face's vertices) and the Euler–Bernoulli
+/// one, q L⁴ / (8 E I) with q = ρ g h², I = h⁴/12.
+fn cantilever_tip(model: &str, lambda: f64) -> (f64, f64) {
+    let (length, h, e, rho, g): (f64, f64, f64, f64, f64) = (1.0, 0.1, 2.0e8, 1000.0, 9.81);
+    // ω₁ = 1.875² √(E I / (ρ A L⁴)).
+    let omega = 1.875f64.powi(2) * (e * h * h / 12.0 / (rho * length.powi(4))).sqrt();
+    let s = scene(&format!(
+        "[scene]\ngravity = [0, -{g}, 0]\nduration = 1\ndt_safety = 0.9\n[materials.m]\ndensity = {rho}\n\
+         youngs_modulus = {e}\npoisson_ratio = 0.25\nair_damping = {}\n\
+         [[body]]\nmaterial = \"m\"\nmodel = \"{model}\"\nresolution = {lambda}\n\
+         shape = {{ type = \"box\", center = [0, 0, 0], size = [{length}, {h}, {h}] }}\n\
+         [[body.anchor]]\nregion = {{ type = \"box\", center = [-0.5, 0, 0], size = [0.002, 0.2, 0.2] }}\n",
+        2.0 * omega
+    ));
+    let mut p = run::prepare_fem(&s).expect("prepares");
+    let settle = 7.0 / omega;
+    while p.sim.time < settle {
+        p.sim.step().expect("stable");
+    }
+    let m = &p.sim.model;
+    let tip: Vec<f64> = (0..m.len())
+        .filter(|&i| m.rest[i][0] > 0.5 - 1e-6)
+        .map(|i| m.position[i][1] - m.rest[i][1])
+        .collect();
+    let deflection = -tip.iter().sum::<f64>() / tip.len() as f64;
+    let q = rho * g * h * h;
+    let euler_bernoulli = q * length.powi(4) / (8.0 * e * h.powi(4) / 12.0);
+    (deflection, euler_bernoulli)
+}
+
+#[test]
+fn fem_cantilevers_match_euler_bernoulli() {
+    for model in ["fem-linear", "fem-corotated"] {
+        let (tip, eb) = cantilever_tip(model, 0.025);
+        println!(
+            "{model}: tip deflection {tip:.5e} m, Euler–Bernoulli {eb:.5e} m ({:+.2}%)",
+            100.0 * (tip / eb - 1.0)
+        );
+        assert!((tip / eb - 1.0).abs() < 0.05, "{model}: {tip} vs {eb}");
+    }
+}
+
+/// A soft bar (Chen Table 1's bar swing material) held at its left end, released
+/// horizontal under gravity: half a swing.
+fn bar_swing(model: &str) -> String {
+    format!(
+        "[scene]\nduration = 0.3\nfps = 30\n[materials.bar]\ndensity = 1000.0\nbulk_modulus = 5.0e6\nshear_modulus = 5.0e6\n\
+         [[body]]\nmaterial = \"bar\"\nmodel = \"{model}\"\nresolution = 0.0333\nhorizon = 1.45\n\
+         shape = {{ type = \"box\", center = [0, 0, 0], size = [1.0, 0.1, 0.1] }}\n\
+         [[body.anchor]]\nregion = {{ type = \"box\", center = [-0.5, 0, 0], size = [0.1, 0.2, 0.2] }}\n"
+    )
+}
+
+/// A bar (Chen Table 1's bar twist material) with its left end fixed and its right
+/// end turned a quarter turn about the bar's axis.
+fn bar_twist(model: &str) -> String {
+    format!(
+        "[scene]\nduration = 0.5\nfps = 20\n[materials.bar]\ndensity = 1000.0\nbulk_modulus = 1.0e6\nshear_modulus = 6.0e5\n\
+         [[body]]\nmaterial = \"bar\"\nmodel = \"{model}\"\nresolution = 0.0333\nhorizon = 1.45\n\
+         shape = {{ type = \"box\", center = [0, 0, 0], size = [0.6, 0.15, 0.15] }}\n\
+         [[body.anchor]]\nregion = {{ type = \"box\", center = [-0.3, 0, 0], size = [0.1, 0.2, 0.2] }}\n\
+         [[body.anchor]]\nregion = {{ type = \"box\", center = [0.3, 0, 0], size = [0.1, 0.2, 0.2] }}\n\
+         angular_velocity = [3.141592653589793, 0, 0]\ncenter = [0.3, 0, 0]\n"
+    )
+}
+
+/// Peridynamics, corotated and linear FEM on the same tets; returns the deviations
+/// (max over frames of the mean over particles, over the bounding-box diagonal) of
+/// PD and of linear FEM from corotated FEM.
+fn deviations_from_corotated(make: fn(&str) -> String) -> (f64, f64) {
+    use perifrac_sim::accuracy::{deviation, diagonal, record};
+    let runs: Vec<_> = ["fem-corotated", "peridynamics", "fem-linear"]
+        .iter()
+        .map(|m| {
+            let s = scene(&make(m));
+            record(&s, s.frame_count()).expect("runs")
+        })
+        .collect();
+    let d = diagonal(&runs[0].particles.rest);
+    let pd = deviation(&runs[1].particles, &runs[0].particles, d);
+    let linear = deviation(&runs[2].particles, &runs[0].particles, d);
+    (pd.max, linear.max)
+}
+
+#[test]
+fn peridynamics_stays_within_ten_percent_of_corotated_fem_on_bar_swing_and_twist() {
+    for (name, make) in [
+        ("bar swing", bar_swing as fn(&str) -> String),
+        ("bar twist", bar_twist),
+    ] {
+        let (pd, linear) = deviations_from_corotated(make);
+        println!(
+            "{name}: deviation from corotated FEM (max over frames of the mean over particles, / bbox diagonal): \
+             peridynamics {:.2}%, linear FEM {:.2}%",
+            100.0 * pd,
+            100.0 * linear
+        );
+        assert!(pd < 0.10, "{name}: peridynamics deviates by {pd}");
+    }
+}
+
+fn fem_blowup_scene(dt: f64) -> String {
+    blowup_scene(1.0, dt).replace("[[body]]\n", "[[body]]\nmodel = \"fem-corotated\"\n")
+}
+
+#[test]
+fn fem_blow_up_is_caught_and_the_last_good_frame_kept() {
+    let stable = run::prepare_fem(&scene(&fem_blowup_scene(1e-4)))
+        .expect("prepares")
+        .stable_dt
+        .0;
+    let dir = tempfile::tempdir().expect("temp dir");
+    let fine = run::run(
+        &scene(&fem_blowup_scene(0.9 * stable)),
+        dir.path(),
+        &RunOptions::default(),
+        &mut |_| {},
+    );
+    assert!(
+        fine.is_ok(),
+        "0.9× the stable step was flagged: {:?}",
+        fine.err()
+    );
+    let dir = tempfile::tempdir().expect("temp dir");
+    let err = run::run(
+        &scene(&fem_blowup_scene(2.0 * stable)),
+        dir.path(),
+        &RunOptions::default(),
+        &mut |_| {},
+    )
+    .expect_err("2× the stable step must blow up");
+    let text = err.to_string();
+    println!("{text}");
+    match err {
+        SimError::BlowUp {
+            step,
+            last_good_frame,
+            ..
+        } => {
+            assert!(step < 2000, "caught only at step {step}");
+            assert!(
+                dir.path()
+                    .join(format!("particles/{last_good_frame:04}.ply"))
+                    .is_file()
+            );
+        }
+        other => panic!("expected a blow-up, got {other}"),
+    }
+    assert!(text.contains("step") && text.contains("particle") && text.contains("vertex"));
+}
+
+#[test]
+fn fem_scenes_are_validated() {
+    let mixed = format!(
+        "{}[[body]]\nmaterial = \"bar\"\nresolution = 0.05\n\
+         shape = {{ type = \"box\", center = [0, 1, 0], size = [0.2, 0.2, 0.2] }}\n",
+        bar_swing("fem-corotated")
+    );
+    let err = Scene::parse(&mixed, Path::new("mixed.toml"), Path::new("."))
+        .expect_err("mixed solvers are refused")
+        .to_string();
+    assert!(err.contains("body.1.model") && err.contains("fem"), "{err}");
+    let brittle = bar_swing("fem-linear").replace(
+        "shear_modulus = 5.0e6\n",
+        "shear_modulus = 5.0e6\ncritical_stretch = 0.01\n",
+    );
+    let err = Scene::parse(&brittle, Path::new("brittle.toml"), Path::new("."))
+        .expect_err("fracture is refused")
+        .to_string();
+    assert!(err.contains("materials.bar.critical_stretch"), "{err}");
+}

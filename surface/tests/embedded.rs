@@ -42,6 +42,7 @@ fn cut_block(cut: Plane) -> TetFrame {
         body: vec![0; n],
         tet: (0..n as u32).collect(),
         quality: vec![mesh.quality()],
+        conformity: vec![None],
         meshes: vec![mesh],
     };
     let (mut bonds, _) = family::build(

@@ -24,6 +24,10 @@ pub struct Manifest {
     pub fps: f64,
     /// Time of each written frame (s); frame k (from 1) is `frame_times[k - 1]`.
     pub frame_times: Vec<f64>,
+    /// Centre of each collider (scene order) at each written frame; frame k (from 1)
+    /// is `collider_centers[k - 1]`. The previews draw dynamic colliders from it.
+    #[serde(default)]
+    pub collider_centers: Vec<Vec<[f64; 3]>>,
     /// Particles.
     pub particles: usize,
     /// Directed bonds.

@@ -26,6 +26,7 @@ fn block(size: [f64; 3], lambda: f64) -> (Discretization, Bonds) {
         body: vec![0; n],
         tet: (0..n as u32).collect(),
         quality: vec![mesh.quality()],
+        conformity: vec![None],
         meshes: vec![mesh],
     };
     let delta = vec![1.45 * lambda; n];
@@ -335,6 +336,7 @@ fn a_face_without_a_bond_is_reported() {
         body: vec![0; n],
         tet: vec![0, 1],
         quality: vec![mesh.quality()],
+        conformity: vec![None],
         meshes: vec![mesh],
     };
     let (bonds, _) =

@@ -5,6 +5,7 @@
 
 use rayon::prelude::*;
 
+use super::mesh::{Conformity, MeshSdf, Placement, TriMesh, conform};
 use super::shape::to_sdf;
 use super::stuffing::stuff;
 use super::{MeshQuality, TetMesh};
@@ -26,36 +27,53 @@ pub struct Discretization {
     pub meshes: Vec<TetMesh>,
     /// Each body's mesh quality.
     pub quality: Vec<MeshQuality>,
+    /// For bodies given by a mesh file: how closely the tet mesh's boundary
+    /// follows the file's surface (`None` for primitive shapes, whose boundary
+    /// vertices lie on the exact surface).
+    pub conformity: Vec<Option<Conformity>>,
 }
 
 /// Meshes every body of the scene and places the particles.
 pub fn discretize(scene: &Scene) -> Result<Discretization> {
-    let meshes: Vec<TetMesh> = scene
+    let bodies: Vec<(TetMesh, Option<Conformity>)> = scene
         .bodies
         .par_iter()
         .map(|b| {
-            let sdf = match &b.shape {
-                ShapeSpec::Mesh { path } => {
-                    return Err(SimError::Mesh {
-                        body: b.name.clone(),
-                        message: format!(
-                            "mesh input ({}) is not supported by this build yet: describe the body with \
-                             box, slab, sphere, cylinder, union and difference shapes",
-                            path.display()
-                        ),
-                    });
-                }
-                shape => to_sdf(shape).ok_or_else(|| SimError::Mesh {
-                    body: b.name.clone(),
-                    message: "a mesh file cannot be part of a union or difference".into(),
-                })?,
-            };
-            stuff(sdf.as_ref(), b.resolution).map_err(|e| SimError::Mesh {
+            let error = |message: String| SimError::Mesh {
                 body: b.name.clone(),
-                message: e.to_string(),
-            })
+                message,
+            };
+            match &b.shape {
+                ShapeSpec::Mesh {
+                    path,
+                    scale,
+                    rotation,
+                    translation,
+                } => {
+                    let placement = Placement {
+                        scale: scale.factors(),
+                        rotation_deg: *rotation,
+                        translation: *translation,
+                    };
+                    let surface = TriMesh::load(&scene.base_dir.join(path), &placement)
+                        .map_err(|e| error(e.to_string()))?;
+                    let sdf = MeshSdf::new(&surface);
+                    let mut tets = stuff(&sdf, b.resolution).map_err(|e| error(e.to_string()))?;
+                    let fit = conform(&mut tets, &surface, &sdf, b.resolution);
+                    Ok((tets, Some(fit)))
+                }
+                shape => {
+                    let sdf = to_sdf(shape).ok_or_else(|| {
+                        error("a mesh file cannot be part of a union or difference".into())
+                    })?;
+                    let tets =
+                        stuff(sdf.as_ref(), b.resolution).map_err(|e| error(e.to_string()))?;
+                    Ok((tets, None))
+                }
+            }
         })
         .collect::<Result<_>>()?;
+    let (meshes, conformity): (Vec<TetMesh>, Vec<Option<Conformity>>) = bodies.into_iter().unzip();
     let mut items: Vec<(u64, [f64; 3], f64, u32, u32)> = Vec::new();
     let (lo, hi) = bounds(&meshes);
     for (b, mesh) in meshes.iter().enumerate() {
@@ -73,6 +91,7 @@ pub fn discretize(scene: &Scene) -> Result<Discretization> {
         tet: items.iter().map(|it| it.4).collect(),
         meshes,
         quality,
+        conformity,
     })
 }
 

@@ -3,6 +3,7 @@
 //! mesher that fills them ([`stuffing`]), and the [`TetMesh`] it produces.
 
 pub mod discretize;
+pub mod mesh;
 pub mod sdf;
 pub mod shape;
 pub mod stuffing;
@@ -280,7 +281,7 @@ impl TetMesh {
 }
 
 /// Smallest and largest dihedral angle (degrees) of the tetrahedron `p`.
-fn dihedral_range(p: [[f64; 3]; 4]) -> (f64, f64) {
+pub(crate) fn dihedral_range(p: [[f64; 3]; 4]) -> (f64, f64) {
     // Unit normals of the faces opposite each vertex, pointing away from it.
     let normals = [0, 1, 2, 3].map(|v| {
         let [a, b, c] = OUTWARD_FACES[v].map(|k| p[k]);
@@ -311,7 +312,7 @@ fn dihedral_range(p: [[f64; 3]; 4]) -> (f64, f64) {
 
 /// Signed volume of the tetrahedron `abcd`: positive when `d` lies on the
 /// side of triangle `abc` that its right-hand normal points to.
-fn signed_volume(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> f64 {
+pub(crate) fn signed_volume(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> f64 {
     dot(sub(b, a), cross(sub(c, a), sub(d, a))) / 6.0
 }
 

@@ -190,11 +190,76 @@ pub enum ShapeSpec {
         /// The shape removed.
         minus: Box<ShapeSpec>,
     },
-    /// A closed triangle mesh file, relative to the scene file.
+    /// A closed triangle mesh file, relative to the scene file, placed by
+    /// `p ↦ R (scale ⊙ p) + translation`.
     Mesh {
-        /// The mesh file (OBJ, PLY, glTF).
+        /// The mesh file (`.obj`, `.ply`, `.gltf`, `.glb`).
         path: PathBuf,
+        /// Scale: one factor or one per axis `[x, y, z]`, applied first. Default 1.
+        #[serde(default)]
+        scale: MeshScale,
+        /// Rotation in degrees about x, then y, then z (fixed axes; R = Rz Ry Rx).
+        /// Default 0.
+        #[serde(default)]
+        rotation: [f64; 3],
+        /// Translation in m, applied last. Default 0.
+        #[serde(default)]
+        translation: [f64; 3],
     },
+}
+
+impl ShapeSpec {
+    /// Makes every mesh path in this shape absolute: `base` joined with it,
+    /// canonicalized where the file exists.
+    fn resolve_mesh_paths(&mut self, base: &Path) {
+        match self {
+            ShapeSpec::Mesh { path, .. } => {
+                let joined = base.join(&*path);
+                *path = std::fs::canonicalize(&joined)
+                    .or_else(|_| std::path::absolute(&joined))
+                    .unwrap_or(joined);
+            }
+            ShapeSpec::Union { parts } => {
+                for part in parts {
+                    part.resolve_mesh_paths(base);
+                }
+            }
+            ShapeSpec::Difference { base: b, minus } => {
+                b.resolve_mesh_paths(base);
+                minus.resolve_mesh_paths(base);
+            }
+            ShapeSpec::Box { .. }
+            | ShapeSpec::Slab { .. }
+            | ShapeSpec::Sphere { .. }
+            | ShapeSpec::Cylinder { .. } => {}
+        }
+    }
+}
+
+/// The scale of a mesh shape: uniform or per axis.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum MeshScale {
+    /// The same factor on every axis.
+    Uniform(f64),
+    /// One factor per axis (negative factors mirror).
+    PerAxis([f64; 3]),
+}
+
+impl Default for MeshScale {
+    fn default() -> Self {
+        MeshScale::Uniform(1.0)
+    }
+}
+
+impl MeshScale {
+    /// The factor on each axis.
+    pub fn factors(self) -> [f64; 3] {
+        match self {
+            MeshScale::Uniform(s) => [s; 3],
+            MeshScale::PerAxis(s) => s,
+        }
+    }
 }
 
 /// A coordinate axis.
@@ -228,6 +293,20 @@ pub enum ModelKind {
     /// State-based peridynamics of Chen et al. 2018.
     #[default]
     Peridynamics,
+    /// Reference solver: explicit linear-tet FEM with the linear (Cauchy) strain, on
+    /// the body's tet mesh (Chen et al. 2018 §6, Figs. 11–12 left). Not objective:
+    /// rotations cause ghost forces.
+    FemLinear,
+    /// Reference solver: explicit linear-tet FEM, corotated linear (Chen et al. 2018
+    /// §6, Figs. 10–13): the linear stress of each tet in its rotated frame.
+    FemCorotated,
+}
+
+impl ModelKind {
+    /// Whether this is one of the FEM reference solvers.
+    pub fn is_fem(self) -> bool {
+        matches!(self, ModelKind::FemLinear | ModelKind::FemCorotated)
+    }
 }
 
 /// `[[body]]`: a deformable body.
@@ -246,7 +325,9 @@ pub struct BodySpec {
     /// Horizon δ in units of λ, at least 1.0. Default 1.45 (Chen Table 1).
     #[serde(default = "default_horizon")]
     pub horizon: f64,
-    /// Simulation model. Default `"peridynamics"`.
+    /// Simulation model: `"peridynamics"`, or a FEM reference solver on the same tet
+    /// mesh, `"fem-linear"` or `"fem-corotated"` (elastic only; every body of a scene
+    /// must then use FEM). Default `"peridynamics"`.
     #[serde(default)]
     pub model: ModelKind,
     /// Initial velocity in m/s. Default 0.
@@ -372,6 +453,10 @@ pub struct OutputSpec {
     /// Settings of the `vdb` surface method (`[output.vdb]`).
     #[serde(default)]
     pub vdb: VdbSpec,
+    /// Render `preview/NNNN.png` and `preview/contact_sheet.png` after the run (the
+    /// render stage, Mesa's software OpenGL). Default true.
+    #[serde(default = "default_true")]
+    pub preview: bool,
     /// Settings of the `embedded` surface method (`[output.embedded]`).
     #[serde(default)]
     pub embedded: EmbeddedSpec,
@@ -418,6 +503,7 @@ impl Default for OutputSpec {
             tets: None,
             vdb: VdbSpec::default(),
             embedded: EmbeddedSpec::default(),
+            preview: true,
         }
     }
 }
@@ -617,9 +703,23 @@ impl Scene {
         Ok(scene)
     }
 
-    /// The scene as resolved, with every default written out.
+    /// The scene as resolved, with every default written out and mesh paths made
+    /// absolute (canonical where the file exists), so that the copy in a cache
+    /// directory (`OUT/scene.toml`) still finds its meshes.
     pub fn to_toml(&self) -> String {
-        toml::to_string(self).unwrap_or_else(|e| format!("# could not serialize: {e}\n"))
+        let mut resolved = self.clone();
+        let base = &self.base_dir;
+        let absolute = |shape: &mut ShapeSpec| shape.resolve_mesh_paths(base);
+        for body in &mut resolved.bodies {
+            absolute(&mut body.shape);
+            for anchor in &mut body.anchors {
+                absolute(&mut anchor.region);
+            }
+            for crack in &mut body.cracks {
+                absolute(&mut crack.region);
+            }
+        }
+        toml::to_string(&resolved).unwrap_or_else(|e| format!("# could not serialize: {e}\n"))
     }
 
     /// Seconds between output frames.
@@ -727,6 +827,33 @@ resolution = 0.1
             message.contains("bunny.obj") && message.contains("does not exist"),
             "{message}"
         );
+    }
+
+    #[test]
+    fn resolved_scene_finds_its_mesh_from_anywhere() {
+        // Regression: OUT/scene.toml kept the mesh path relative to the original
+        // scene file, so `perifrac surface OUT` could not load it.
+        let dir = tempfile::tempdir().expect("tempdir");
+        std::fs::write(dir.path().join("cube.obj"), "v 0 0 0\n").expect("write");
+        let text = GOOD.replace(
+            r#"shape = { type = "box", center = [0, 0, 0], size = [1, 1, 1] }"#,
+            r#"shape = { type = "mesh", path = "cube.obj", scale = [1, 2, 3] }"#,
+        );
+        let s = Scene::parse(&text, Path::new("good.toml"), dir.path()).expect("valid");
+        let resolved = s.to_toml();
+        let again = Scene::parse(
+            &resolved,
+            Path::new("OUT/scene.toml"),
+            Path::new("/elsewhere"),
+        )
+        .expect("the resolved scene is valid from another directory");
+        match &again.bodies[0].shape {
+            ShapeSpec::Mesh { path, scale, .. } => {
+                assert!(path.is_absolute() && path.ends_with("cube.obj"), "{path:?}");
+                assert_eq!(scale.factors(), [1.0, 2.0, 3.0]);
+            }
+            other => panic!("{other:?}"),
+        }
     }
 
     #[test]

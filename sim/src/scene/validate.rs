@@ -74,6 +74,7 @@ pub(super) fn validate(scene: &Scene) -> Check {
     for (i, b) in scene.bodies.iter().enumerate() {
         body(scene, &i.to_string(), b)?;
     }
+    fem(scene)?;
     for (i, c) in scene.colliders.iter().enumerate() {
         collider(&i.to_string(), c)?;
     }
@@ -277,6 +278,51 @@ fn body(scene: &Scene, i: &str, b: &BodySpec) -> Check {
     Ok(())
 }
 
+/// The FEM reference solvers are elastic and run a whole scene: no mixing with
+/// peridynamic bodies, no plasticity, fracture, anisotropy, initial cracks or
+/// Laplacian damping (which is defined over bonds).
+fn fem(scene: &Scene) -> Check {
+    let Some(first) = scene.bodies.iter().position(|b| b.model.is_fem()) else {
+        return Ok(());
+    };
+    for (i, b) in scene.bodies.iter().enumerate() {
+        let i = i.to_string();
+        if !b.model.is_fem() {
+            return Err(issue(
+                &["body", &i, "model"],
+                format!(
+                    "body {first} uses a FEM model and this one peridynamics: a scene runs one solver, \
+                     so give every body model = \"fem-linear\" or \"fem-corotated\", or none"
+                ),
+            ));
+        }
+        if !b.cracks.is_empty() {
+            return Err(issue(
+                &["body", &i, "crack"],
+                "the FEM reference solvers cannot start cracked: remove [[body.crack]] or use peridynamics",
+            ));
+        }
+        let m = &scene.materials[&b.material];
+        let unsupported = [
+            ("yield_psi0", m.yield_psi0.is_some()),
+            ("yield_stretch", m.yield_stretch.is_some()),
+            ("critical_stretch", m.critical_stretch.is_some()),
+            ("anisotropy", m.anisotropy.is_some()),
+            ("laplacian_damping", m.laplacian_damping != 0.0),
+        ];
+        if let Some((key, _)) = unsupported.iter().find(|(_, set)| *set) {
+            return Err(issue(
+                &["materials", &b.material, key],
+                format!(
+                    "body {i} uses a FEM reference solver, which is elastic with air damping only: \
+                     remove {key} or use model = \"peridynamics\""
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
 fn shape(scene: &Scene, path: &[&str], s: &ShapeSpec) -> Check {
     let with = |key: &'static str| -> Vec<&str> {
         let mut v = path.to_vec();
@@ -322,7 +368,21 @@ fn shape(scene: &Scene, path: &[&str], s: &ShapeSpec) -> Check {
             shape(scene, &with("base"), base)?;
             shape(scene, &with("minus"), minus)?;
         }
-        ShapeSpec::Mesh { path: file } => {
+        ShapeSpec::Mesh {
+            path: file,
+            scale,
+            rotation,
+            translation,
+        } => {
+            let factors = scale.factors();
+            if !factors.iter().all(|s| s.is_finite() && *s != 0.0) {
+                return Err(issue(
+                    &with("scale"),
+                    format!("every scale factor must be finite and non-zero, got {factors:?}"),
+                ));
+            }
+            finite3(&with("rotation"), *rotation)?;
+            finite3(&with("translation"), *translation)?;
             let full = scene.base_dir.join(file);
             if !full.is_file() {
                 return Err(issue(

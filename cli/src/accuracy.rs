@@ -1,0 +1,274 @@
+//! `perifrac bench accuracy`: run time against error on the validation scenes of
+//! Chen et al. 2018 §6 (Figs. 9–12), for peridynamics (sweeping λ and δ/λ) and both
+//! FEM references (sweeping λ), against the converged reference: corotated FEM one
+//! step finer than the finest run of the sweep. The error is the paper's position
+//! deviation over the bounding-box diagonal (`perifrac_sim::accuracy`), mean over the
+//! particles per frame; the tables give its mean and maximum over the frames.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use perifrac_sim::accuracy::{Recording, deviation, diagonal, record};
+use perifrac_sim::scene::{ModelKind, Scene};
+
+use crate::commands::Failure;
+
+/// What one sweep runs.
+pub struct Sweep {
+    /// Scene files (stems in the scenes directory).
+    pub scenes: &'static [&'static str],
+    /// λ as multiples of the scene's λ, coarsest first.
+    pub resolutions: &'static [f64],
+    /// δ/λ of the peridynamic runs (0 stands for the scene's own).
+    pub horizons: &'static [f64],
+    /// λ of the reference, as a multiple of the scene's λ.
+    pub reference: f64,
+    /// Simulated seconds (at most the scene's duration).
+    pub duration: f64,
+}
+
+/// `--quick`: the two scenes of the goal, two resolutions, under five minutes.
+pub const QUICK: Sweep = Sweep {
+    scenes: &["bar-swing", "bar-twist"],
+    resolutions: &[2.0, 1.5],
+    horizons: &[0.0],
+    reference: 1.0,
+    duration: 0.15,
+};
+
+/// The full sweep.
+pub const FULL: Sweep = Sweep {
+    scenes: &[
+        "bar-swing",
+        "bar-twist",
+        "soft-beam-bend",
+        "stiff-beam-bend",
+        "beam-stretch-nu-0.30",
+        "beam-stretch-nu-0.45",
+        "beam-stretch-nu-0.46",
+    ],
+    resolutions: &[3.0, 2.0, 1.5],
+    horizons: &[0.0, 1.45, 2.0],
+    reference: 1.0,
+    duration: 0.4,
+};
+
+/// One run of the sweep.
+#[derive(Debug, Clone)]
+pub struct Point {
+    /// Scene stem.
+    pub scene: String,
+    /// "PD δ/λ = …", "FEM linear", "FEM corotated".
+    pub method: String,
+    /// λ (m).
+    pub resolution: f64,
+    /// Particles (tets).
+    pub particles: usize,
+    /// Steps.
+    pub steps: u64,
+    /// Wall-clock seconds (setup and stepping).
+    pub wall: f64,
+    /// Mean over frames of the deviation from the reference.
+    pub mean: f64,
+    /// Max over frames.
+    pub max: f64,
+}
+
+/// Runs the sweep over the scenes in `dir`; returns the runs and, per scene, the
+/// deviation of peridynamics from corotated FEM on the same tets at the finest λ.
+pub fn sweep(
+    sweep: &Sweep,
+    dir: &Path,
+    quiet: bool,
+) -> Result<(Vec<Point>, Vec<(String, f64, f64)>), Failure> {
+    let mut points = Vec::new();
+    let mut same_tets = Vec::new();
+    for name in sweep.scenes {
+        let path = dir.join(format!("{name}.toml"));
+        let base = Scene::load(&path)?;
+        let variant = |model: ModelKind, factor: f64, horizon: f64| {
+            let mut s = base.clone();
+            s.scene.duration = s.scene.duration.min(sweep.duration);
+            for b in &mut s.bodies {
+                b.model = model;
+                b.resolution *= factor;
+                if horizon > 0.0 {
+                    b.horizon = horizon;
+                }
+            }
+            s
+        };
+        let frames = variant(ModelKind::FemCorotated, 1.0, 0.0).frame_count();
+        let reference = record(
+            &variant(ModelKind::FemCorotated, sweep.reference, 0.0),
+            frames,
+        )?;
+        let Some(field) = reference.vertices.as_ref() else {
+            return Err(anyhow::anyhow!("{name}: the reference run kept no mesh").into());
+        };
+        let d = diagonal(&reference.particles.rest);
+        if !quiet {
+            eprintln!(
+                "{name}: reference corotated FEM, {} tets, {} steps, {:.1} s",
+                reference.particles.rest.len(),
+                reference.steps,
+                reference.wall
+            );
+        }
+        let mut measure = |method: String, rec: &Recording, factor: f64| {
+            let r = field.sample(&rec.particles.rest, &rec.particles.times);
+            let dev = deviation(&rec.particles, &r, d);
+            let p = Point {
+                scene: name.to_string(),
+                method,
+                resolution: base.bodies[0].resolution * factor,
+                particles: rec.particles.rest.len(),
+                steps: rec.steps,
+                wall: rec.wall,
+                mean: dev.mean,
+                max: dev.max,
+            };
+            if !quiet {
+                eprintln!(
+                    "  {:<18} λ = {:.4} m: {:>6} particles, {:>6} steps, {:>7.2} s, error mean {:.3e} max {:.3e}",
+                    p.method, p.resolution, p.particles, p.steps, p.wall, p.mean, p.max
+                );
+            }
+            points.push(p);
+        };
+        let finest = *sweep.resolutions.last().unwrap_or(&1.0);
+        let mut finest_runs: (Option<Recording>, Option<Recording>) = (None, None);
+        for &factor in sweep.resolutions {
+            for (kind, label) in [
+                (ModelKind::FemLinear, "FEM linear"),
+                (ModelKind::FemCorotated, "FEM corotated"),
+            ] {
+                let rec = record(&variant(kind, factor, 0.0), frames)?;
+                measure(label.to_string(), &rec, factor);
+                if factor == finest && kind == ModelKind::FemCorotated {
+                    finest_runs.1 = Some(rec);
+                }
+            }
+            for &h in sweep.horizons {
+                let s = variant(ModelKind::Peridynamics, factor, h);
+                let rec = record(&s, frames)?;
+                measure(format!("PD δ/λ = {:.2}", s.bodies[0].horizon), &rec, factor);
+                if factor == finest && h == sweep.horizons[0] {
+                    finest_runs.0 = Some(rec);
+                }
+            }
+        }
+        if let (Some(pd), Some(fem)) = finest_runs {
+            let dev = deviation(&pd.particles, &fem.particles, diagonal(&fem.particles.rest));
+            same_tets.push((name.to_string(), dev.mean, dev.max));
+        }
+    }
+    Ok((points, same_tets))
+}
+
+/// log-log interpolation of the error of `curve` (wall, error; sorted by wall) at
+/// `wall`, if within its range.
+fn error_at(curve: &[(f64, f64)], wall: f64) -> Option<f64> {
+    curve.windows(2).find_map(|w| {
+        let ((t0, e0), (t1, e1)) = (w[0], w[1]);
+        (t0 <= wall && wall <= t1 && t1 > t0).then(|| {
+            let s = (wall.ln() - t0.ln()) / (t1.ln() - t0.ln());
+            (e0.ln() + s * (e1.ln() - e0.ln())).exp()
+        })
+    })
+}
+
+/// The report: the table of runs, PD against corotated FEM on the same tets, and
+/// PD's error over corotated FEM's at equal wall time.
+pub fn report(
+    points: &[Point],
+    same_tets: &[(String, f64, f64)],
+    sweep: &Sweep,
+    threads: usize,
+) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "# Accuracy: run time against error\n\n\
+         Validation scenes of Chen et al. 2018 §6 (`assets/scenes`), the first {} s of each, {threads} threads. \
+         Error: position deviation over the bounding-box diagonal (Chen §6), mean over the particles per frame, \
+         against corotated FEM at λ × {} (the converged reference); `mean` and `max` over the frames. \
+         Wall time: setup (meshing, families, stable step) and stepping.\n",
+        sweep.duration, sweep.reference
+    );
+    let _ = writeln!(
+        s,
+        "| scene | method | λ (m) | particles | steps | wall (s) | error mean | error max |"
+    );
+    let _ = writeln!(s, "|---|---|---|---|---|---|---|---|");
+    for p in points {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {:.4} | {} | {} | {:.2} | {:.2e} | {:.2e} |",
+            p.scene, p.method, p.resolution, p.particles, p.steps, p.wall, p.mean, p.max
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\n## Peridynamics against corotated FEM on the same tets, finest λ of the sweep\n\n\
+         | scene | deviation mean | deviation max | under 3%? |\n|---|---|---|---|"
+    );
+    for (scene, mean, max) in same_tets {
+        let _ = writeln!(
+            s,
+            "| {scene} | {:.2}% | {:.2}% | {} |",
+            100.0 * mean,
+            100.0 * max,
+            if *max < 0.03 { "yes" } else { "no" }
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\n## Peridynamics' error over corotated FEM's at equal wall time\n\n\
+         Corotated FEM's error curve interpolated (log–log) at each PD run's wall time, where it reaches.\n\n\
+         | scene | PD run | wall (s) | PD error | FEM corotated error | ratio | ≤ 1.5? |\n|---|---|---|---|---|---|---|"
+    );
+    let mut scenes: Vec<&str> = points.iter().map(|p| p.scene.as_str()).collect();
+    scenes.dedup();
+    for scene in scenes {
+        let mut fem: Vec<(f64, f64)> = points
+            .iter()
+            .filter(|p| p.scene == scene && p.method == "FEM corotated")
+            .map(|p| (p.wall, p.mean))
+            .collect();
+        fem.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for p in points
+            .iter()
+            .filter(|p| p.scene == scene && p.method.starts_with("PD"))
+        {
+            let (fem_error, ratio) = match error_at(&fem, p.wall) {
+                Some(e) => (format!("{e:.2e}"), format!("{:.2}", p.mean / e)),
+                None => ("out of range".into(), "–".into()),
+            };
+            let ok = match error_at(&fem, p.wall) {
+                Some(e) if p.mean / e <= 1.5 => "yes",
+                Some(_) => "no",
+                None => "–",
+            };
+            let _ = writeln!(
+                s,
+                "| {scene} | {} λ = {:.4} | {:.2} | {:.2e} | {fem_error} | {ratio} | {ok} |",
+                p.method, p.resolution, p.wall, p.mean
+            );
+        }
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn interpolates_in_log_log() {
+        let curve = [(1.0, 1e-1), (100.0, 1e-3)];
+        let e = error_at(&curve, 10.0).expect("in range");
+        assert!((e - 1e-2).abs() < 1e-12);
+        assert!(error_at(&curve, 1000.0).is_none());
+    }
+}

@@ -1,0 +1,491 @@
+//! Reading an output directory for previews: which frames exist, the colliders and the
+//! ground from the resolved `scene.toml`, per-frame collider positions from
+//! `manifest.json`, particles from `particles/NNNN.ply`, surfaces from
+//! `surface/NNNN.glb` (embedded or VDB meshes, with crack faces and `_DAMAGE`), turned
+//! into [`FrameGeometry`].
+
+use std::path::{Path, PathBuf};
+
+use perifrac_sim::cache::manifest::Manifest;
+use perifrac_sim::cache::ply::ParticleFrame;
+use perifrac_sim::scene::{ColliderSpec, Scene};
+use rayon::prelude::*;
+
+use crate::RenderError;
+use crate::camera::Bounds;
+use crate::geometry::{self, FrameGeometry, Shading};
+
+/// What the particles (and, for damage, the meshes) are coloured by.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ColorBy {
+    /// Meshes by material (surface and crack faces apart), particles by damage.
+    #[default]
+    Auto,
+    /// Damage φ, blue intact → red broken (Chen et al. 2018, Fig. 6).
+    Damage,
+    /// Fragment id (particles).
+    Fragment,
+    /// Plastic strain (particles), scaled by the sequence's largest value.
+    Plastic,
+    /// Temperature (particles; the PLY must have a `temperature` property).
+    Temperature,
+}
+
+/// Value ranges over a whole sequence, so colours mean the same in every frame.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Ranges {
+    /// Largest plastic strain.
+    pub plastic_max: f32,
+    /// Smallest and largest temperature.
+    pub temperature: (f32, f32),
+}
+
+/// An output directory opened for rendering.
+#[derive(Debug, Clone)]
+pub struct Cache {
+    /// The directory.
+    pub root: PathBuf,
+    /// Frame numbers with particles or a surface, ascending.
+    pub frames: Vec<usize>,
+    manifest: Option<Manifest>,
+    colliders: Vec<ColliderSpec>,
+    ground: Option<f32>,
+    /// Particle radius of each body (half its resolution λ).
+    radii: Vec<f32>,
+    fps: f64,
+}
+
+fn frame_numbers(dir: &Path, extension: &str) -> Vec<usize> {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return Vec::new();
+    };
+    entries
+        .filter_map(|e| {
+            let name = e.ok()?.file_name().into_string().ok()?;
+            let stem = name.strip_suffix(extension)?;
+            (stem.len() == 4).then(|| stem.parse().ok()).flatten()
+        })
+        .collect()
+}
+
+impl Cache {
+    /// Opens `root`: it needs `scene.toml` and at least one particle or surface frame.
+    pub fn open(root: &Path) -> Result<Cache, RenderError> {
+        let scene_path = root.join("scene.toml");
+        let text = std::fs::read_to_string(&scene_path).map_err(|e| RenderError::Input {
+            path: scene_path.clone(),
+            message: format!("{e}; is this the output directory of a `perifrac run`?"),
+        })?;
+        // The resolved scene was validated when it was run; mesh paths in it are
+        // relative to the original scene, so it is not validated again here.
+        let scene: Scene = toml::from_str(&text).map_err(|e| RenderError::Input {
+            path: scene_path.clone(),
+            message: format!("not a resolved perifrac scene: {}", e.message()),
+        })?;
+        let manifest = Manifest::read(&root.join("manifest.json")).ok();
+        let mut frames = frame_numbers(&root.join("particles"), ".ply");
+        frames.extend(frame_numbers(&root.join("surface"), ".glb"));
+        frames.sort_unstable();
+        frames.dedup();
+        if frames.is_empty() {
+            return Err(RenderError::Input {
+                path: root.to_path_buf(),
+                message: "no frames to render: neither particles/NNNN.ply nor surface/NNNN.glb"
+                    .into(),
+            });
+        }
+        let ground = scene.colliders.iter().find_map(|c| match c {
+            ColliderSpec::Ground { height, .. } => Some(*height as f32),
+            _ => None,
+        });
+        Ok(Cache {
+            root: root.to_path_buf(),
+            frames,
+            manifest,
+            radii: scene
+                .bodies
+                .iter()
+                .map(|b| 0.5 * b.resolution as f32)
+                .collect(),
+            colliders: scene.colliders,
+            ground,
+            fps: scene.scene.fps,
+        })
+    }
+
+    fn particles_path(&self, frame: usize) -> PathBuf {
+        self.root.join("particles").join(format!("{frame:04}.ply"))
+    }
+
+    fn surface_path(&self, frame: usize) -> PathBuf {
+        self.root.join("surface").join(format!("{frame:04}.glb"))
+    }
+
+    /// Whether frame `frame` is drawn from its surface mesh (rather than particles).
+    pub fn uses_surface(&self, frame: usize, color_by: ColorBy) -> bool {
+        matches!(color_by, ColorBy::Auto | ColorBy::Damage) && self.surface_path(frame).is_file()
+    }
+
+    /// The ground height, if the scene has a ground collider.
+    pub fn ground(&self) -> Option<f32> {
+        self.ground
+    }
+
+    /// Collider centres at `frame`: from the manifest where the run recorded them,
+    /// else from the scene (start position moved at its start velocity).
+    fn collider_centers(&self, frame: usize) -> Vec<[f32; 3]> {
+        let recorded = self
+            .manifest
+            .as_ref()
+            .and_then(|m| m.collider_centers.get(frame - 1));
+        let time = self
+            .manifest
+            .as_ref()
+            .and_then(|m| m.frame_times.get(frame - 1).copied())
+            .unwrap_or((frame - 1) as f64 / self.fps);
+        self.colliders
+            .iter()
+            .enumerate()
+            .map(|(i, c)| {
+                if let Some(p) = recorded.and_then(|r| r.get(i)) {
+                    return p.map(|v| v as f32);
+                }
+                match c {
+                    ColliderSpec::Sphere {
+                        center, velocity, ..
+                    }
+                    | ColliderSpec::Box {
+                        center, velocity, ..
+                    } => std::array::from_fn(|k| (center[k] + velocity[k] * time) as f32),
+                    ColliderSpec::Ground { height, .. } => [0.0, *height as f32, 0.0],
+                }
+            })
+            .collect()
+    }
+
+    fn push_colliders(&self, frame: usize, g: &mut FrameGeometry) {
+        let color = geometry::collider_color();
+        for (c, center) in self.colliders.iter().zip(self.collider_centers(frame)) {
+            match c {
+                ColliderSpec::Sphere { radius, .. } => g.push_sphere(center, *radius as f32, color),
+                ColliderSpec::Box { size, .. } => g.push_box(center, size.map(|v| v as f32), color),
+                ColliderSpec::Ground { .. } => {}
+            }
+        }
+    }
+
+    fn radius(&self, material: f32) -> f32 {
+        let fallback = self.radii.first().copied().unwrap_or(0.005);
+        if material.is_finite() && material >= 0.0 {
+            self.radii
+                .get(material as usize)
+                .copied()
+                .unwrap_or(fallback)
+        } else {
+            fallback
+        }
+    }
+
+    /// The geometry of `frame`: its surface or its particles, and the colliders.
+    pub fn geometry(
+        &self,
+        frame: usize,
+        color_by: ColorBy,
+        ranges: &Ranges,
+    ) -> Result<FrameGeometry, RenderError> {
+        let mut g = FrameGeometry {
+            ground: self.ground,
+            ..FrameGeometry::default()
+        };
+        if self.uses_surface(frame, color_by) {
+            read_glb(&self.surface_path(frame), color_by, &mut g)?;
+        } else if self.particles_path(frame).is_file() {
+            let path = self.particles_path(frame);
+            let bytes = std::fs::read(&path).map_err(|e| RenderError::io(&path, e))?;
+            let p = ParticleFrame::from_bytes(&bytes).map_err(|message| RenderError::Input {
+                path: path.clone(),
+                message,
+            })?;
+            let colors: Vec<[f32; 3]> = match color_by {
+                ColorBy::Auto | ColorBy::Damage => p
+                    .damage
+                    .iter()
+                    .map(|&d| geometry::damage_color(d))
+                    .collect(),
+                ColorBy::Fragment => p
+                    .fragment
+                    .iter()
+                    .map(|&f| geometry::fragment_color(f))
+                    .collect(),
+                ColorBy::Plastic => {
+                    let max = ranges.plastic_max.max(f32::MIN_POSITIVE);
+                    p.plastic
+                        .iter()
+                        .map(|&e| geometry::plastic_color(e / max))
+                        .collect()
+                }
+                ColorBy::Temperature => {
+                    let t = temperature(&bytes, &path)?;
+                    let (lo, hi) = ranges.temperature;
+                    let span = (hi - lo).max(f32::MIN_POSITIVE);
+                    t.iter()
+                        .map(|&v| geometry::temperature_color((v - lo) / span))
+                        .collect()
+                }
+            };
+            g.points.reserve(p.len() * geometry::POINT_STRIDE);
+            for i in 0..p.len() {
+                g.push_point(p.position[i], self.radius(p.material[i]), colors[i]);
+            }
+        }
+        self.push_colliders(frame, &mut g);
+        Ok(g)
+    }
+
+    /// Bounds of every frame (particles trimmed of the farthest 0.2 % on each side of
+    /// each axis, so a few far-flung fragments do not shrink the subject), colliders
+    /// included, and the sequence's value ranges for `color_by`.
+    pub fn sequence_bounds(&self, color_by: ColorBy) -> Result<(Bounds, Ranges), RenderError> {
+        let per_frame: Vec<(Bounds, Ranges)> = self
+            .frames
+            .par_iter()
+            .map(|&frame| -> Result<(Bounds, Ranges), RenderError> {
+                let mut ranges = Ranges {
+                    plastic_max: 0.0,
+                    temperature: (f32::INFINITY, f32::NEG_INFINITY),
+                };
+                let mut g = FrameGeometry::default();
+                self.push_colliders(frame, &mut g);
+                let mut bounds = g.bounds();
+                if self.uses_surface(frame, color_by) {
+                    let mut s = FrameGeometry::default();
+                    read_glb(&self.surface_path(frame), color_by, &mut s)?;
+                    bounds = bounds.union(&s.bounds());
+                } else if self.particles_path(frame).is_file() {
+                    let path = self.particles_path(frame);
+                    let bytes = std::fs::read(&path).map_err(|e| RenderError::io(&path, e))?;
+                    let p = ParticleFrame::from_bytes(&bytes).map_err(|message| {
+                        RenderError::Input {
+                            path: path.clone(),
+                            message,
+                        }
+                    })?;
+                    bounds = bounds.union(&trimmed_bounds(&p.position, self.radius(0.0)));
+                    ranges.plastic_max = p
+                        .plastic
+                        .iter()
+                        .copied()
+                        .filter(|v| v.is_finite())
+                        .fold(0.0, f32::max);
+                    if color_by == ColorBy::Temperature {
+                        for v in temperature(&bytes, &path)? {
+                            if v.is_finite() {
+                                ranges.temperature.0 = ranges.temperature.0.min(v);
+                                ranges.temperature.1 = ranges.temperature.1.max(v);
+                            }
+                        }
+                    }
+                }
+                Ok((bounds, ranges))
+            })
+            .collect::<Result<_, _>>()?;
+        let mut bounds = Bounds::EMPTY;
+        let mut ranges = Ranges {
+            plastic_max: 0.0,
+            temperature: (f32::INFINITY, f32::NEG_INFINITY),
+        };
+        for (b, r) in per_frame {
+            bounds = bounds.union(&b);
+            ranges.plastic_max = ranges.plastic_max.max(r.plastic_max);
+            ranges.temperature.0 = ranges.temperature.0.min(r.temperature.0);
+            ranges.temperature.1 = ranges.temperature.1.max(r.temperature.1);
+        }
+        if !ranges.temperature.0.is_finite() {
+            ranges.temperature = (0.0, 1.0);
+        }
+        Ok((bounds, ranges))
+    }
+}
+
+/// Bounds of `points` without the 0.2 % farthest on each side of each axis, grown by
+/// `radius`.
+pub fn trimmed_bounds(points: &[[f32; 3]], radius: f32) -> Bounds {
+    let finite: Vec<[f32; 3]> = points
+        .iter()
+        .copied()
+        .filter(|p| p.iter().all(|v| v.is_finite()))
+        .collect();
+    if finite.is_empty() {
+        return Bounds::EMPTY;
+    }
+    let cut = finite.len() / 500;
+    let mut b = Bounds::EMPTY;
+    for k in 0..3 {
+        let mut values: Vec<f32> = finite.iter().map(|p| p[k]).collect();
+        let hi = values.len() - 1 - cut;
+        let (_, &mut lo_v, _) = values.select_nth_unstable_by(cut, f32::total_cmp);
+        let (_, &mut hi_v, _) = values.select_nth_unstable_by(hi, f32::total_cmp);
+        b.min[k] = lo_v - radius;
+        b.max[k] = hi_v + radius;
+    }
+    b
+}
+
+/// The `temperature` vertex property of a particle PLY.
+fn temperature(bytes: &[u8], path: &Path) -> Result<Vec<f32>, RenderError> {
+    float_property(bytes, "temperature")
+        .map_err(|message| RenderError::Input {
+            path: path.to_path_buf(),
+            message,
+        })?
+        .ok_or_else(|| RenderError::Input {
+            path: path.to_path_buf(),
+            message: "the particles have no 'temperature' property (only scenes with heat \
+                      diffusion write it); use --color-by damage, fragment or plastic"
+                .into(),
+        })
+}
+
+/// The float vertex property `name` of a binary little-endian PLY, `None` if absent.
+fn float_property(bytes: &[u8], name: &str) -> Result<Option<Vec<f32>>, String> {
+    let end = b"end_header\n";
+    let header_len = bytes
+        .windows(end.len())
+        .position(|w| w == end)
+        .ok_or("not a PLY file: no end_header line")?
+        + end.len();
+    let header = std::str::from_utf8(&bytes[..header_len]).map_err(|_| "PLY header is not text")?;
+    let mut count = 0usize;
+    let mut props = Vec::new();
+    for line in header.lines() {
+        match line.split_whitespace().collect::<Vec<_>>().as_slice() {
+            ["element", "vertex", n] => {
+                count = n.parse().map_err(|_| format!("bad vertex count '{n}'"))?
+            }
+            ["property", "float", p] => props.push(p.to_string()),
+            _ => {}
+        }
+    }
+    let Some(column) = props.iter().position(|p| p == name) else {
+        return Ok(None);
+    };
+    let stride = props.len() * 4;
+    let body = &bytes[header_len..];
+    if body.len() < count * stride {
+        return Err(format!(
+            "PLY body is truncated: {} bytes for {count} vertices",
+            body.len()
+        ));
+    }
+    Ok(Some(
+        (0..count)
+            .map(|i| {
+                let o = i * stride + column * 4;
+                f32::from_le_bytes([body[o], body[o + 1], body[o + 2], body[o + 3]])
+            })
+            .collect(),
+    ))
+}
+
+/// Appends the triangle meshes of a .glb file: primitives of the material named
+/// "crack" are crack faces; with `ColorBy::Damage` a `_DAMAGE` vertex attribute colours
+/// the vertices. Points and lines (debris) are skipped.
+pub fn read_glb(path: &Path, color_by: ColorBy, g: &mut FrameGeometry) -> Result<(), RenderError> {
+    let bad = |message: String| RenderError::Input {
+        path: path.to_path_buf(),
+        message,
+    };
+    let bytes = std::fs::read(path).map_err(|e| RenderError::io(path, e))?;
+    let gltf =
+        gltf::Gltf::from_slice(&bytes).map_err(|e| bad(format!("not a glTF binary: {e}")))?;
+    let blob = gltf.blob.as_deref();
+    let buffer = |b: gltf::Buffer<'_>| match b.source() {
+        gltf::buffer::Source::Bin => blob,
+        gltf::buffer::Source::Uri(_) => None,
+    };
+    let damage_semantic = gltf::Semantic::Extras("DAMAGE".into());
+    for mesh in gltf.meshes() {
+        for primitive in mesh.primitives() {
+            if primitive.mode() != gltf::mesh::Mode::Triangles {
+                continue;
+            }
+            let reader = primitive.reader(buffer);
+            let Some(positions) = reader.read_positions() else {
+                return Err(bad(format!(
+                    "mesh '{}' has a primitive without positions (or external buffers)",
+                    mesh.name().unwrap_or("?")
+                )));
+            };
+            let positions: Vec<[f32; 3]> = positions.collect();
+            let normals: Option<Vec<[f32; 3]>> = reader.read_normals().map(|n| n.collect());
+            let indices: Vec<u32> = match reader.read_indices() {
+                Some(i) => i.into_u32().collect(),
+                None => (0..positions.len() as u32).collect(),
+            };
+            let crack = primitive.material().name() == Some("crack");
+            let shading = if crack {
+                Shading::Crack
+            } else {
+                Shading::Surface
+            };
+            let base = if crack {
+                geometry::crack_color()
+            } else {
+                geometry::surface_color()
+            };
+            let damage: Option<Vec<f32>> = (color_by == ColorBy::Damage)
+                .then(|| primitive.get(&damage_semantic))
+                .flatten()
+                .and_then(|a| gltf::accessor::Iter::<f32>::new(a, buffer))
+                .map(|it| it.collect());
+            let colors = |i: usize| match &damage {
+                Some(d) => geometry::damage_color(d.get(i).copied().unwrap_or(0.0)),
+                None => base,
+            };
+            g.push_mesh(&positions, normals.as_deref(), &colors, &indices, shading);
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn trimmed_bounds_ignore_a_few_outliers() {
+        let mut pts: Vec<[f32; 3]> = (0..1000).map(|i| [i as f32 / 1000.0, 0.0, 0.0]).collect();
+        pts.push([1e6, 0.0, 0.0]);
+        pts.push([f32::NAN, 0.0, 0.0]);
+        let b = trimmed_bounds(&pts, 0.0);
+        assert!(b.max[0] < 1.0 && b.min[0] >= 0.0, "{b:?}");
+    }
+
+    #[test]
+    fn missing_temperature_is_named() {
+        let f = ParticleFrame {
+            frame: 1,
+            position: vec![[0.0; 3]],
+            velocity: vec![[0.0; 3]],
+            damage: vec![0.0],
+            plastic: vec![0.0],
+            material: vec![0.0],
+            fragment: vec![0.0],
+            ..ParticleFrame::default()
+        };
+        let err = temperature(&f.to_bytes(), Path::new("p/0001.ply")).unwrap_err();
+        let text = err.to_string();
+        assert!(
+            text.contains("p/0001.ply") && text.contains("temperature"),
+            "{text}"
+        );
+        let mut bytes = b"ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\nproperty float temperature\nend_header\n".to_vec();
+        for v in [1.0f32, 300.0, 2.0, 350.0] {
+            bytes.extend_from_slice(&v.to_le_bytes());
+        }
+        assert_eq!(
+            float_property(&bytes, "temperature").unwrap(),
+            Some(vec![300.0, 350.0])
+        );
+    }
+}

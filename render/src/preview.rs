@@ -1,0 +1,233 @@
+//! Preview images of an output directory: `preview/NNNN.png` for every frame (one fixed
+//! camera framed on the bounds of all frames), `preview/turntable_NNN.png` (N views of
+//! one frame around the vertical axis) and `preview/contact_sheet.png`. Frames render
+//! in parallel, each worker thread with its own GL context reused for all its frames.
+
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
+
+use image::RgbImage;
+
+use crate::RenderError;
+use crate::cache::{Cache, ColorBy, Ranges};
+use crate::camera::{AZIMUTH, Bounds, Camera};
+use crate::gl::{Backend, PassTimes, Renderer, View};
+use crate::sheet;
+
+/// What to render.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PreviewOptions {
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// Colouring.
+    pub color_by: ColorBy,
+    /// Only this frame (else every frame).
+    pub frame: Option<usize>,
+    /// Turntable views (0: none) of `frame`, or of the last frame.
+    pub turntable: usize,
+    /// Worker threads (each with its own GL context).
+    pub workers: usize,
+}
+
+impl Default for PreviewOptions {
+    fn default() -> Self {
+        PreviewOptions {
+            width: 960,
+            height: 540,
+            color_by: ColorBy::Auto,
+            frame: None,
+            turntable: 0,
+            workers: 1,
+        }
+    }
+}
+
+/// What was rendered.
+#[derive(Debug, Clone, Default)]
+pub struct PreviewReport {
+    /// Files written.
+    pub files: Vec<PathBuf>,
+    /// Frame images rendered (turntable views included).
+    pub images: usize,
+    /// The GL backend used.
+    pub backend: Option<Backend>,
+    /// Sum of the pass timings over all images.
+    pub passes: PassTimes,
+    /// Seconds spent encoding and writing PNGs (in the workers).
+    pub encode: f64,
+    /// Wall-clock seconds of the whole preview.
+    pub seconds: f64,
+    /// Things the user should know (empty frames).
+    pub warnings: Vec<String>,
+}
+
+/// One image to make: which frame, from where, into which file.
+struct Job {
+    frame: usize,
+    camera: Camera,
+    path: PathBuf,
+    thumbnail: bool,
+}
+
+/// Renders the previews of the output directory `out`; `progress(done, total)` is
+/// called after each image.
+pub fn render_cache(
+    out: &Path,
+    options: &PreviewOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<PreviewReport, RenderError> {
+    let start = Instant::now();
+    let cache = Cache::open(out)?;
+    if let Some(k) = options.frame
+        && !cache.frames.contains(&k)
+    {
+        return Err(RenderError::Input {
+            path: out.to_path_buf(),
+            message: format!(
+                "frame {k} is not in the cache (frames {}–{})",
+                cache.frames[0],
+                cache.frames[cache.frames.len() - 1]
+            ),
+        });
+    }
+    let (bounds, ranges) = cache.sequence_bounds(options.color_by)?;
+    let aspect = options.width as f32 / options.height as f32;
+    let camera = Camera::framing(&bounds, aspect, AZIMUTH);
+    let dir = out.join("preview");
+    std::fs::create_dir_all(&dir).map_err(|e| RenderError::io(&dir, e))?;
+    let frames: Vec<usize> = match options.frame {
+        Some(k) => vec![k],
+        None => cache.frames.clone(),
+    };
+    let mut jobs: Vec<Job> = frames
+        .iter()
+        .map(|&frame| Job {
+            frame,
+            camera,
+            path: dir.join(format!("{frame:04}.png")),
+            thumbnail: options.frame.is_none(),
+        })
+        .collect();
+    let turntable_frame = options
+        .frame
+        .unwrap_or(cache.frames[cache.frames.len() - 1]);
+    for (i, camera) in Camera::turntable(&bounds, aspect, options.turntable)
+        .into_iter()
+        .enumerate()
+    {
+        jobs.push(Job {
+            frame: turntable_frame,
+            camera,
+            path: dir.join(format!("turntable_{:03}.png", i + 1)),
+            thumbnail: false,
+        });
+    }
+    let ground = cache.ground().unwrap_or(if bounds.is_empty() {
+        0.0
+    } else {
+        bounds.min[1]
+    });
+    let mut report = run_jobs(&cache, &jobs, options, &ranges, &bounds, ground, progress)?;
+    if options.frame.is_none() && report.thumbnails.len() > 1 {
+        report.thumbnails.sort_by_key(|(frame, _)| *frame);
+        let path = dir.join("contact_sheet.png");
+        sheet::write_png(&path, &sheet::contact_sheet(&report.thumbnails))?;
+        report.preview.files.push(path);
+    }
+    report.preview.seconds = start.elapsed().as_secs_f64();
+    Ok(report.preview)
+}
+
+struct Collected {
+    preview: PreviewReport,
+    thumbnails: Vec<(usize, RgbImage)>,
+}
+
+fn run_jobs(
+    cache: &Cache,
+    jobs: &[Job],
+    options: &PreviewOptions,
+    ranges: &Ranges,
+    bounds: &Bounds,
+    ground: f32,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Collected, RenderError> {
+    let next = AtomicUsize::new(0);
+    let done = AtomicUsize::new(0);
+    let collected = Mutex::new(Collected {
+        preview: PreviewReport::default(),
+        thumbnails: Vec::new(),
+    });
+    let workers = options.workers.clamp(1, jobs.len().max(1));
+    let thumb_width = (options.width / 4).clamp(1, 320);
+    let thumb_height = (options.height * thumb_width / options.width).max(1);
+    let worker = || -> Result<(), RenderError> {
+        let mut renderer = Renderer::new(options.width, options.height)?;
+        loop {
+            let i = next.fetch_add(1, Ordering::Relaxed);
+            let Some(job) = jobs.get(i) else {
+                return Ok(());
+            };
+            let geometry = cache.geometry(job.frame, options.color_by, ranges)?;
+            let view = View {
+                camera: job.camera,
+                bounds: *bounds,
+                ground,
+                key_strength: 1.0,
+            };
+            let rendered = renderer.render(&geometry, &view)?;
+            let t = Instant::now();
+            sheet::write_png(&job.path, &rendered.image)?;
+            let encode = t.elapsed().as_secs_f64();
+            let thumbnail = job
+                .thumbnail
+                .then(|| image::imageops::thumbnail(&rendered.image, thumb_width, thumb_height));
+            {
+                let mut c = collected.lock().unwrap_or_else(|e| e.into_inner());
+                let p = &mut c.preview;
+                p.backend = Some(renderer.backend());
+                p.images += 1;
+                p.encode += encode;
+                let t = rendered.times;
+                p.passes.upload += t.upload;
+                p.passes.shadow += t.shadow;
+                p.passes.main += t.main;
+                p.passes.readback += t.readback;
+                p.files.push(job.path.clone());
+                if rendered.in_view == 0 {
+                    p.warnings.push(format!(
+                        "{}: frame {} has nothing in view (everything fell out of the camera's view, or the frame is empty); rendered the ground only",
+                        job.path.display(),
+                        job.frame
+                    ));
+                }
+                if let Some(thumb) = thumbnail {
+                    c.thumbnails.push((job.frame, thumb));
+                }
+            }
+            progress(done.fetch_add(1, Ordering::Relaxed) + 1, jobs.len());
+        }
+    };
+    let results: Vec<Result<(), RenderError>> = std::thread::scope(|s| {
+        let handles: Vec<_> = (0..workers).map(|_| s.spawn(worker)).collect();
+        handles
+            .into_iter()
+            .map(|h| {
+                h.join().unwrap_or_else(|_| {
+                    Err(RenderError::Gl("a preview worker thread panicked".into()))
+                })
+            })
+            .collect()
+    });
+    for r in results {
+        r?;
+    }
+    let mut c = collected.into_inner().unwrap_or_else(|e| e.into_inner());
+    c.preview.files.sort();
+    c.preview.warnings.sort();
+    Ok(c)
+}
