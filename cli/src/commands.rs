@@ -104,6 +104,18 @@ pub fn demo(out: &Path, threads: Option<usize>, quiet: bool) -> Result<(), Failu
         out.join("particles").display()
     );
     println!(
+        "  split tet meshes (VTU):         {}",
+        out.join("tets").display()
+    );
+    println!(
+        "  crack surfaces (glTF, a frame): {}",
+        out.join("surface").display()
+    );
+    println!(
+        "  animated crack surfaces (glTF): {}",
+        out.join("surface").join("animated.glb").display()
+    );
+    println!(
         "  manifest:                       {}",
         out.join("manifest.json").display()
     );

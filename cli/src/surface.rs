@@ -150,13 +150,15 @@ pub fn embedded_stage(out: &Path, spec: &EmbeddedSpec, quiet: bool) -> Result<()
         eprintln!(
             "surfaced {frames} frames (embedded) in {:.1} s, extraction {:.2} s a frame: last frame \
              {} triangles ({} crack), at most {} crack vertices smoothed, {} moves backed off, \
-             fragment volume kept within {:.1e}; output in {}",
+             {} vertices of fragments whose volume could not be kept put back, fragment volume \
+             kept within {:.1e}; output in {}",
             start.elapsed().as_secs_f64(),
             extraction / frames as f64,
             final_surface.triangles.len(),
             final_surface.crack.iter().filter(|&&c| c).count(),
             s.crack_vertices,
             s.backed_off,
+            s.reverted,
             s.volume_error,
             dir.display()
         );
@@ -178,6 +180,7 @@ fn normals_at(mesh: &RenderMesh, positions: &[[f64; 3]]) -> Vec<[f32; 3]> {
 struct EmbeddedSurfaceSummary {
     crack_vertices: usize,
     backed_off: usize,
+    reverted: usize,
     volume_error: f64,
 }
 
@@ -186,6 +189,7 @@ impl EmbeddedSurfaceSummary {
         EmbeddedSurfaceSummary {
             crack_vertices: s.stats.crack_vertices,
             backed_off: s.stats.backed_off,
+            reverted: s.stats.reverted,
             volume_error: s.stats.volume_error,
         }
     }
@@ -194,6 +198,7 @@ impl EmbeddedSurfaceSummary {
         EmbeddedSurfaceSummary {
             crack_vertices: self.crack_vertices.max(o.crack_vertices),
             backed_off: self.backed_off + o.backed_off,
+            reverted: self.reverted + o.reverted,
             volume_error: self.volume_error.max(o.volume_error),
         }
     }

@@ -719,4 +719,57 @@ mod tests {
         let report = validate(&empty);
         assert_eq!(report["numErrors"], 0, "{report:#}");
     }
+
+    fn crack_tet<'a>(
+        p: &'a [[f32; 3]],
+        n: &'a [[f32; 3]],
+        d: &'a [f32],
+        i: &'a [u32],
+    ) -> CrackSurface<'a> {
+        CrackSurface {
+            name: "tet",
+            positions: p,
+            normals: n,
+            damage: d,
+            surface_indices: &i[..9],
+            crack_indices: &i[9..],
+        }
+    }
+
+    #[test]
+    fn animated_crack_surface_passes_the_validator() {
+        let dir = tempfile::tempdir().unwrap();
+        let (p, n, i) = tetrahedron();
+        let d = [0.0, 0.5, 1.0, 0.25];
+        let s = crack_tet(&p, &n, &d, &i);
+        let frames: Vec<Vec<[f32; 3]>> = (0..3)
+            .map(|k| p.iter().map(|q| [q[0] + k as f32, q[1], q[2]]).collect())
+            .collect();
+        let file = dir.path().join("animated.glb");
+        std::fs::write(&file, animated_glb(&s, &[0.0, 0.1, 0.2], &frames).unwrap()).unwrap();
+        let report = validate(&file);
+        assert_eq!(report["numErrors"], 0, "{report:#}");
+        let file = dir.path().join("frame.glb");
+        std::fs::write(&file, crack_glb(&s).unwrap()).unwrap();
+        let report = validate(&file);
+        assert_eq!(report["numErrors"], 0, "{report:#}");
+    }
+
+    #[test]
+    fn bad_animations_are_errors() {
+        let (p, n, i) = tetrahedron();
+        let d = [0.0; 4];
+        let s = crack_tet(&p, &n, &d, &i);
+        let frames = vec![p.clone(), p[..3].to_vec()];
+        let err = animated_glb(&s, &[0.0, 0.1], &frames).unwrap_err();
+        assert!(err.to_string().contains("frame 2 has 3 positions"), "{err}");
+        let err = animated_glb(&s, &[0.1, 0.1], &[p.clone(), p.clone()]).unwrap_err();
+        assert!(err.to_string().contains("increasing"), "{err}");
+        let err = crack_glb(&CrackSurface {
+            damage: &d[..2],
+            ..s
+        })
+        .unwrap_err();
+        assert!(err.to_string().contains("damage values"), "{err}");
+    }
 }

@@ -60,6 +60,11 @@ impl Constraint {
         }
     }
 }
+/// Fragments with fewer tets are not smoothed.
+pub const MIN_FRAGMENT_TETS: usize = 8;
+/// Largest relative volume change of a smoothed fragment; a fragment beyond it is
+/// put back unsmoothed.
+pub const MAX_VOLUME_CHANGE: f64 = 1e-3;
 /// Fraction of its volume below which a tet counts as (nearly) inverted.
 /// (10% stopped rim vertices short of the plane of a flat cut; 2% lets them reach it.)
 const MIN_VOLUME_FRACTION: f64 = 0.02;
@@ -90,6 +95,9 @@ pub struct SmoothingStats {
     pub backed_off: usize,
     /// Largest relative volume change of a fragment after the volume correction.
     pub volume_error: f64,
+    /// Vertices put back unsmoothed because their fragment's volume could not be
+    /// restored within [`MAX_VOLUME_CHANGE`].
+    pub reverted: usize,
 }
 
 /// Vertices of one class (original or crack) with their own normals, ready for
@@ -314,8 +322,23 @@ pub fn surface(frame: &TetFrame, passes: usize) -> EmbeddedSurface {
             }
         })
         .collect();
+    // Fragments of few tets (debris) have no zig-zag at the scale of their size:
+    // their vertices stay put.
+    let mut fragment_tets =
+        vec![0usize; fragment.iter().map(|&f| f as usize + 1).max().unwrap_or(0)];
+    for &f in &fragment {
+        fragment_tets[f as usize] += 1;
+    }
+    let mut in_small = vec![false; nv];
+    for (t, &f) in frame.tets.iter().zip(&fragment) {
+        if fragment_tets[f as usize] < MIN_FRAGMENT_TETS {
+            for &v in t {
+                in_small[v as usize] = true;
+            }
+        }
+    }
     let movable: Vec<u32> = (0..nv as u32)
-        .filter(|&v| constraint[v as usize].is_some())
+        .filter(|&v| constraint[v as usize].is_some() && !in_small[v as usize])
         .collect();
     let mut stats = SmoothingStats {
         crack_vertices: movable.len(),
@@ -439,6 +462,18 @@ pub fn surface(frame: &TetFrame, passes: usize) -> EmbeddedSurface {
             .collect();
         stats.backed_off +=
             guarded_move(&mut points, &movable, moves, frame, &guarded, &rest, &slot);
+    }
+    // A fragment whose volume could not be restored (the guard held its vertices)
+    // is left unsmoothed.
+    let after = fragment_volume(&points);
+    let failed: Vec<bool> = (0..before.len())
+        .map(|k| whole[k] > 0.0 && ((after[k] - before[k]) / whole[k]).abs() > MAX_VOLUME_CHANGE)
+        .collect();
+    for (i, &v) in movable.iter().enumerate() {
+        if failed[frag_of[i]] {
+            points[v as usize] = frame.points[v as usize];
+            stats.reverted += 1;
+        }
     }
     let after = fragment_volume(&points);
     stats.volume_error = (0..before.len())
