@@ -116,7 +116,7 @@ pub struct Frequency {
 
 /// Runs a cantilever-release scene (`assets/scenes/cantilever-release.toml`: the first
 /// body a box along x clamped at its left end, bent along y by an anchor released at
-/// its `until`, no gravity) with its own model and measures the first bending
+/// its `until`; gravity only moves the centre of the oscillation) with its own model and measures the first bending
 /// frequency from the tip's vertical motion after the last release.
 pub fn first_bending_frequency(scene: &Scene) -> Result<Frequency> {
     let invalid = |message: &str| {
