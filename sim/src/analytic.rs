@@ -116,8 +116,9 @@ pub struct Frequency {
 
 /// Runs a cantilever-release scene (`assets/scenes/cantilever-release.toml`: the first
 /// body a box along x clamped at its left end, bent along y by an anchor released at
-/// its `until`; gravity only moves the centre of the oscillation) with its own model and measures the first bending
-/// frequency from the tip's vertical motion after the last release.
+/// its `until`; gravity only moves the centre of the oscillation) with its own model
+/// and measures the first bending frequency from the tip's vertical motion after the
+/// last release.
 pub fn first_bending_frequency(scene: &Scene) -> Result<Frequency> {
     let invalid = |message: &str| {
         SimError::Refused(format!(
