@@ -53,6 +53,84 @@ pub const FULL: Sweep = Sweep {
     duration: 0.25,
 };
 
+/// The analytic figures (issue 6): the first bending frequency of
+/// `cantilever-release.toml` against Euler–Bernoulli, and the Poisson ratio measured
+/// on the beam-stretch scenes (λ × 2, the first 0.1 s) against the material's;
+/// each for peridynamics (the scene's δ/λ), corotated and linear FEM. Returns the
+/// "Analytic figures" section of `accuracy.md`.
+pub fn analytic(dir: &Path, quiet: bool) -> Result<String, Failure> {
+    let methods = [
+        (ModelKind::Peridynamics, "PD"),
+        (ModelKind::FemCorotated, "FEM corotated"),
+        (ModelKind::FemLinear, "FEM linear"),
+    ];
+    let with_model = |base: &Scene, model: ModelKind| {
+        let mut s = base.clone();
+        for b in &mut s.bodies {
+            b.model = model;
+        }
+        s
+    };
+    let mut out = String::from(
+        "## Analytic figures\n\n\
+         First bending frequency of `cantilever-release.toml` (L = 1 m, h = 0.1 m, \
+         λ = 0.025 m; the tip's crossings after the release, smoothed over the second \
+         mode's period) against Euler–Bernoulli f₁ = (1.8751²/2π) √(E I / (ρ A L⁴)):\n\n\
+         | method | f₁ measured (Hz) | Euler–Bernoulli (Hz) | difference | wall (s) |\n\
+         |---|---:|---:|---:|---:|\n",
+    );
+    let base = Scene::load(&dir.join("cantilever-release.toml"))?;
+    for (model, label) in methods {
+        let f = perifrac_sim::analytic::first_bending_frequency(&with_model(&base, model))?;
+        let (measured, diff) = match f.measured {
+            Some(m) => (
+                format!("{m:.3}"),
+                format!("{:+.2}%", 100.0 * (m / f.euler_bernoulli - 1.0)),
+            ),
+            None => ("less than a period".into(), "–".into()),
+        };
+        let line = format!(
+            "| {label} | {measured} | {:.3} | {diff} | {:.1} |",
+            f.euler_bernoulli, f.wall
+        );
+        if !quiet {
+            eprintln!("cantilever-release {line}");
+        }
+        let _ = writeln!(out, "{line}");
+    }
+    out.push_str(
+        "\nPoisson ratio ν = −ε_lateral/ε_axial in the middle fifth of the beam-stretch \
+         scenes (least-squares strains of the particles there, last frame of the first \
+         0.1 s, λ × 2; gravity on, as in the scenes) against the material's:\n\n\
+         | scene | material ν | PD | FEM corotated | FEM linear |\n|---|---:|---:|---:|---:|\n",
+    );
+    for name in [
+        "beam-stretch-nu-0.30",
+        "beam-stretch-nu-0.45",
+        "beam-stretch-nu-0.46",
+    ] {
+        let mut base = Scene::load(&dir.join(format!("{name}.toml")))?;
+        base.scene.duration = base.scene.duration.min(0.1);
+        for b in &mut base.bodies {
+            b.resolution *= 2.0;
+        }
+        let material =
+            perifrac_sim::material::Material::from_spec(&base.materials[&base.bodies[0].material]);
+        let mut line = format!("| {name} | {:.3} |", material.poisson_ratio());
+        for (model, _) in methods {
+            let rec = record(&with_model(&base, model), base.frame_count())?;
+            let last = rec.particles.frames.len() - 1;
+            let nu = perifrac_sim::analytic::lateral_contraction(&rec.particles, last, 0);
+            let _ = write!(line, " {nu:.3} |");
+        }
+        if !quiet {
+            eprintln!("{line}");
+        }
+        let _ = writeln!(out, "{line}");
+    }
+    Ok(out)
+}
+
 /// One run of the sweep.
 #[derive(Debug, Clone)]
 pub struct Point {

@@ -62,7 +62,10 @@ fn accuracy(quick: bool, scenes: &Path, out: &Path, quiet: bool) -> Result<(), F
         &crate::accuracy::FULL
     };
     let (points, same_tets) = crate::accuracy::sweep(sweep, scenes, quiet)?;
-    let report = crate::accuracy::report(&points, &same_tets, sweep, rayon::current_num_threads());
+    let mut report =
+        crate::accuracy::report(&points, &same_tets, sweep, rayon::current_num_threads());
+    report.push('\n');
+    report.push_str(&crate::accuracy::analytic(scenes, quiet)?);
     std::fs::create_dir_all(out)
         .map_err(|e| Failure::from(anyhow::anyhow!("{}: {e}", out.display())))?;
     let path = out.join("accuracy.md");

@@ -8,6 +8,7 @@
 #![warn(missing_docs)]
 
 pub mod accuracy;
+pub mod analytic;
 pub mod cache;
 pub mod contact;
 pub mod embed;
