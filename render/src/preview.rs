@@ -169,23 +169,27 @@ fn run_jobs(
     let workers = options.workers.clamp(1, jobs.len().max(1));
     let thumb_width = (options.width / 4).clamp(1, 320);
     let thumb_height = (options.height * thumb_width / options.width).max(1);
-    let worker = || -> Result<(), RenderError> {
-        let mut renderer = Renderer::new(options.width, options.height)?;
+    // A failing worker returns the index of the job that failed, so that the error
+    // reported is the first failing job in order, whichever thread met it first.
+    let worker = || -> Result<(), (usize, RenderError)> {
+        let mut renderer = Renderer::new(options.width, options.height).map_err(|e| (0, e))?;
         loop {
             let i = next.fetch_add(1, Ordering::Relaxed);
             let Some(job) = jobs.get(i) else {
                 return Ok(());
             };
-            let geometry = cache.geometry(job.frame, options.color_by, ranges)?;
+            let geometry = cache
+                .geometry(job.frame, options.color_by, ranges)
+                .map_err(|e| (i, e))?;
             let view = View {
                 camera: job.camera,
                 bounds: *bounds,
                 ground,
                 key_strength: 1.0,
             };
-            let rendered = renderer.render(&geometry, &view)?;
+            let rendered = renderer.render(&geometry, &view).map_err(|e| (i, e))?;
             let t = Instant::now();
-            sheet::write_png(&job.path, &rendered.image)?;
+            sheet::write_png(&job.path, &rendered.image).map_err(|e| (i, e))?;
             let encode = t.elapsed().as_secs_f64();
             let thumbnail = job
                 .thumbnail
@@ -216,19 +220,26 @@ fn run_jobs(
             progress(done.fetch_add(1, Ordering::Relaxed) + 1, jobs.len());
         }
     };
-    let results: Vec<Result<(), RenderError>> = std::thread::scope(|s| {
+    let results: Vec<Result<(), (usize, RenderError)>> = std::thread::scope(|s| {
         let handles: Vec<_> = (0..workers).map(|_| s.spawn(worker)).collect();
         handles
             .into_iter()
             .map(|h| {
                 h.join().unwrap_or_else(|_| {
-                    Err(RenderError::Gl("a preview worker thread panicked".into()))
+                    Err((
+                        0,
+                        RenderError::Gl("a preview worker thread panicked".into()),
+                    ))
                 })
             })
             .collect()
     });
-    for r in results {
-        r?;
+    if let Some((_, e)) = results
+        .into_iter()
+        .filter_map(Result::err)
+        .min_by_key(|(i, _)| *i)
+    {
+        return Err(e);
     }
     let mut c = collected.into_inner().unwrap_or_else(|e| e.into_inner());
     c.preview.files.sort();
