@@ -246,7 +246,9 @@ impl Cache {
     /// each axis, so a few far-flung fragments do not shrink the subject), colliders
     /// included, and the sequence's value ranges for `color_by`.
     pub fn sequence_bounds(&self, color_by: ColorBy) -> Result<(Bounds, Ranges), RenderError> {
-        let per_frame: Vec<(Bounds, Ranges)> = self
+        // Every frame's result is kept and the first error in frame order reported, so
+        // the message does not depend on which thread failed first.
+        let per_frame: Vec<Result<(Bounds, Ranges), RenderError>> = self
             .frames
             .par_iter()
             .map(|&frame| -> Result<(Bounds, Ranges), RenderError> {
@@ -288,7 +290,8 @@ impl Cache {
                 }
                 Ok((bounds, ranges))
             })
-            .collect::<Result<_, _>>()?;
+            .collect();
+        let per_frame: Vec<(Bounds, Ranges)> = per_frame.into_iter().collect::<Result<_, _>>()?;
         let mut bounds = Bounds::EMPTY;
         let mut ranges = Ranges {
             plastic_max: 0.0,
