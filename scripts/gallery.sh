@@ -20,6 +20,7 @@ plastic-wall 16 16 35
 glass-wall 12 12 35
 thin-sheet-tear 8 9 35
 bar-twist 8 9 35
+figure-stretch 23 24 35
 LIST
 # The same demo cache surfaced by the OpenVDB method instead (a copy, so the embedded
 # crack surfaces stay as they are).
