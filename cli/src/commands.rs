@@ -252,24 +252,38 @@ pub fn check(path: &Path) -> Result<(), Failure> {
         estimate.bytes_per_bond
     );
     let mut prepared = run::prepare_discretized(&scene, disc)?;
-    let steps_total = prepared.steps_per_frame * scene.frame_count();
+    let (stable, dt) = (prepared.stable_dt, prepared.sim.dt);
+    print_cost(&scene, stable, dt, prepared.steps_per_frame, || {
+        prepared.sim.step()
+    })
+}
+
+/// The stable step, the step count and the run time estimated from three timed steps.
+fn print_cost(
+    scene: &Scene,
+    stable_dt: (f64, usize),
+    dt: f64,
+    steps_per_frame: usize,
+    mut step: impl FnMut() -> perifrac_sim::error::Result<usize>,
+) -> Result<(), Failure> {
+    let steps_total = steps_per_frame * scene.frame_count();
     let t = Instant::now();
     let probe = 3;
     for _ in 0..probe {
-        prepared.sim.step().map_err(Failure::from)?;
+        step().map_err(Failure::from)?;
     }
     let per_step = t.elapsed().as_secs_f64() / probe as f64;
     println!(
         "  stable dt: {:.3e} s (limited at particle {}); dt used: {:.3e} s",
-        prepared.stable_dt.0, prepared.stable_dt.1, prepared.sim.dt
+        stable_dt.0, stable_dt.1, dt
     );
     println!(
         "  steps:     {} frames × {} = {steps_total}",
         scene.frame_count(),
-        prepared.steps_per_frame
+        steps_per_frame
     );
     println!(
-        "  estimate:  {:.3} s a step, {:.0} s for the run on {} threads",
+        "  estimate:  {:.4} s a step, {:.0} s for the run on {} threads",
         per_step,
         per_step * steps_total as f64,
         rayon::current_num_threads()
@@ -288,27 +302,8 @@ fn check_fem(
         disc.position.len()
     );
     let mut prepared = run::prepare_fem_discretized(scene, disc)?;
-    let steps_total = prepared.steps_per_frame * scene.frame_count();
-    let t = Instant::now();
-    let probe = 3;
-    for _ in 0..probe {
-        prepared.sim.step().map_err(Failure::from)?;
-    }
-    let per_step = t.elapsed().as_secs_f64() / probe as f64;
-    println!(
-        "  stable dt: {:.3e} s (limited at particle {}); dt used: {:.3e} s",
-        prepared.stable_dt.0, prepared.stable_dt.1, prepared.sim.dt
-    );
-    println!(
-        "  steps:     {} frames × {} = {steps_total}",
-        scene.frame_count(),
-        prepared.steps_per_frame
-    );
-    println!(
-        "  estimate:  {:.4} s a step, {:.0} s for the run on {} threads",
-        per_step,
-        per_step * steps_total as f64,
-        rayon::current_num_threads()
-    );
-    Ok(())
+    let (stable, dt) = (prepared.stable_dt, prepared.sim.dt);
+    print_cost(scene, stable, dt, prepared.steps_per_frame, || {
+        prepared.sim.step()
+    })
 }

@@ -288,6 +288,78 @@ fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
+/// Holds the anchored particles (or mesh vertices) at their prescribed motion at time
+/// `t` and marks them in `anchored`; shared by the peridynamic and FEM simulations.
+pub fn apply_anchors(
+    anchors: &[Anchor],
+    t: f64,
+    rest: &[[f64; 3]],
+    position: &mut [[f64; 3]],
+    velocity: &mut [[f64; 3]],
+    anchored: &mut [bool],
+) {
+    anchored.iter_mut().for_each(|a| *a = false);
+    for anchor in anchors {
+        if t > anchor.until {
+            continue;
+        }
+        for &p in &anchor.particles {
+            let p = p as usize;
+            let (y, v) = anchor.motion(rest[p], t);
+            position[p] = y;
+            velocity[p] = v;
+            anchored[p] = true;
+        }
+    }
+}
+
+/// The power the anchors put in, |m a · v| summed over the anchored points (an upper
+/// bound on the work of the held points, for the blow-up detector's energy budget).
+pub fn anchor_power(
+    anchored: &[bool],
+    mass: &[f64],
+    acceleration: &[[f64; 3]],
+    velocity: &[[f64; 3]],
+) -> f64 {
+    (0..anchored.len())
+        .filter(|&i| anchored[i])
+        .map(|i| (mass[i] * dot(acceleration[i], velocity[i])).abs())
+        .sum()
+}
+
+/// The energy a scene can supply over `duration`: the bodies' initial kinetic and
+/// strain energy `initial`, free fall, the colliders' kinetic energy, and the bodies
+/// moved at twice the fastest kinematic collider or anchor. The blow-up detector
+/// stops a run whose kinetic energy grows past a multiple of it.
+pub fn energy_budget(
+    initial: f64,
+    rest: &[[f64; 3]],
+    mass: &[f64],
+    gravity: [f64; 3],
+    duration: f64,
+    colliders: &[Collider],
+    anchors: &[Anchor],
+) -> f64 {
+    let norm = |v: [f64; 3]| dot(v, v).sqrt();
+    let total_mass: f64 = mass.iter().sum();
+    let extent = rest.iter().fold(0.0f64, |m, x| m.max(norm(*x)));
+    let mut fastest = 0.0f64;
+    for c in colliders {
+        if c.mass.is_none() {
+            fastest = fastest.max(norm(c.velocity));
+        }
+    }
+    for a in anchors {
+        fastest =
+            fastest.max(norm(a.velocity) + norm(a.angular_velocity) * (extent + norm(a.center)));
+    }
+    initial
+        + 0.5 * total_mass * (norm(gravity) * duration).powi(2)
+        + colliders.iter().map(Collider::kinetic_energy).sum::<f64>()
+        + 0.5 * total_mass * (2.0 * fastest).powi(2)
+        + 1e-12
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

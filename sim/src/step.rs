@@ -105,35 +105,15 @@ impl Simulation {
     /// now, free fall, dynamic colliders' kinetic energy, and what kinematic colliders
     /// and anchors can impart (twice their speed to every particle).
     fn initial_energy_budget(&self, duration: f64) -> f64 {
-        let gravity = self.gravity;
-        let total_mass: f64 = self.mass.iter().sum();
-        let g = (gravity[0].powi(2) + gravity[1].powi(2) + gravity[2].powi(2)).sqrt();
-        let extent = self
-            .model
-            .reference
-            .position
-            .iter()
-            .fold(0.0f64, |m, x| m.max(norm(*x)));
-        let mut fastest = 0.0f64;
-        for c in &self.colliders {
-            if c.mass.is_none() {
-                fastest = fastest.max(norm(c.velocity));
-            }
-        }
-        for a in &self.anchors {
-            fastest = fastest
-                .max(norm(a.velocity) + norm(a.angular_velocity) * (extent + norm(a.center)));
-        }
-        self.model.kinetic_energy()
-            + self.model.strain_energy()
-            + 0.5 * total_mass * (g * duration).powi(2)
-            + self
-                .colliders
-                .iter()
-                .map(Collider::kinetic_energy)
-                .sum::<f64>()
-            + 0.5 * total_mass * (2.0 * fastest).powi(2)
-            + 1e-12
+        contact::energy_budget(
+            self.model.kinetic_energy() + self.model.strain_energy(),
+            &self.model.reference.position,
+            &self.mass,
+            self.gravity,
+            duration,
+            &self.colliders,
+            &self.anchors,
+        )
     }
 
     /// Verlet's acceleration at the current positions (saved in checkpoints: after a
@@ -176,32 +156,25 @@ impl Simulation {
         if self.anchors.is_empty() {
             return;
         }
-        let v = &self.model.particles.velocity;
-        let power: f64 = (0..self.anchored.len())
-            .filter(|&i| self.anchored[i])
-            .map(|i| {
-                let a = self.acceleration[i];
-                (self.mass[i] * (a[0] * v[i][0] + a[1] * v[i][1] + a[2] * v[i][2])).abs()
-            })
-            .sum();
+        let power = contact::anchor_power(
+            &self.anchored,
+            &self.mass,
+            &self.acceleration,
+            &self.model.particles.velocity,
+        );
         self.anchor_work += power * self.dt;
     }
 
     fn apply_anchors(&mut self) {
-        let t = self.time;
-        self.anchored.iter_mut().for_each(|a| *a = false);
-        for anchor in &self.anchors {
-            if t > anchor.until {
-                continue;
-            }
-            for &p in &anchor.particles {
-                let p = p as usize;
-                let (y, v) = anchor.motion(self.model.reference.position[p], t);
-                self.model.particles.position[p] = y;
-                self.model.particles.velocity[p] = v;
-                self.anchored[p] = true;
-            }
-        }
+        let p = &mut self.model.particles;
+        contact::apply_anchors(
+            &self.anchors,
+            self.time,
+            &self.model.reference.position,
+            &mut p.position,
+            &mut p.velocity,
+            &mut self.anchored,
+        );
     }
 
     /// One step of velocity Verlet; returns the number of bonds broken.

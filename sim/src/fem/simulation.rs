@@ -96,36 +96,15 @@ impl FemSimulation {
     /// kinetic and strain energy now, free fall, dynamic colliders' kinetic energy,
     /// and what kinematic colliders and anchors can impart.
     fn initial_energy_budget(&self, duration: f64) -> f64 {
-        let total_mass: f64 = self.model.mass.iter().sum();
-        let g = dot3(self.gravity, self.gravity).sqrt();
-        let extent = self
-            .model
-            .rest
-            .iter()
-            .fold(0.0f64, |m, x| m.max(dot3(*x, *x).sqrt()));
-        let mut fastest = 0.0f64;
-        for c in &self.colliders {
-            if c.mass.is_none() {
-                fastest = fastest.max(dot3(c.velocity, c.velocity).sqrt());
-            }
-        }
-        for a in &self.anchors {
-            fastest = fastest.max(
-                dot3(a.velocity, a.velocity).sqrt()
-                    + dot3(a.angular_velocity, a.angular_velocity).sqrt()
-                        * (extent + dot3(a.center, a.center).sqrt()),
-            );
-        }
-        self.model.kinetic_energy()
-            + self.model.strain_energy()
-            + 0.5 * total_mass * (g * duration).powi(2)
-            + self
-                .colliders
-                .iter()
-                .map(Collider::kinetic_energy)
-                .sum::<f64>()
-            + 0.5 * total_mass * (2.0 * fastest).powi(2)
-            + 1e-12
+        contact::energy_budget(
+            self.model.kinetic_energy() + self.model.strain_energy(),
+            &self.model.rest,
+            &self.model.mass,
+            self.gravity,
+            duration,
+            &self.colliders,
+            &self.anchors,
+        )
     }
 
     fn update_acceleration(&mut self) {
@@ -143,31 +122,27 @@ impl FemSimulation {
     }
 
     fn apply_anchors(&mut self) {
-        let t = self.time;
-        self.anchored.iter_mut().for_each(|a| *a = false);
-        for anchor in &self.anchors {
-            if t > anchor.until {
-                continue;
-            }
-            for &p in &anchor.particles {
-                let p = p as usize;
-                let (y, v) = anchor.motion(self.model.rest[p], t);
-                self.model.position[p] = y;
-                self.model.velocity[p] = v;
-                self.anchored[p] = true;
-            }
-        }
+        let m = &mut self.model;
+        contact::apply_anchors(
+            &self.anchors,
+            self.time,
+            &m.rest,
+            &mut m.position,
+            &mut m.velocity,
+            &mut self.anchored,
+        );
     }
 
     fn account_anchor_work(&mut self) {
         if self.anchors.is_empty() {
             return;
         }
-        let v = &self.model.velocity;
-        let power: f64 = (0..self.anchored.len())
-            .filter(|&i| self.anchored[i])
-            .map(|i| (self.model.mass[i] * dot3(self.acceleration[i], v[i])).abs())
-            .sum();
+        let power = contact::anchor_power(
+            &self.anchored,
+            &self.model.mass,
+            &self.acceleration,
+            &self.model.velocity,
+        );
         self.anchor_work += power * self.dt;
     }
 
