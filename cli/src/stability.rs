@@ -137,7 +137,7 @@ pub fn stability(out: &Path, quiet: bool) -> Result<(), Failure> {
         let stable = if model == "peridynamics" {
             run::prepare(&probe)?.stable_dt.0
         } else {
-            run::prepare_fem(&probe)?.stable_dt.0
+            run::prepare(&probe)?.stable_dt.0
         };
         for factor in [0.9, 2.0] {
             let name = format!("{label}, dt = {factor}× the stable bound {stable:.2e} s");

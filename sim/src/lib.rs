@@ -17,9 +17,11 @@ pub mod family;
 pub mod fem;
 pub mod geometry;
 pub mod material;
+pub mod memory;
+pub mod model;
 pub mod pd;
 pub mod run;
 pub mod scene;
-pub mod step;
+pub mod world;
 
 pub use error::SimError;
