@@ -124,8 +124,7 @@ fn energy_and_momentum_are_conserved() {
     };
     let p0 = momentum(&p);
     let drift_energy = 0.5 * m0 * drift.iter().map(|d| d * d).sum::<f64>();
-    let energy =
-        |p: &Prepared| pd(&p).kinetic_energy() + pd(&p).strain_energy() - drift_energy;
+    let energy = |p: &Prepared| pd(&p).kinetic_energy() + pd(&p).strain_energy() - drift_energy;
     let period = 2.0 * size / (1.0e6f64 / 1000.0).sqrt();
     let mut samples = Vec::new();
     while p.world.time < 10.0 * period {
@@ -217,7 +216,8 @@ fn notched_bar(speed: f64, hold_after: f64) -> Prepared {
          velocity = [{speed}, 0, 0]\nuntil = {hold_after}\n",
         -speed
     ));
-    p.world.set_velocity(|x| [speed * x[0] / 0.15, 0.0, 0.0], 1.0);
+    p.world
+        .set_velocity(|x| [speed * x[0] / 0.15, 0.0, 0.0], 1.0);
     p
 }
 

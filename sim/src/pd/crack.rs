@@ -12,12 +12,11 @@ use crate::scene::Scene;
 pub fn cut_initial_cracks(model: &mut PdModel, scene: &Scene) -> Result<()> {
     for (b, spec) in scene.bodies.iter().enumerate() {
         for (k, crack) in spec.cracks.iter().enumerate() {
-            let region = to_sdf(&crack.region, &scene.base_dir).map_err(|message| {
-                SimError::Mesh {
+            let region =
+                to_sdf(&crack.region, &scene.base_dir).map_err(|message| SimError::Mesh {
                     body: spec.name.clone(),
                     message: format!("crack {} region: {message}", k + 1),
-                }
-            })?;
+                })?;
             let (p, n) = (crack.point, crack.normal);
             let side =
                 |x: [f64; 3]| (x[0] - p[0]) * n[0] + (x[1] - p[1]) * n[1] + (x[2] - p[2]) * n[2];

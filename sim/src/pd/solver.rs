@@ -193,8 +193,8 @@ impl Model for Peridynamics {
         let mut neighbours = vec![0u32; m.bonds.len()];
         input.take_u32s_into(&mut neighbours, "bonds")?;
         // Only the broken bit may differ from the bonds this scene builds.
-        if let Some(k) = (0..neighbours.len())
-            .find(|&k| neighbours[k] & INDEX != m.bonds.neighbours[k] & INDEX)
+        if let Some(k) =
+            (0..neighbours.len()).find(|&k| neighbours[k] & INDEX != m.bonds.neighbours[k] & INDEX)
         {
             return Err(input.invalid(format!(
                 "bond {k} points at particle {} where the scene has {}",

@@ -101,10 +101,15 @@ impl<'a> Frames<'a> {
             self.manifest
                 .collider_centers
                 .push(world.colliders.iter().map(|c| c.center).collect());
-            self.manifest.status = if frame == frames + 1 {
+            self.manifest.status = if frame <= frames {
+                "running".into()
+            } else if frames == scene.frame_count() {
                 "complete".into()
             } else {
-                "running".into()
+                format!(
+                    "interrupted: stopped after frame {frame} as asked (--frames {frames}); \
+                     --resume continues"
+                )
             };
             self.finish(world, output_time, setup);
             self.manifest.write(&layout.manifest())?;

@@ -63,22 +63,36 @@ pub fn run(
     let layout = Layout::new(out);
     layout.create()?;
     write_atomic(&layout.scene(), scene.to_toml().as_bytes())?;
-    let t0 = Instant::now();
     let disc = discretize(scene)?;
     if let Some(limit) = options.memory_limit {
         estimate_memory(scene, &disc).refuse_above(limit)?;
     }
-    let t_disc = t0.elapsed().as_secs_f64();
+    let t_disc = start.elapsed().as_secs_f64();
     let mut prepared = prepare_discretized(scene, disc)?;
     prepared.timings.discretize = t_disc;
+    run_prepared(scene, &layout, options, prepared, start, progress)
+}
+
+/// Runs a world already built (by [`prepare`], or by the caller with models of its
+/// own) into `layout`, resuming from its checkpoint if asked; `start` is when the run
+/// began (for the manifest's total time).
+pub fn run_prepared(
+    scene: &Scene,
+    layout: &Layout,
+    options: &RunOptions,
+    mut prepared: Prepared,
+    start: Instant,
+    progress: &mut dyn FnMut(Progress),
+) -> Result<Manifest> {
+    layout.create()?;
     if scene.output.writes_tets() {
         let dir = layout.root.join("tets");
         std::fs::create_dir_all(&dir).map_err(|e| SimError::io(&dir, e))?;
     }
-    let mut frames = frames::Frames::new(scene, &layout, &prepared, options, start, progress);
+    let mut frames = frames::Frames::new(scene, layout, &prepared, options, start, progress);
     if options.resume && layout.checkpoint().is_file() {
         let from = resume::restore(
-            &layout,
+            layout,
             &mut prepared.world,
             scene_hash(scene),
             scene.output.writes_tets(),

@@ -23,12 +23,7 @@ pub struct Resumed {
 
 /// Restores `world` (built from the same scene) from the checkpoint in `layout`; with
 /// `tets`, the split tet mesh from the last frame written before the checkpoint.
-pub fn restore(
-    layout: &Layout,
-    world: &mut World,
-    scene_hash: u64,
-    tets: bool,
-) -> Result<Resumed> {
+pub fn restore(layout: &Layout, world: &mut World, scene_hash: u64, tets: bool) -> Result<Resumed> {
     let path = layout.checkpoint();
     let checkpoint = Checkpoint::read(&path)?;
     let mut input = Decoder::new(&checkpoint.payload, &path);

@@ -104,7 +104,12 @@ fn peridynamic_part(scene: &Scene, disc: &Discretization) -> Result<Part> {
     let bodies: Vec<BodyModel> = scene
         .bodies
         .iter()
-        .map(|b| BodyModel::new(Material::from_spec(&scene.materials[&b.material]), b.delta()))
+        .map(|b| {
+            BodyModel::new(
+                Material::from_spec(&scene.materials[&b.material]),
+                b.delta(),
+            )
+        })
         .collect();
     let mut model = PdModel::new(
         disc.position.clone(),
