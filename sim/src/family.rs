@@ -82,6 +82,46 @@ impl Bonds {
     }
 }
 
+/// Connected components of intact bonds (one union-find for every model), numbered by
+/// their smallest particle index in increasing order (deterministic).
+pub fn fragments(bonds: &Bonds) -> Vec<u32> {
+    let n = bonds.offsets.len() - 1;
+    let mut parent: Vec<u32> = (0..n as u32).collect();
+    fn find(parent: &mut [u32], mut i: u32) -> u32 {
+        while parent[i as usize] != i {
+            let p = parent[parent[i as usize] as usize];
+            parent[i as usize] = p;
+            i = p;
+        }
+        i
+    }
+    for i in 0..n {
+        for k in bonds.range(i) {
+            let nb = bonds.neighbours[k];
+            if nb & BROKEN != 0 {
+                continue;
+            }
+            let (a, b) = (find(&mut parent, i as u32), find(&mut parent, nb & INDEX));
+            if a != b {
+                let (lo, hi) = (a.min(b), a.max(b));
+                parent[hi as usize] = lo;
+            }
+        }
+    }
+    let mut label = vec![u32::MAX; n];
+    let mut next = 0u32;
+    (0..n as u32)
+        .map(|i| {
+            let root = find(&mut parent, i) as usize;
+            if label[root] == u32::MAX {
+                label[root] = next;
+                next += 1;
+            }
+            label[root]
+        })
+        .collect()
+}
+
 /// Bytes a bond costs in the elastic model (neighbour, rest length, and the four
 /// coefficients of [`crate::pd::Coefficients`]).
 pub const BYTES_PER_BOND: usize = 4 + 8 + 4 * 4;

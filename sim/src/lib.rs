@@ -8,7 +8,8 @@
 //! - [`run::run`] / [`run::prepare`]: scene → world ([`run::Prepared`]) → frames on
 //!   disk, checkpoints and resume.
 //! - [`pd::Peridynamics`] (Chen et al. 2018 state-based peridynamics, [`pd::PdModel`])
-//!   and [`fem::Fem`] (the linear and corotated FEM references, [`fem::FemModel`]).
+//!   and [`fem::Fem`] (the linear and corotated FEM references, [`fem::FemModel`]);
+//!   [`membrane::Membrane`] (Han et al. 2021 thin membranes, [`membrane::MembraneModel`]).
 //! - [`geometry::discretize::Discretization`]: bodies meshed into tets, particles at
 //!   their barycentres; [`family::Bonds`]: families in CSR arrays.
 //! - [`contact::Collider`], [`contact::Anchor`]; [`embed::EmbeddedMesh`] (Chen §5.2);
@@ -27,6 +28,7 @@ pub mod family;
 pub mod fem;
 pub mod geometry;
 pub mod material;
+pub mod membrane;
 pub mod memory;
 pub mod model;
 pub mod pd;

@@ -1,6 +1,7 @@
 //! Bodies to particles (Chen §5.2): each body is tetrahedralized to edge length ≈ λ
-//! and one particle is placed at each tet's barycentre with the tet's volume. All
-//! particles are then sorted along a Morton curve so that families sit close in
+//! and one particle is placed at each tet's barycentre with the tet's volume; a
+//! membrane body gets the particles of its sheet instead ([`crate::membrane::sheet`],
+//! an empty tet mesh). All particles are then sorted along a Morton curve so that families sit close in
 //! memory.
 
 use rayon::prelude::*;
@@ -10,7 +11,8 @@ use super::shape::{placement, to_sdf};
 use super::stuffing::stuff;
 use super::{MeshQuality, TetMesh};
 use crate::error::{Result, SimError};
-use crate::scene::{Scene, ShapeSpec};
+use crate::membrane::sheet::{self, Sheet};
+use crate::scene::{ModelKind, Scene, ShapeSpec};
 
 /// The particles of all bodies, sorted spatially.
 #[derive(Debug, Clone, Default)]
@@ -44,6 +46,7 @@ pub fn discretize(scene: &Scene) -> Result<Discretization> {
                 message,
             };
             match (&b.shape, placement(&b.shape)) {
+                _ if b.model == ModelKind::Membrane => Ok((TetMesh::default(), None)),
                 (ShapeSpec::Mesh { path, .. }, Some(placement)) => {
                     let surface = TriMesh::load(&scene.base_dir.join(path), &placement)
                         .map_err(|e| error(e.to_string()))?;
@@ -62,8 +65,34 @@ pub fn discretize(scene: &Scene) -> Result<Discretization> {
         })
         .collect::<Result<_>>()?;
     let (meshes, conformity): (Vec<TetMesh>, Vec<Option<Conformity>>) = bodies.into_iter().unzip();
+    let sheets: Vec<Option<Sheet>> = scene
+        .bodies
+        .iter()
+        .map(|b| {
+            (b.model == ModelKind::Membrane)
+                .then(|| {
+                    sheet::sample(b).map_err(|message| SimError::Mesh {
+                        body: b.name.clone(),
+                        message,
+                    })
+                })
+                .transpose()
+        })
+        .collect::<Result<_>>()?;
     let mut items: Vec<(u64, [f64; 3], f64, u32, u32)> = Vec::new();
-    let (lo, hi) = bounds(&meshes);
+    let (lo, hi) = bounds(
+        meshes
+            .iter()
+            .flat_map(|m| m.vertices.iter())
+            .chain(sheets.iter().flatten().flat_map(|s| s.position.iter())),
+    );
+    for (b, sheet) in sheets.iter().enumerate() {
+        // A membrane's particles are its sheet's (Han §6), each with volume A h.
+        for (t, &x) in sheet.iter().flat_map(|s| s.position.iter()).enumerate() {
+            let s = sheet.as_ref().map_or(0.0, |s| s.area * s.thickness);
+            items.push((morton(x, lo, hi), x, s, b as u32, t as u32));
+        }
+    }
     for (b, mesh) in meshes.iter().enumerate() {
         for t in 0..mesh.tets.len() {
             let c = mesh.barycentre(t);
@@ -83,10 +112,10 @@ pub fn discretize(scene: &Scene) -> Result<Discretization> {
     })
 }
 
-fn bounds(meshes: &[TetMesh]) -> ([f64; 3], [f64; 3]) {
+fn bounds<'a>(points: impl Iterator<Item = &'a [f64; 3]>) -> ([f64; 3], [f64; 3]) {
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
-    for v in meshes.iter().flat_map(|m| m.vertices.iter()) {
+    for v in points {
         for a in 0..3 {
             lo[a] = lo[a].min(v[a]);
             hi[a] = hi[a].max(v[a]);

@@ -3,35 +3,79 @@
 
 use super::PdModel;
 use crate::error::{Result, SimError};
+use crate::geometry::sdf::Sdf;
 use crate::geometry::shape::to_sdf;
 use crate::scene::Scene;
 
-/// Cuts every bond of the scene's initial cracks: a bond i→j of body b is cut when i
-/// and j lie on opposite sides of the crack plane and the bond's midpoint is inside
-/// the crack's region (a primitive, CSG shape or closed mesh file).
-pub fn cut_initial_cracks(model: &mut PdModel, scene: &Scene) -> Result<()> {
-    for (b, spec) in scene.bodies.iter().enumerate() {
-        for (k, crack) in spec.cracks.iter().enumerate() {
-            let region =
-                to_sdf(&crack.region, &scene.base_dir).map_err(|message| SimError::Mesh {
-                    body: spec.name.clone(),
-                    message: format!("crack {} region: {message}", k + 1),
-                })?;
-            let (p, n) = (crack.point, crack.normal);
+/// One crack: its body, a point on its plane, its normal and its region.
+struct Crack {
+    body: u32,
+    point: [f64; 3],
+    normal: [f64; 3],
+    region: Box<dyn Sdf>,
+}
+
+/// The initial cracks of a scene, for any model with bonds: [`Cracks::cuts`] says
+/// whether a bond of body b from x_i to x_j is cut.
+pub struct Cracks {
+    cracks: Vec<Crack>,
+}
+
+impl std::fmt::Debug for Cracks {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Cracks({})", self.cracks.len())
+    }
+}
+
+impl Cracks {
+    /// Reads the crack regions of every body (a primitive, CSG shape or closed mesh
+    /// file); an unreadable region names its body and crack.
+    pub fn of_scene(scene: &Scene) -> Result<Cracks> {
+        let mut cracks = Vec::new();
+        for (b, spec) in scene.bodies.iter().enumerate() {
+            for (k, crack) in spec.cracks.iter().enumerate() {
+                let region =
+                    to_sdf(&crack.region, &scene.base_dir).map_err(|message| SimError::Mesh {
+                        body: spec.name.clone(),
+                        message: format!("crack {} region: {message}", k + 1),
+                    })?;
+                cracks.push(Crack {
+                    body: b as u32,
+                    point: crack.point,
+                    normal: crack.normal,
+                    region,
+                });
+            }
+        }
+        Ok(Cracks { cracks })
+    }
+
+    /// Whether the bond of body `body` from `xi` to `xj` is cut: i and j lie on
+    /// opposite sides of a crack plane of that body and the bond's midpoint is inside
+    /// the crack's region.
+    pub fn cuts(&self, body: u32, xi: [f64; 3], xj: [f64; 3]) -> bool {
+        self.cracks.iter().any(|c| {
+            let (p, n) = (c.point, c.normal);
             let side =
                 |x: [f64; 3]| (x[0] - p[0]) * n[0] + (x[1] - p[1]) * n[1] + (x[2] - p[2]) * n[2];
-            let body = model.reference.body.clone();
-            let x = model.reference.position.clone();
-            model.cut_bonds(|i, j| {
-                let (xi, xj) = (x[i], x[j]);
-                let mid = [
-                    (xi[0] + xj[0]) / 2.0,
-                    (xi[1] + xj[1]) / 2.0,
-                    (xi[2] + xj[2]) / 2.0,
-                ];
-                body[i] == b as u32 && side(xi) * side(xj) < 0.0 && region.distance(mid) <= 0.0
-            });
-        }
+            let mid = [
+                (xi[0] + xj[0]) / 2.0,
+                (xi[1] + xj[1]) / 2.0,
+                (xi[2] + xj[2]) / 2.0,
+            ];
+            c.body == body && side(xi) * side(xj) < 0.0 && c.region.distance(mid) <= 0.0
+        })
     }
+}
+
+/// Cuts every bond of the scene's initial cracks (see [`Cracks::cuts`]).
+pub fn cut_initial_cracks(model: &mut PdModel, scene: &Scene) -> Result<()> {
+    let cracks = Cracks::of_scene(scene)?;
+    if cracks.cracks.is_empty() {
+        return Ok(());
+    }
+    let body = model.reference.body.clone();
+    let x = model.reference.position.clone();
+    model.cut_bonds(|i, j| cracks.cuts(body[i], x[i], x[j]));
     Ok(())
 }

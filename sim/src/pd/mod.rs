@@ -33,8 +33,9 @@ use crate::family::{BROKEN, Bonds, Corrections, INDEX};
 use crate::material::{Material, PdConstants};
 use crate::scene::DilatationForm;
 
-pub use crack::cut_initial_cracks;
+pub use crack::{Cracks, cut_initial_cracks};
 pub use kernel::StageTimes;
+pub(crate) use kernel::{det_sum, rows_mut};
 pub use solver::Peridynamics;
 pub use stable::stable_time_step;
 
@@ -354,41 +355,7 @@ impl PdModel {
     /// Connected components of intact bonds, numbered by their smallest particle
     /// index in increasing order (deterministic).
     pub fn fragments(&self) -> Vec<u32> {
-        let n = self.len();
-        let mut parent: Vec<u32> = (0..n as u32).collect();
-        fn find(parent: &mut [u32], mut i: u32) -> u32 {
-            while parent[i as usize] != i {
-                let p = parent[parent[i as usize] as usize];
-                parent[i as usize] = p;
-                i = p;
-            }
-            i
-        }
-        for i in 0..n {
-            for k in self.bonds.range(i) {
-                let nb = self.bonds.neighbours[k];
-                if nb & BROKEN != 0 {
-                    continue;
-                }
-                let (a, b) = (find(&mut parent, i as u32), find(&mut parent, nb & INDEX));
-                if a != b {
-                    let (lo, hi) = (a.min(b), a.max(b));
-                    parent[hi as usize] = lo;
-                }
-            }
-        }
-        let mut label = vec![u32::MAX; n];
-        let mut next = 0u32;
-        (0..n as u32)
-            .map(|i| {
-                let root = find(&mut parent, i) as usize;
-                if label[root] == u32::MAX {
-                    label[root] = next;
-                    next += 1;
-                }
-                label[root]
-            })
-            .collect()
+        crate::family::fragments(&self.bonds)
     }
 
     /// Plastic strain measure per particle: mean |e^p|/|ξ| over its bonds (0 without

@@ -9,7 +9,7 @@ mod setup;
 use std::path::Path;
 use std::time::Instant;
 
-pub use setup::{Prepared, prepare, prepare_discretized, uses_fem};
+pub use setup::{Prepared, prepare, prepare_discretized, uses_fem, uses_membrane};
 
 use crate::cache::manifest::Manifest;
 use crate::cache::{Layout, write_atomic};

@@ -1,5 +1,5 @@
 //! From a scene to a world ready to step: discretize, build each model (families and
-//! initial cracks for peridynamics, elements for the FEM), initial velocities,
+//! initial cracks for peridynamics, elements for the FEM, sheets for membranes), initial velocities,
 //! anchors, colliders, and the time step.
 
 use std::time::Instant;
@@ -12,6 +12,7 @@ use crate::family;
 use crate::fem::{Fem, FemBody, FemModel};
 use crate::geometry::discretize::{Discretization, discretize};
 use crate::material::Material;
+use crate::membrane::{Membrane, MembraneModel};
 use crate::pd::{BodyModel, PdModel, Peridynamics, cut_initial_cracks};
 use crate::scene::{ModelKind, Scene};
 use crate::world::{Part, World, WorldSettings};
@@ -36,6 +37,11 @@ pub fn uses_fem(scene: &Scene) -> bool {
     scene.bodies.iter().any(|b| b.model.is_fem())
 }
 
+/// Whether the scene's bodies are membranes (every body then is).
+pub fn uses_membrane(scene: &Scene) -> bool {
+    scene.bodies.iter().any(|b| b.model == ModelKind::Membrane)
+}
+
 /// Builds the particles, bonds (or elements), colliders and anchors of a scene and
 /// picks the time step (refusing a `dt` above the stable bound unless `force_dt`).
 pub fn prepare(scene: &Scene) -> Result<Prepared> {
@@ -52,6 +58,8 @@ pub fn prepare_discretized(scene: &Scene, disc: Discretization) -> Result<Prepar
     let t1 = Instant::now();
     let part = if uses_fem(scene) {
         fem_part(scene, &disc)?
+    } else if uses_membrane(scene) {
+        membrane_part(scene, &disc)?
     } else {
         peridynamic_part(scene, &disc)?
     };
@@ -172,6 +180,27 @@ fn fem_part(scene: &Scene, disc: &Discretization) -> Result<Part> {
     );
     let anchors = contact::anchors(scene, &model.rest, &model.mass, &model.vertex_body)?;
     Ok(Part::new(Box::new(Fem::new(model)), anchors))
+}
+
+/// The membranes of a scene (Han et al. 2021): the sheets' particles, bonds within
+/// each body's cutoff R, slits and notches from `[[body.crack]]`, initial velocities
+/// and anchors.
+fn membrane_part(scene: &Scene, disc: &Discretization) -> Result<Part> {
+    if scene.output.writes_tets() {
+        return Err(SimError::Refused(
+            "membranes have no tet mesh: set [output] tets = false and a surface method other than \"embedded\"".into(),
+        ));
+    }
+    let mut model = MembraneModel::from_scene(scene, disc)?;
+    set_initial_velocities(
+        scene,
+        &model.reference,
+        &model.mass,
+        &model.body,
+        &mut model.velocity,
+    );
+    let anchors = contact::anchors(scene, &model.reference, &model.mass, &model.body)?;
+    Ok(Part::new(Box::new(Membrane::new(model)), anchors))
 }
 
 /// The time step (a multiple of the frame time) and the steps per frame: the scene's

@@ -138,6 +138,42 @@ pub struct MaterialSpec {
     /// λl = rate·Δt). Default 0.
     #[serde(default)]
     pub laplacian_damping: f64,
+    /// Membrane properties (`[materials.NAME.membrane]`), for bodies with
+    /// `model = "membrane"` only. Default: the defaults of [`MembraneMaterialSpec`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub membrane: Option<MembraneMaterialSpec>,
+}
+
+/// `[materials.NAME.membrane]`: fracture and diffusion of a membrane material (Han et
+/// al. 2021); its stiffness comes from the material's elastic constants.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MembraneMaterialSpec {
+    /// Fracture energy G_f in J/m², giving the critical strain η_c = √(4πG_f/(9ER))
+    /// of Han Eq. 27–28. Default: none (unbreakable).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fracture_energy: Option<f64>,
+    /// Diffusive capacity C of Han Eq. 25 in J/(kg·unit), per unit of the diffused
+    /// quantity (K for temperature). Default 1.
+    #[serde(default = "default_diffusion_capacity")]
+    pub diffusion_capacity: f64,
+    /// Diffusion coefficient k of Han Eq. 25 in W/(m·unit). Default 0 (no diffusion).
+    #[serde(default)]
+    pub diffusion_conductivity: f64,
+}
+
+impl Default for MembraneMaterialSpec {
+    fn default() -> Self {
+        MembraneMaterialSpec {
+            fracture_energy: None,
+            diffusion_capacity: default_diffusion_capacity(),
+            diffusion_conductivity: 0.0,
+        }
+    }
+}
+
+fn default_diffusion_capacity() -> f64 {
+    1.0
 }
 
 /// A shape given by a signed distance function, or a CSG combination of shapes.
@@ -300,6 +336,10 @@ pub enum ModelKind {
     /// Reference solver: explicit linear-tet FEM, corotated linear (Chen et al. 2018
     /// §6, Figs. 10–13): the linear stress of each tet in its rotated frame.
     FemCorotated,
+    /// A thin membrane of one layer of particles (Han et al. 2021): the body's shape
+    /// is the sheet (a `box` or `slab` for a rectangle, a `cylinder` for a disc) and
+    /// `resolution` the particle spacing (see [`crate::membrane`]).
+    Membrane,
 }
 
 impl ModelKind {
@@ -327,9 +367,14 @@ pub struct BodySpec {
     pub horizon: f64,
     /// Simulation model: `"peridynamics"`, or a FEM reference solver on the same tet
     /// mesh, `"fem-linear"` or `"fem-corotated"` (elastic only; every body of a scene
-    /// must then use FEM). Default `"peridynamics"`.
+    /// must then use FEM), or `"membrane"` (a sheet of one particle layer; every body
+    /// of the scene must then be a membrane). Default `"peridynamics"`.
     #[serde(default)]
     pub model: ModelKind,
+    /// Membrane settings (`[body.membrane]`, `model = "membrane"` only). Default: the
+    /// defaults of [`MembraneSpec`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub membrane: Option<MembraneSpec>,
     /// Initial velocity in m/s. Default 0.
     #[serde(default)]
     pub velocity: [f64; 3],
@@ -349,6 +394,32 @@ impl BodySpec {
     pub fn delta(&self) -> f64 {
         self.horizon * self.resolution
     }
+}
+
+/// `[body.membrane]`: settings of a membrane body (Han et al. 2021). The sheet is the
+/// body's `shape`: a `box` or `slab` is a rectangle in the plane of its two larger
+/// sides, its smallest side the thickness; a `cylinder` is a disc across its axis, its
+/// height the thickness. `resolution` is the particle spacing of the triangular
+/// lattice the sheet is sampled on.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MembraneSpec {
+    /// Cutoff radius R of the weight W = 1 − r/R (Han Eq. 23) in particle spacings,
+    /// in [1, 4]. Default 1.5 (Han §6).
+    #[serde(default = "default_membrane_cutoff")]
+    pub cutoff: f64,
+}
+
+impl Default for MembraneSpec {
+    fn default() -> Self {
+        MembraneSpec {
+            cutoff: default_membrane_cutoff(),
+        }
+    }
+}
+
+fn default_membrane_cutoff() -> f64 {
+    1.5
 }
 
 /// `[[body.anchor]]`: particles inside `region` move rigidly with the given velocity.

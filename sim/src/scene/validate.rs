@@ -1,6 +1,8 @@
 //! Range checks on a parsed scene: each problem is reported with its dotted key.
 
-use super::{BodySpec, ColliderSpec, MaterialSpec, Scene, ShapeSpec, SurfaceMethod, VdbSpec};
+use super::{
+    BodySpec, ColliderSpec, MaterialSpec, ModelKind, Scene, ShapeSpec, SurfaceMethod, VdbSpec,
+};
 
 /// One problem: where (dotted path) and what, with the fix.
 pub(super) struct Issue {
@@ -75,6 +77,7 @@ pub(super) fn validate(scene: &Scene) -> Check {
         body(scene, &i.to_string(), b)?;
     }
     fem(scene)?;
+    membrane(scene)?;
     for (i, c) in scene.colliders.iter().enumerate() {
         collider(&i.to_string(), c)?;
     }
@@ -318,6 +321,110 @@ fn fem(scene: &Scene) -> Check {
                      remove {key} or use model = \"peridynamics\""
                 ),
             ));
+        }
+    }
+    Ok(())
+}
+
+/// Membranes (Han et al. 2021) run a whole scene; their shape is a sheet (a box or
+/// slab, or a cylinder), their materials use neither plasticity, Chen's fracture,
+/// anisotropy nor Laplacian damping; membrane keys belong to membranes only.
+fn membrane(scene: &Scene) -> Check {
+    let first = scene
+        .bodies
+        .iter()
+        .position(|b| b.model == ModelKind::Membrane);
+    for (i, b) in scene.bodies.iter().enumerate() {
+        let i = i.to_string();
+        let is_membrane = b.model == ModelKind::Membrane;
+        if let Some(first) = first.filter(|_| !is_membrane) {
+            return Err(issue(
+                &["body", &i, "model"],
+                format!(
+                    "body {first} is a membrane and this one is not: a scene runs one solver, \
+                     so give every body model = \"membrane\" or none"
+                ),
+            ));
+        }
+        if !is_membrane {
+            if b.membrane.is_some() {
+                return Err(issue(
+                    &["body", &i, "membrane"],
+                    "[body.membrane] is for model = \"membrane\" only",
+                ));
+            }
+            if scene.materials[&b.material].membrane.is_some() {
+                return Err(issue(
+                    &["materials", &b.material, "membrane"],
+                    format!(
+                        "body {i} is not a membrane: [materials.{}.membrane] is for model = \"membrane\" only",
+                        b.material
+                    ),
+                ));
+            }
+            continue;
+        }
+        if !matches!(
+            b.shape,
+            ShapeSpec::Box { .. } | ShapeSpec::Slab { .. } | ShapeSpec::Cylinder { .. }
+        ) {
+            return Err(issue(
+                &["body", &i, "shape"],
+                "a membrane is a rectangle (type = \"box\" or \"slab\": the smallest side is the \
+                 thickness) or a disc (type = \"cylinder\": the height is the thickness)",
+            ));
+        }
+        if let Some(spec) = &b.membrane
+            && !(spec.cutoff.is_finite() && (1.0..=4.0).contains(&spec.cutoff))
+        {
+            return Err(issue(
+                &["body", &i, "membrane", "cutoff"],
+                format!(
+                    "the cutoff R must be in [1, 4] particle spacings (below 1 no particle has a \
+                     neighbour, above 4 the bonds grow as R²), got {}",
+                    spec.cutoff
+                ),
+            ));
+        }
+        let m = &scene.materials[&b.material];
+        let unsupported = [
+            ("yield_psi0", m.yield_psi0.is_some()),
+            ("yield_stretch", m.yield_stretch.is_some()),
+            ("critical_stretch", m.critical_stretch.is_some()),
+            ("alpha", m.alpha != 0.0),
+            ("anisotropy", m.anisotropy.is_some()),
+            ("laplacian_damping", m.laplacian_damping != 0.0),
+        ];
+        if let Some((key, _)) = unsupported.iter().find(|(_, set)| *set) {
+            return Err(issue(
+                &["materials", &b.material, key],
+                format!(
+                    "body {i} is a membrane, whose fracture is set by [materials.{}.membrane] \
+                     fracture_energy and which has no plasticity, anisotropy or Laplacian damping: \
+                     remove {key}",
+                    b.material
+                ),
+            ));
+        }
+        if let Some(spec) = &m.membrane {
+            let p = |key: &'static str| ["materials", b.material.as_str(), "membrane", key];
+            if let Some(g) = spec.fracture_energy {
+                positive(&p("fracture_energy"), g, "the fracture energy G_f (J/m²)")?;
+            }
+            positive(
+                &p("diffusion_capacity"),
+                spec.diffusion_capacity,
+                "the diffusive capacity C (J/(kg·unit))",
+            )?;
+            if !(spec.diffusion_conductivity.is_finite() && spec.diffusion_conductivity >= 0.0) {
+                return Err(issue(
+                    &p("diffusion_conductivity"),
+                    format!(
+                        "the diffusion coefficient k must be ≥ 0 W/(m·unit), got {}",
+                        spec.diffusion_conductivity
+                    ),
+                ));
+            }
         }
     }
     Ok(())

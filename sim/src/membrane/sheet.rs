@@ -1,0 +1,200 @@
+//! Sheets of one particle layer (Han §6: "a single layer of uniformly distributed
+//! particles"), sampled on a regular triangular lattice.
+//!
+//! The lattice is triangular rather than square because a triangular lattice of
+//! central pair forces is elastically isotropic (the same stiffness in every in-plane
+//! direction, Poisson ratio exactly 1/3), while a square lattice has the cubic
+//! anisotropy of its two bond lengths; it is also the densest packing, so every
+//! particle carries the same area A = (√3/2) h² for spacing h. Rows run along the
+//! sheet's first in-plane axis u, `√3/2 h` apart along v, every other row shifted by
+//! h/2.
+
+use crate::scene::{BodySpec, ShapeSpec};
+
+/// A sampled sheet: particle positions and what every particle carries.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sheet {
+    /// Particle positions (m), row by row.
+    pub position: Vec<[f64; 3]>,
+    /// Area A_i of every particle (m²): (√3/2) h².
+    pub area: f64,
+    /// Thickness of the sheet (m).
+    pub thickness: f64,
+    /// The axis normal to the sheet (0, 1, 2 for x, y, z).
+    pub normal: usize,
+}
+
+/// The outline of a sheet in its plane.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Outline {
+    /// A rectangle of full sides `[a, b]` along u and v.
+    Rectangle([f64; 2]),
+    /// A disc of this radius.
+    Disc(f64),
+}
+
+/// A sheet's placement: centre, normal axis, the in-plane axes u and v (the other two
+/// in increasing order), outline and thickness.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Placement {
+    center: [f64; 3],
+    normal: usize,
+    outline: Outline,
+    thickness: f64,
+}
+
+fn in_plane(normal: usize) -> [usize; 2] {
+    match normal {
+        0 => [1, 2],
+        1 => [0, 2],
+        _ => [0, 1],
+    }
+}
+
+/// The sheet a membrane body's shape stands for: a `box` or `slab` is a rectangle in
+/// the plane of its two larger sides with its smallest side as the thickness (the
+/// first smallest on ties); a `cylinder` is a disc across its axis with its height as
+/// the thickness. Other shapes are an error saying so.
+fn placement(shape: &ShapeSpec) -> Result<Placement, String> {
+    match shape {
+        ShapeSpec::Box { center, size } | ShapeSpec::Slab { center, size } => {
+            let normal = (0..3).fold(0, |n, a| if size[a] < size[n] { a } else { n });
+            let [u, v] = in_plane(normal);
+            Ok(Placement {
+                center: *center,
+                normal,
+                outline: Outline::Rectangle([size[u], size[v]]),
+                thickness: size[normal],
+            })
+        }
+        ShapeSpec::Cylinder {
+            center,
+            radius,
+            height,
+            axis,
+        } => Ok(Placement {
+            center: *center,
+            normal: axis.index(),
+            outline: Outline::Disc(*radius),
+            thickness: *height,
+        }),
+        _ => Err(
+            "a membrane is a rectangle (type = \"box\" or \"slab\": the smallest side is the thickness) \
+             or a disc (type = \"cylinder\": the height is the thickness)"
+                .into(),
+        ),
+    }
+}
+
+/// Samples the sheet of a membrane body at its `resolution` (the spacing h).
+pub fn sample(body: &BodySpec) -> Result<Sheet, String> {
+    let p = placement(&body.shape)?;
+    let h = body.resolution;
+    let row = h * 3f64.sqrt() / 2.0;
+    let [u, v] = in_plane(p.normal);
+    let mut position = Vec::new();
+    let mut put = |a: f64, b: f64| {
+        let mut x = p.center;
+        x[u] += a;
+        x[v] += b;
+        position.push(x);
+    };
+    match p.outline {
+        Outline::Rectangle([a, b]) => {
+            // Cell-centred: each particle owns an h × (√3/2)h cell of the rectangle.
+            let columns = (a / h).round().max(1.0) as usize;
+            let rows = (b / row).round().max(1.0) as usize;
+            for j in 0..rows {
+                let shift = if j % 2 == 0 { -0.25 * h } else { 0.25 * h };
+                let y = (j as f64 - (rows - 1) as f64 / 2.0) * row;
+                for i in 0..columns {
+                    let x = (i as f64 - (columns - 1) as f64 / 2.0) * h;
+                    put(if columns > 1 { x + shift } else { x }, y);
+                }
+            }
+        }
+        Outline::Disc(radius) => {
+            let reach = (radius / row).floor() as i64;
+            for j in -reach..=reach {
+                let y = j as f64 * row;
+                let shift = if j.rem_euclid(2) == 1 { 0.5 * h } else { 0.0 };
+                let span = ((radius / h).ceil() as i64) + 1;
+                for i in -span..=span {
+                    let x = i as f64 * h + shift;
+                    if x * x + y * y <= radius * radius {
+                        put(x, y);
+                    }
+                }
+            }
+        }
+    }
+    if position.len() < 2 {
+        return Err(format!(
+            "the sheet holds {} particle at spacing {h} m: make it larger or the resolution finer",
+            position.len()
+        ));
+    }
+    Ok(Sheet {
+        position,
+        area: h * row,
+        thickness: p.thickness,
+        normal: p.normal,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Axis;
+
+    fn body(shape: ShapeSpec, h: f64) -> BodySpec {
+        let text = format!(
+            "material = \"m\"\nresolution = {h}\nshape = {{ type = \"box\", center = [0, 0, 0], size = [1, 1, 1] }}\n"
+        );
+        let mut b: BodySpec = toml::from_str(&text).expect("body");
+        b.shape = shape;
+        b
+    }
+
+    #[test]
+    fn rectangle_and_disc_cover_their_area() {
+        let rect = body(
+            ShapeSpec::Slab {
+                center: [0.0, 1.0, 0.0],
+                size: [0.4, 0.001, 0.2],
+            },
+            0.01,
+        );
+        let s = sample(&rect).expect("sheet");
+        assert_eq!((s.normal, s.thickness), (1, 0.001));
+        let area = s.area * s.position.len() as f64;
+        assert!((area - 0.08).abs() / 0.08 < 0.03, "area {area}");
+        assert!(s.position.iter().all(|x| x[1] == 1.0));
+        let disc = body(
+            ShapeSpec::Cylinder {
+                center: [0.0; 3],
+                radius: 0.1,
+                height: 0.002,
+                axis: Axis::Z,
+            },
+            0.005,
+        );
+        let d = sample(&disc).expect("disc");
+        let area = d.area * d.position.len() as f64;
+        let exact = std::f64::consts::PI * 0.01;
+        assert!((area - exact).abs() / exact < 0.03, "area {area}");
+        assert_eq!(d.normal, 2);
+    }
+
+    #[test]
+    fn a_sphere_is_no_sheet() {
+        let b = body(
+            ShapeSpec::Sphere {
+                center: [0.0; 3],
+                radius: 1.0,
+            },
+            0.1,
+        );
+        assert!(sample(&b).unwrap_err().contains("cylinder"));
+    }
+}

@@ -1,0 +1,180 @@
+//! The membrane model behind [`Model`]: Han et al.'s sheet particles stepped by the
+//! world's velocity Verlet, the diffusion of Eq. 25 stepped by forward Euler after
+//! each step, checkpoints of the saved state (positions, velocities, broken bonds, θ).
+//!
+//! Integrator: Han's Eq. 26 updates the velocity and then the position with the new
+//! velocity, which is symplectic Euler; its positions are those of velocity Verlet
+//! (Störmer), and both are stable for ω Δt < 2 on every bond-spring mode, so the
+//! world's velocity Verlet is as stable as the paper's scheme (at second order) with
+//! the same bound ([`MembraneModel::stable_time_step`]).
+
+use rayon::prelude::*;
+
+use super::MembraneModel;
+use crate::cache::checkpoint::{Decoder, Encoder};
+use crate::error::Result;
+use crate::family::{self, INDEX};
+use crate::model::{Model, ParticleColumns, Points, PointsMut};
+
+/// A [`MembraneModel`] behind the model interface.
+#[derive(Debug, Clone)]
+pub struct Membrane {
+    /// The model.
+    pub model: MembraneModel,
+}
+
+impl Membrane {
+    /// The model behind the interface.
+    pub fn new(model: MembraneModel) -> Membrane {
+        Membrane { model }
+    }
+}
+
+fn f32x3(v: &[f64; 3]) -> [f32; 3] {
+    [v[0] as f32, v[1] as f32, v[2] as f32]
+}
+
+impl Model for Membrane {
+    fn name(&self) -> &'static str {
+        "membrane"
+    }
+
+    fn points(&self) -> Points<'_> {
+        let m = &self.model;
+        Points {
+            position: &m.position,
+            velocity: &m.velocity,
+            reference: &m.reference,
+            mass: &m.mass,
+        }
+    }
+
+    fn points_mut(&mut self) -> PointsMut<'_> {
+        let m = &mut self.model;
+        PointsMut {
+            position: &mut m.position,
+            velocity: &mut m.velocity,
+            reference: &m.reference,
+            mass: &m.mass,
+        }
+    }
+
+    fn point_bodies(&self) -> &[u32] {
+        &self.model.body
+    }
+
+    fn internal_forces(&mut self) -> usize {
+        self.model.internal_forces()
+    }
+
+    /// a_i = f_i/ρ + g, the force density over the density (Eq. 22 over V_i).
+    fn accelerations(&self, gravity: [f64; 3], out: &mut [[f64; 3]]) {
+        let m = &self.model;
+        out.par_iter_mut()
+            .enumerate()
+            .with_min_len(1024)
+            .for_each(|(i, a)| {
+                let rho = m.bodies[m.body[i] as usize].density;
+                let f = m.force[i];
+                *a = [
+                    f[0] / rho + gravity[0],
+                    f[1] / rho + gravity[1],
+                    f[2] / rho + gravity[2],
+                ];
+            });
+    }
+
+    /// The end of a step, the one stage the world gives Δt: the diffusion step of
+    /// Eq. 26 (over the bonds intact after this step's fracture, Eq. 28), then air
+    /// damping v ← (1 − rate·Δt) v of the points not anchored.
+    fn damp(&mut self, dt: f64, anchored: &[bool]) {
+        self.model.diffuse(dt);
+        let m = &mut self.model;
+        if m.bodies.iter().all(|b| b.air_damping == 0.0) {
+            return;
+        }
+        let (body, bodies) = (&m.body, &m.bodies);
+        m.velocity
+            .par_iter_mut()
+            .enumerate()
+            .with_min_len(1024)
+            .for_each(|(i, v)| {
+                if !anchored[i] {
+                    let keep = 1.0 - (bodies[body[i] as usize].air_damping * dt).min(1.0);
+                    *v = [v[0] * keep, v[1] * keep, v[2] * keep];
+                }
+            });
+    }
+
+    fn stable_time_step(&self) -> (f64, usize) {
+        self.model.stable_time_step()
+    }
+
+    fn kinetic_energy(&self) -> f64 {
+        self.model.kinetic_energy()
+    }
+
+    fn strain_energy(&self) -> f64 {
+        self.model.strain_energy()
+    }
+
+    fn particles(&self) -> ParticleColumns {
+        let m = &self.model;
+        ParticleColumns {
+            position: m.position.iter().map(f32x3).collect(),
+            velocity: m.velocity.iter().map(f32x3).collect(),
+            damage: m.damage.iter().map(|&d| d as f32).collect(),
+            plastic: vec![0.0; m.len()],
+            body: m.body.clone(),
+            fragment: family::fragments(&m.bonds),
+        }
+    }
+
+    fn bonds(&self) -> usize {
+        self.model.bonds.len()
+    }
+
+    /// Positions, velocities, the bonds' broken bits and θ; damage is derived from
+    /// the bonds on restore.
+    fn save(&self, out: &mut Encoder) {
+        let m = &self.model;
+        out.put_u64(m.len() as u64);
+        out.put_f64x3s(&m.position);
+        out.put_f64x3s(&m.velocity);
+        out.put_u64(m.bonds.len() as u64);
+        out.put_u32s(&m.bonds.neighbours);
+        out.put_f64s(&m.quantity);
+    }
+
+    fn restore(&mut self, input: &mut Decoder<'_>) -> Result<()> {
+        let m = &mut self.model;
+        input.expect_count("particles", m.len())?;
+        input.take_f64x3s_into(&mut m.position, "positions")?;
+        input.take_f64x3s_into(&mut m.velocity, "velocities")?;
+        input.expect_count("bonds", m.bonds.len())?;
+        let mut neighbours = vec![0u32; m.bonds.len()];
+        input.take_u32s_into(&mut neighbours, "bonds")?;
+        if let Some(k) =
+            (0..neighbours.len()).find(|&k| neighbours[k] & INDEX != m.bonds.neighbours[k] & INDEX)
+        {
+            return Err(input.invalid(format!(
+                "bond {k} points at particle {} where the scene has {}",
+                neighbours[k] & INDEX,
+                m.bonds.neighbours[k] & INDEX
+            )));
+        }
+        m.bonds.neighbours = neighbours;
+        input.take_f64s_into(&mut m.quantity, "diffused quantity")?;
+        m.update_damage();
+        Ok(())
+    }
+
+    fn stage_times(&self) -> Vec<(&'static str, f64)> {
+        let t = self.model.times;
+        vec![("forces", t.forces), ("diffusion", t.diffusion)]
+    }
+
+    fn reset_stage_times(&mut self) {
+        self.model.times = Default::default();
+    }
+}
