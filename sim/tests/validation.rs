@@ -642,3 +642,34 @@ fn a_released_cantilever_vibrates_at_the_euler_bernoulli_frequency() {
     );
     assert!((measured / f.euler_bernoulli - 1.0).abs() < 0.10);
 }
+
+/// The FEM reference goes through the same checkpoints as peridynamics: a run stopped
+/// and resumed gives the bytes of an uninterrupted one (the corotated tets' rotations,
+/// the polar decomposition's warm start, are part of the saved state).
+#[test]
+fn fem_runs_resume_from_their_checkpoints() {
+    let s = scene(&bar_swing("fem-corotated").replace(
+        "[[body]]\n",
+        "[output]\ncheckpoint_every = 2\npreview = false\n[[body]]\n",
+    ));
+    let frames = s.frame_count().min(6);
+    let full = tempfile::tempdir().expect("temp dir");
+    let options = |frames: usize, resume: bool| RunOptions {
+        frames: Some(frames),
+        resume,
+        ..RunOptions::default()
+    };
+    run::run(&s, full.path(), &options(frames, false), &mut |_| {}).expect("runs");
+    let part = tempfile::tempdir().expect("temp dir");
+    run::run(&s, part.path(), &options(3, false), &mut |_| {}).expect("runs");
+    run::run(&s, part.path(), &options(frames, true), &mut |_| {}).expect("resumes");
+    for f in 1..=frames + 1 {
+        let name = format!("particles/{f:04}.ply");
+        let a = std::fs::read(full.path().join(&name)).expect("frame");
+        let b = std::fs::read(part.path().join(&name)).expect("frame");
+        assert!(
+            a == b,
+            "{name}: a resumed FEM run differs from an uninterrupted one"
+        );
+    }
+}
