@@ -96,9 +96,9 @@ impl Model for Springs {
             let d = sub(self.position[j], self.position[i]);
             let len = norm(d);
             let s = self.k * (len - l) / len;
-            for a in 0..3 {
-                self.force[i][a] += s * d[a];
-                self.force[j][a] -= s * d[a];
+            for (a, d) in d.iter().enumerate() {
+                self.force[i][a] += s * d;
+                self.force[j][a] -= s * d;
             }
         }
         self.force_time += t.elapsed().as_secs_f64();
