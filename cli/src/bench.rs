@@ -4,12 +4,14 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
 
+use perifrac_sim::memory::estimate_memory;
+use perifrac_sim::pd::{PdModel, Peridynamics};
 use perifrac_sim::run;
 use perifrac_sim::scene::Scene;
-use perifrac_sim::step::total_time;
+use perifrac_sim::world::World;
 
 use crate::args::BenchCommand;
-use crate::commands::{Failure, set_threads};
+use crate::commands::{Failure, check_memory, set_threads};
 
 /// Runs a benchmark.
 pub fn run(which: BenchCommand, quiet: bool) -> Result<(), Failure> {
@@ -134,23 +136,24 @@ fn table1_throughput(dir: &Path, steps: usize, out: &Path, quiet: bool) -> Resul
             b.resolution *= scale;
         }
         let disc = perifrac_sim::geometry::discretize::discretize(&scene)?;
-        let estimate = run::estimate_memory(&scene, &disc);
-        if let Err(e) = run::check_memory(&estimate) {
+        let estimate = estimate_memory(&scene, &disc);
+        if let Err(e) = check_memory(&estimate) {
             let _ = writeln!(
                 table,
-                "| {name} | {paper_particles:.1e} | {} | – | {paper_step} | does not fit: {e} | – |",
-                disc.position.len()
+                "| {name} | {paper_particles:.1e} | {} | – | {paper_step} | does not fit: {} | – |",
+                disc.position.len(),
+                e.error
             );
             continue;
         }
         let mut p = run::prepare_discretized(&scene, disc)?;
-        p.sim.step()?;
+        p.world.step()?;
         let t = Instant::now();
         for _ in 0..steps {
-            p.sim.step()?;
+            p.world.step()?;
         }
         let per_step = t.elapsed().as_secs_f64() / steps as f64;
-        let m = &p.sim.model;
+        let m = peridynamics(&p.world)?;
         let updates = m.bonds.len() as f64 / per_step;
         let _ = writeln!(
             table,
@@ -181,6 +184,14 @@ fn table1_throughput(dir: &Path, steps: usize, out: &Path, quiet: bool) -> Resul
     Ok(())
 }
 
+/// The peridynamic model of a benchmark's world.
+fn peridynamics(world: &World) -> Result<&PdModel, Failure> {
+    world
+        .model::<Peridynamics>()
+        .map(|p| &p.model)
+        .ok_or_else(|| anyhow::anyhow!("the benchmark scene has no peridynamic body").into())
+}
+
 fn throughput(particles: usize, steps: usize, out: &Path, quiet: bool) -> Result<(), Failure> {
     let mut table = String::new();
     let _ = writeln!(
@@ -198,15 +209,14 @@ fn throughput(particles: usize, steps: usize, out: &Path, quiet: bool) -> Result
         let t = Instant::now();
         let mut p = run::prepare(&scene)?;
         let setup = t.elapsed().as_secs_f64();
-        p.sim.step()?;
-        p.sim.model.times = Default::default();
-        p.sim.other_time = 0.0;
+        p.world.step()?;
+        p.world.reset_times();
         let t = Instant::now();
         for _ in 0..steps {
-            p.sim.step()?;
+            p.world.step()?;
         }
         let wall = t.elapsed().as_secs_f64();
-        let m = &p.sim.model;
+        let m = peridynamics(&p.world)?;
         let per_step = wall / steps as f64;
         let updates = m.bonds.len() as f64 / per_step;
         let st = m.times;
@@ -219,7 +229,7 @@ fn throughput(particles: usize, steps: usize, out: &Path, quiet: bool) -> Result
             m.bond_bytes() as f64 / m.bonds.len() as f64,
             stage(st.dilatation),
             stage(st.forces),
-            stage(wall - total_time(&st)),
+            stage(wall - st.dilatation - st.forces),
         );
         if !quiet {
             eprintln!(

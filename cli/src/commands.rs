@@ -7,7 +7,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 use perifrac_sim::SimError;
 use perifrac_sim::family;
 use perifrac_sim::geometry::discretize::discretize;
-use perifrac_sim::run::{self, BYTES_PER_PARTICLE, Progress, RunOptions};
+use perifrac_sim::memory::{BYTES_PER_PARTICLE, estimate_memory};
+use perifrac_sim::run::{self, Progress, RunOptions};
 use perifrac_sim::scene::{Scene, SurfaceMethod};
 
 use crate::args::RunConfig;
@@ -60,6 +61,23 @@ pub fn set_threads(threads: Option<usize>) -> Result<(), Failure> {
     Ok(())
 }
 
+/// Memory the system can still give (MemAvailable of /proc/meminfo), if known: the
+/// CLI refuses a scene whose estimate is above it.
+pub fn available_memory() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
+/// Refuses an estimate above the available memory.
+pub fn check_memory(estimate: &perifrac_sim::memory::MemoryEstimate) -> Result<(), Failure> {
+    match available_memory() {
+        Some(limit) => Ok(estimate.refuse_above(limit)?),
+        None => Ok(()),
+    }
+}
+
 /// `perifrac run`.
 pub fn run(config: &RunConfig, quiet: bool) -> Result<(), Failure> {
     set_threads(config.threads)?;
@@ -74,6 +92,7 @@ pub fn run(config: &RunConfig, quiet: bool) -> Result<(), Failure> {
         &RunOptions {
             frames: config.frames,
             resume: config.resume,
+            ..RunOptions::default()
         },
         config.threads,
         quiet,
@@ -172,7 +191,11 @@ pub fn simulate(
         bar.set_position(p.frame as u64);
         bar.set_message(format!("{} steps, {:.0} steps/s", p.steps, rate));
     };
-    let result = run::run(scene, out, options, &mut report);
+    let options = RunOptions {
+        memory_limit: available_memory(),
+        ..options.clone()
+    };
+    let result = run::run(scene, out, &options, &mut report);
     bar.finish_and_clear();
     let manifest = result?;
     let simulation = start.elapsed().as_secs_f64();
@@ -210,12 +233,12 @@ pub fn simulate(
 pub fn check(path: &Path) -> Result<(), Failure> {
     let scene = Scene::load(path)?;
     let disc = discretize(&scene)?;
-    let horizon: Vec<f64> = disc
+    let delta: Vec<f64> = disc
         .body
         .iter()
-        .map(|&b| scene.bodies[b as usize].horizon * scene.bodies[b as usize].resolution)
+        .map(|&b| scene.bodies[b as usize].delta())
         .collect();
-    let estimate = run::estimate_memory(&scene, &disc);
+    let estimate = estimate_memory(&scene, &disc);
     println!("scene {}: {}", scene.scene.name, path.display());
     for (b, spec) in scene.bodies.iter().enumerate() {
         let q = &disc.quality[b];
@@ -237,8 +260,8 @@ pub fn check(path: &Path) -> Result<(), Failure> {
     if run::uses_fem(&scene) {
         return check_fem(&scene, disc);
     }
-    run::check_memory(&estimate)?;
-    let bonds = family::count_bonds(&disc.position, &disc.body, &horizon)?;
+    check_memory(&estimate)?;
+    let bonds = family::count_bonds(&disc.position, &disc.body, &delta)?;
     let particles = disc.position.len();
     let memory = bonds * estimate.bytes_per_bond + particles * BYTES_PER_PARTICLE;
     println!("  particles: {particles}");
@@ -252,9 +275,9 @@ pub fn check(path: &Path) -> Result<(), Failure> {
         estimate.bytes_per_bond
     );
     let mut prepared = run::prepare_discretized(&scene, disc)?;
-    let (stable, dt) = (prepared.stable_dt, prepared.sim.dt);
+    let (stable, dt) = (prepared.stable_dt, prepared.world.dt);
     print_cost(&scene, stable, dt, prepared.steps_per_frame, || {
-        prepared.sim.step()
+        prepared.world.step()
     })
 }
 
@@ -301,9 +324,9 @@ fn check_fem(
         "  FEM reference: {} tets, {vertices} vertices (no bonds)",
         disc.position.len()
     );
-    let mut prepared = run::prepare_fem_discretized(scene, disc)?;
-    let (stable, dt) = (prepared.stable_dt, prepared.sim.dt);
+    let mut prepared = run::prepare_discretized(scene, disc)?;
+    let (stable, dt) = (prepared.stable_dt, prepared.world.dt);
     print_cost(scene, stable, dt, prepared.steps_per_frame, || {
-        prepared.sim.step()
+        prepared.world.step()
     })
 }

@@ -7,6 +7,7 @@ use std::path::Path;
 use criterion::{Criterion, criterion_group, criterion_main};
 use perifrac_sim::family;
 use perifrac_sim::geometry::discretize::discretize;
+use perifrac_sim::pd::Peridynamics;
 use perifrac_sim::run;
 use perifrac_sim::scene::Scene;
 
@@ -37,7 +38,11 @@ fn kernels(c: &mut Criterion) {
     group.sample_size(20);
     for (name, material) in materials {
         let mut prepared = run::prepare(&wall(material)).expect("prepares");
-        let model = &mut prepared.sim.model;
+        let model = &mut prepared
+            .world
+            .model_mut::<Peridynamics>()
+            .expect("peridynamic")
+            .model;
         // A small affine stretch so plasticity and fracture have work to check.
         for i in 0..model.len() {
             model.particles.position[i][0] = 1.0005 * model.reference.position[i][0];
@@ -47,10 +52,10 @@ fn kernels(c: &mut Criterion) {
     group.finish();
     let scene = wall(materials[0].1);
     let disc = discretize(&scene).expect("meshes");
-    let horizon = vec![1.45 * 0.02; disc.position.len()];
+    let delta = vec![1.45 * 0.02; disc.position.len()];
     c.bench_function("family_build", |b| {
         b.iter(|| {
-            family::build(&disc.position, &disc.volume, &disc.body, &horizon, true).expect("bonds")
+            family::build(&disc.position, &disc.volume, &disc.body, &delta, true).expect("bonds")
         })
     });
 }

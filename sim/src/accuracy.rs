@@ -263,64 +263,48 @@ pub struct Recording {
 }
 
 /// Runs `scene` (peridynamics or FEM, as its bodies say) for `frames` frames after
-/// the initial one and records every frame in memory.
+/// the initial one and records every frame in memory; for the FEM also the mesh
+/// vertices (the FEM's points: every body's mesh, one after another).
 pub fn record(scene: &Scene, frames: usize) -> Result<Recording> {
     let start = Instant::now();
-    if run::uses_fem(scene) {
-        let mut p = run::prepare_fem(scene)?;
-        let sim = &mut p.sim;
-        let rest = p.discretization.position.clone();
-        let mut rec = Recording {
-            particles: Trajectory {
-                rest,
-                ..Trajectory::default()
-            },
-            vertices: Some(VertexTrajectory {
-                rest: sim.model.rest.clone(),
-                tets: sim.model.tets.clone(),
-                frames: Vec::new(),
-            }),
-            dt: sim.dt,
-            ..Recording::default()
-        };
-        for frame in 0..=frames {
-            if frame > 0 {
-                for _ in 0..p.steps_per_frame {
-                    sim.step()?;
-                }
-            }
-            rec.particles.times.push(sim.time);
-            rec.particles.frames.push(sim.model.particle_positions());
-            if let Some(v) = &mut rec.vertices {
-                v.frames.push(sim.model.position.clone());
-            }
-        }
-        rec.steps = sim.steps;
-        rec.wall = start.elapsed().as_secs_f64();
-        return Ok(rec);
-    }
     let mut p = run::prepare(scene)?;
-    let sim = &mut p.sim;
+    let vertices = run::uses_fem(scene).then(|| {
+        let mut tets = Vec::new();
+        let mut base = 0u32;
+        for mesh in &p.discretization.meshes {
+            tets.extend(mesh.tets.iter().map(|t| t.map(|v| v + base)));
+            base += mesh.vertices.len() as u32;
+        }
+        VertexTrajectory {
+            rest: p.world.parts[0].model.points().reference.to_vec(),
+            tets,
+            frames: Vec::new(),
+        }
+    });
+    let world = &mut p.world;
     let mut rec = Recording {
         particles: Trajectory {
             rest: p.discretization.position.clone(),
             ..Trajectory::default()
         },
-        dt: sim.dt,
+        vertices,
+        dt: world.dt,
         ..Recording::default()
     };
     for frame in 0..=frames {
         if frame > 0 {
             for _ in 0..p.steps_per_frame {
-                sim.step()?;
+                world.step()?;
             }
         }
-        rec.particles.times.push(sim.time);
-        rec.particles
-            .frames
-            .push(sim.model.particles.position.clone());
+        let model = &world.parts[0].model;
+        rec.particles.times.push(world.time);
+        rec.particles.frames.push(model.particle_positions());
+        if let Some(v) = &mut rec.vertices {
+            v.frames.push(model.points().position.to_vec());
+        }
     }
-    rec.steps = sim.steps;
+    rec.steps = world.steps;
     rec.wall = start.elapsed().as_secs_f64();
     Ok(rec)
 }

@@ -5,10 +5,16 @@
 //! to the collider's surface, its normal velocity relative to the collider is made
 //! non-negative and Coulomb friction removes at most μ|Δv_n| of the tangential
 //! velocity. A dynamic collider receives the opposite of the impulses it gave.
+//!
+//! Anchors hold the points inside a region of the scene at a prescribed rigid motion
+//! until their release time.
 
 use rayon::prelude::*;
 
-use crate::scene::ColliderSpec;
+use crate::error::{Result, SimError};
+use crate::geometry::shape::to_sdf;
+use crate::model::Points;
+use crate::scene::{ColliderSpec, Scene};
 
 /// A collider's shape.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -329,20 +335,22 @@ pub fn anchor_power(
 
 /// The energy a scene can supply over `duration`: the bodies' initial kinetic and
 /// strain energy `initial`, free fall, the colliders' kinetic energy, and the bodies
-/// moved at twice the fastest kinematic collider or anchor. The blow-up detector
-/// stops a run whose kinetic energy grows past a multiple of it.
+/// (every model's `points`) moved at twice the fastest kinematic collider or anchor.
+/// The blow-up detector stops a run whose kinetic energy grows past a multiple of it.
 pub fn energy_budget(
     initial: f64,
-    rest: &[[f64; 3]],
-    mass: &[f64],
+    points: &[Points<'_>],
     gravity: [f64; 3],
     duration: f64,
     colliders: &[Collider],
-    anchors: &[Anchor],
+    anchors: &[&Anchor],
 ) -> f64 {
     let norm = |v: [f64; 3]| dot(v, v).sqrt();
-    let total_mass: f64 = mass.iter().sum();
-    let extent = rest.iter().fold(0.0f64, |m, x| m.max(norm(*x)));
+    let total_mass: f64 = points.iter().map(|p| p.mass.iter().sum::<f64>()).sum();
+    let extent = points
+        .iter()
+        .flat_map(|p| p.reference)
+        .fold(0.0f64, |m, x| m.max(norm(*x)));
     let mut fastest = 0.0f64;
     for c in colliders {
         if c.mass.is_none() {
@@ -358,6 +366,55 @@ pub fn energy_budget(
         + colliders.iter().map(Collider::kinetic_energy).sum::<f64>()
         + 0.5 * total_mass * (2.0 * fastest).powi(2)
         + 1e-12
+}
+
+/// The mass-weighted centroid of the points `members` (by `weight`).
+pub fn centroid(x: &[[f64; 3]], weight: &[f64], members: &[usize]) -> [f64; 3] {
+    let mut c = [0.0; 3];
+    let mut total = 0.0;
+    for &i in members {
+        for a in 0..3 {
+            c[a] += x[i][a] * weight[i];
+        }
+        total += weight[i];
+    }
+    if total > 0.0 { c.map(|s| s / total) } else { c }
+}
+
+/// The scene's anchors over the points at `position` (particles, or FEM vertices) of
+/// bodies `body`: a point is held when its position is inside the anchor's region (a
+/// primitive, a CSG shape or a closed mesh file); a default centre of rotation is the
+/// held points' centroid weighted by `weight`.
+pub fn anchors(
+    scene: &Scene,
+    position: &[[f64; 3]],
+    weight: &[f64],
+    body: &[u32],
+) -> Result<Vec<Anchor>> {
+    let mut out = Vec::new();
+    for (b, spec) in scene.bodies.iter().enumerate() {
+        for (k, a) in spec.anchors.iter().enumerate() {
+            let region = to_sdf(&a.region, &scene.base_dir).map_err(|message| SimError::Mesh {
+                body: spec.name.clone(),
+                message: format!("anchor {} region: {message}", k + 1),
+            })?;
+            let members: Vec<usize> = (0..position.len())
+                .into_par_iter()
+                .filter(|&i| body[i] == b as u32 && region.distance(position[i]) <= 0.0)
+                .collect();
+            let center = a
+                .center
+                .unwrap_or_else(|| centroid(position, weight, &members));
+            out.push(Anchor {
+                particles: members.iter().map(|&i| i as u32).collect(),
+                velocity: a.velocity,
+                angular_velocity: a.angular_velocity,
+                center,
+                until: a.until,
+            });
+        }
+    }
+    Ok(out)
 }
 
 #[cfg(test)]

@@ -1,10 +1,20 @@
 //! perifrac's simulator: a scene file goes in, frames of particles go out.
 //!
-//! The physics is the state-based peridynamic elastoplastic fracture model of
-//! Chen et al. 2018 (`pd`), on particles placed at the barycentres of a tetrahedral
-//! mesh of each body (`geometry`), with rigid colliders and anchors (`contact`),
-//! explicit velocity-Verlet time stepping (`step`) and a frame cache on disk (`cache`)
-//! that the surface and render stages read.
+//! Main types, by module:
+//! - [`model::Model`]: the interface every solver implements (points, forces or an
+//!   own sub-step, stable step, energies, cache columns, checkpoint state, timings).
+//! - [`world::World`] of [`world::Part`]s: the one integrator (velocity Verlet), with
+//!   anchors, colliders, damping and the blow-up detector, over every model of a scene.
+//! - [`run::run`] / [`run::prepare`]: scene → world ([`run::Prepared`]) → frames on
+//!   disk, checkpoints and resume.
+//! - [`pd::Peridynamics`] (Chen et al. 2018 state-based peridynamics, [`pd::PdModel`])
+//!   and [`fem::Fem`] (the linear and corotated FEM references, [`fem::FemModel`]).
+//! - [`geometry::discretize::Discretization`]: bodies meshed into tets, particles at
+//!   their barycentres; [`family::Bonds`]: families in CSR arrays.
+//! - [`contact::Collider`], [`contact::Anchor`]; [`embed::EmbeddedMesh`] (Chen §5.2);
+//!   [`memory::MemoryEstimate`]; [`SimError`].
+//! - [`cache`] and [`scene`]: the cache layout and the scene format (re-exported from
+//!   the ground crate the other stages read).
 #![warn(missing_docs)]
 
 pub mod accuracy;
@@ -17,9 +27,11 @@ pub mod family;
 pub mod fem;
 pub mod geometry;
 pub mod material;
+pub mod memory;
+pub mod model;
 pub mod pd;
 pub mod run;
 pub mod scene;
-pub mod step;
+pub mod world;
 
 pub use error::SimError;

@@ -30,7 +30,10 @@ fn ply_difference(a: &[u8], b: &[u8]) -> Option<f64> {
             .collect()
     };
     let (fa, fb) = (floats(&ba), floats(&bb));
-    let scale = fa.iter().fold(0.0f64, |m, &v| m.max((v as f64).abs())).max(1e-30);
+    let scale = fa
+        .iter()
+        .fold(0.0f64, |m, &v| m.max((v as f64).abs()))
+        .max(1e-30);
     Some(
         fa.iter()
             .zip(&fb)
@@ -70,10 +73,9 @@ fn the_pinned_scene_gives_the_pinned_bytes() {
         }
     }
     assert!(update || compared == 2 * frames);
-    let manifest: serde_json::Value = serde_json::from_slice(
-        &std::fs::read(out.path().join("manifest.json")).expect("manifest"),
-    )
-    .expect("manifest is JSON");
+    let manifest: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.path().join("manifest.json")).expect("manifest"))
+            .expect("manifest is JSON");
     assert!(
         manifest["broken_bonds"].as_u64().unwrap_or(0) > 0,
         "the pinned scene must fracture"

@@ -5,6 +5,8 @@
 use std::path::Path;
 
 use perifrac_sim::SimError;
+use perifrac_sim::fem::{Fem, FemModel};
+use perifrac_sim::pd::{PdModel, Peridynamics};
 use perifrac_sim::run::{self, Prepared, RunOptions};
 use perifrac_sim::scene::Scene;
 
@@ -16,11 +18,26 @@ fn prepare(text: &str) -> Prepared {
     run::prepare(&scene(text)).expect("scene prepares")
 }
 
+/// The peridynamic model of a prepared scene.
+fn pd(p: &Prepared) -> &PdModel {
+    &p.world.model::<Peridynamics>().expect("peridynamic").model
+}
+
+/// The particle masses of a prepared peridynamic scene.
+fn pd_masses(p: &Prepared) -> &[f64] {
+    p.world.parts[0].model.points().mass
+}
+
+/// The FEM model of a prepared reference scene.
+fn fem(p: &Prepared) -> &FemModel {
+    &p.world.model::<Fem>().expect("FEM").model
+}
+
 const SOFT: &str = "density = 1000.0\nyoungs_modulus = 1.0e6\npoisson_ratio = 0.25\n";
 
 /// Mean x-displacement of the particles with reference x above `x0`.
 fn mean_dx(p: &Prepared, x0: f64) -> f64 {
-    let m = &p.sim.model;
+    let m = pd(p);
     let (mut s, mut n) = (0.0, 0);
     for i in 0..m.len() {
         if m.reference.position[i][0] > x0 {
@@ -41,7 +58,7 @@ fn longitudinal_wave_speed_in_a_slender_bar() {
     ));
     // The first free–free longitudinal mode: v = v0 cos(π (x + L/2) / L); the end
     // displacement is −(v0/ω) sin ωt with ω = π c / L, so it crosses zero at t = L/c.
-    p.sim.set_velocity(
+    p.world.set_velocity(
         |x| {
             [
                 1e-3 * (std::f64::consts::PI * (x[0] + length / 2.0) / length).cos(),
@@ -54,15 +71,15 @@ fn longitudinal_wave_speed_in_a_slender_bar() {
     let c0 = (1.0e6f64 / 1000.0).sqrt();
     let mut previous = (0.0, 0.0);
     let mut crossing = None;
-    while p.sim.time < 1.6 * length / c0 {
-        p.sim.step().expect("stable");
+    while p.world.time < 1.6 * length / c0 {
+        p.world.step().expect("stable");
         let u = mean_dx(&p, 0.45 * length);
-        if p.sim.time > 0.5 * length / c0 && previous.1 < 0.0 && u >= 0.0 {
+        if p.world.time > 0.5 * length / c0 && previous.1 < 0.0 && u >= 0.0 {
             crossing =
-                Some(previous.0 + (p.sim.time - previous.0) * (-previous.1) / (u - previous.1));
+                Some(previous.0 + (p.world.time - previous.0) * (-previous.1) / (u - previous.1));
             break;
         }
-        previous = (p.sim.time, u);
+        previous = (p.world.time, u);
     }
     let t = crossing.expect("the end came back through zero");
     let c = length / t;
@@ -84,7 +101,7 @@ fn energy_and_momentum_are_conserved() {
     // A stretching and shearing vibration on top of a uniform drift.
     let pi = std::f64::consts::PI;
     let drift = [0.01, -0.02, 0.005];
-    p.sim.set_velocity(
+    p.world.set_velocity(
         |x| {
             [
                 drift[0] + 0.01 * (pi * x[0] / size).sin(),
@@ -94,11 +111,11 @@ fn energy_and_momentum_are_conserved() {
         },
         1.0,
     );
-    let m0 = p.sim.total_mass();
+    let m0 = p.world.total_mass();
     let momentum = |p: &Prepared| -> [f64; 3] {
-        let m = &p.sim.model;
+        let m = pd(p);
         let mut s = [0.0; 3];
-        for (v, mass) in m.particles.velocity.iter().zip(p.sim.masses()) {
+        for (v, mass) in m.particles.velocity.iter().zip(pd_masses(p)) {
             for (s, v) in s.iter_mut().zip(v) {
                 *s += mass * v;
             }
@@ -107,13 +124,12 @@ fn energy_and_momentum_are_conserved() {
     };
     let p0 = momentum(&p);
     let drift_energy = 0.5 * m0 * drift.iter().map(|d| d * d).sum::<f64>();
-    let energy =
-        |p: &Prepared| p.sim.model.kinetic_energy() + p.sim.model.strain_energy() - drift_energy;
+    let energy = |p: &Prepared| pd(p).kinetic_energy() + pd(p).strain_energy() - drift_energy;
     let period = 2.0 * size / (1.0e6f64 / 1000.0).sqrt();
     let mut samples = Vec::new();
-    while p.sim.time < 10.0 * period {
-        p.sim.step().expect("stable");
-        samples.push((p.sim.time, energy(&p)));
+    while p.world.time < 10.0 * period {
+        p.world.step().expect("stable");
+        samples.push((p.world.time, energy(&p)));
     }
     let mean_over = |t0: f64, t1: f64| {
         let v: Vec<f64> = samples
@@ -160,8 +176,8 @@ fn permanent_set(plastic: &str, stretch: f64) -> f64 {
          velocity = [{}, 0, 0]\nuntil = {pull}\n",
         stretch * length / pull
     ));
-    while p.sim.time < pull + 0.3 {
-        p.sim.step().expect("stable");
+    while p.world.time < pull + 0.3 {
+        p.world.step().expect("stable");
     }
     mean_dx(&p, 0.085) - mean_dx(&p, -0.2)
 }
@@ -200,7 +216,8 @@ fn notched_bar(speed: f64, hold_after: f64) -> Prepared {
          velocity = [{speed}, 0, 0]\nuntil = {hold_after}\n",
         -speed
     ));
-    p.sim.set_velocity(|x| [speed * x[0] / 0.15, 0.0, 0.0], 1.0);
+    p.world
+        .set_velocity(|x| [speed * x[0] / 0.15, 0.0, 0.0], 1.0);
     p
 }
 
@@ -209,13 +226,13 @@ fn notched_bar_breaks_at_the_notch_into_two_fragments() {
     let speed = 0.05;
     let mut p = notched_bar(speed, f64::INFINITY);
     let mut first_break = None;
-    while p.sim.time < 0.4 {
-        let broken = p.sim.step().expect("stable");
+    while p.world.time < 0.4 {
+        let broken = p.world.step().expect("stable");
         if broken > 0 && first_break.is_none() {
-            first_break = Some(p.sim.time);
+            first_break = Some(p.world.time);
         }
-        if p.sim.steps % 20 == 0 {
-            let f = p.sim.model.fragments();
+        if p.world.steps % 20 == 0 {
+            let f = pd(&p).fragments();
             let left = f.iter().filter(|&&x| x == f[0]).count();
             if left < f.len() * 9 / 10 {
                 break;
@@ -223,9 +240,9 @@ fn notched_bar_breaks_at_the_notch_into_two_fragments() {
         }
     }
     let t_break = first_break.expect("the bar broke");
-    let fragments = p.sim.model.fragments();
+    let fragments = pd(&p).fragments();
     let count = fragments.iter().copied().max().unwrap_or(0) + 1;
-    let m = &p.sim.model;
+    let m = pd(&p);
     let side_ok = (0..m.len()).all(|i| {
         let x = m.reference.position[i][0];
         (x.abs() < 0.03) || (x < 0.0) == (fragments[i] == fragments[0])
@@ -240,8 +257,8 @@ fn notched_bar_breaks_at_the_notch_into_two_fragments() {
     // ~60%, so half keeps the peak below the critical stretch).
     let mut held = notched_bar(speed, 0.5 * t_break);
     let mut broken = 0;
-    while held.sim.time < t_break + 0.1 {
-        broken += held.sim.step().expect("stable");
+    while held.world.time < t_break + 0.1 {
+        broken += held.world.step().expect("stable");
     }
     assert_eq!(broken, 0, "bonds broke below the critical stretch");
 }
@@ -253,10 +270,10 @@ fn shatter_fragments(alpha: f64) -> usize {
          shape = {{ type = \"box\", center = [0, 0, 0], size = [0.2, 0.2, 0.03] }}\n\
          [[collider]]\ntype = \"sphere\"\ncenter = [0, 0, 0.06]\nradius = 0.04\nvelocity = [0, 0, -30]\n"
     ));
-    while p.sim.time < 0.006 {
-        p.sim.step().expect("stable");
+    while p.world.time < 0.006 {
+        p.world.step().expect("stable");
     }
-    let f = p.sim.model.fragments();
+    let f = pd(&p).fragments();
     f.iter().copied().max().unwrap_or(0) as usize + 1
 }
 
@@ -332,7 +349,7 @@ fn resume_continues_from_the_checkpoint() {
         part.path(),
         &RunOptions {
             frames: Some(3),
-            resume: false,
+            ..RunOptions::default()
         },
         &mut |_| {},
     )
@@ -343,6 +360,7 @@ fn resume_continues_from_the_checkpoint() {
         &RunOptions {
             frames: None,
             resume: true,
+            ..RunOptions::default()
         },
         &mut |_| {},
     )
@@ -443,12 +461,12 @@ fn cantilever_tip(model: &str, lambda: f64) -> (f64, f64) {
          [[body.anchor]]\nregion = {{ type = \"box\", center = [-0.5, 0, 0], size = [0.002, 0.2, 0.2] }}\n",
         2.0 * omega
     ));
-    let mut p = run::prepare_fem(&s).expect("prepares");
+    let mut p = run::prepare(&s).expect("prepares");
     let settle = 7.0 / omega;
-    while p.sim.time < settle {
-        p.sim.step().expect("stable");
+    while p.world.time < settle {
+        p.world.step().expect("stable");
     }
-    let m = &p.sim.model;
+    let m = fem(&p);
     let tip: Vec<f64> = (0..m.len())
         .filter(|&i| m.rest[i][0] > 0.5 - 1e-6)
         .map(|i| m.position[i][1] - m.rest[i][1])
@@ -536,7 +554,7 @@ fn fem_blowup_scene(dt: f64) -> String {
 
 #[test]
 fn fem_blow_up_is_caught_and_the_last_good_frame_kept() {
-    let stable = run::prepare_fem(&scene(&fem_blowup_scene(1e-4)))
+    let stable = run::prepare(&scene(&fem_blowup_scene(1e-4)))
         .expect("prepares")
         .stable_dt
         .0;
@@ -623,4 +641,35 @@ fn a_released_cantilever_vibrates_at_the_euler_bernoulli_frequency() {
         100.0 * (measured / f.euler_bernoulli - 1.0)
     );
     assert!((measured / f.euler_bernoulli - 1.0).abs() < 0.10);
+}
+
+/// The FEM reference goes through the same checkpoints as peridynamics: a run stopped
+/// and resumed gives the bytes of an uninterrupted one (the corotated tets' rotations,
+/// the polar decomposition's warm start, are part of the saved state).
+#[test]
+fn fem_runs_resume_from_their_checkpoints() {
+    let s = scene(&bar_swing("fem-corotated").replace(
+        "[[body]]\n",
+        "[output]\ncheckpoint_every = 2\npreview = false\n[[body]]\n",
+    ));
+    let frames = s.frame_count().min(6);
+    let full = tempfile::tempdir().expect("temp dir");
+    let options = |frames: usize, resume: bool| RunOptions {
+        frames: Some(frames),
+        resume,
+        ..RunOptions::default()
+    };
+    run::run(&s, full.path(), &options(frames, false), &mut |_| {}).expect("runs");
+    let part = tempfile::tempdir().expect("temp dir");
+    run::run(&s, part.path(), &options(3, false), &mut |_| {}).expect("runs");
+    run::run(&s, part.path(), &options(frames, true), &mut |_| {}).expect("resumes");
+    for f in 1..=frames + 1 {
+        let name = format!("particles/{f:04}.ply");
+        let a = std::fs::read(full.path().join(&name)).expect("frame");
+        let b = std::fs::read(part.path().join(&name)).expect("frame");
+        assert!(
+            a == b,
+            "{name}: a resumed FEM run differs from an uninterrupted one"
+        );
+    }
 }

@@ -1,165 +1,187 @@
-//! Checkpoints: the saved state (positions, velocities, bonds, plastic extensions,
-//! Verlet's acceleration, colliders, clock) from which an interrupted run resumes
-//! exactly as if it had not stopped. Scratch buffers (θ, forces) are not saved: the
-//! next step recomputes them.
+//! Checkpoints: a versioned, checksummed container around the world's saved state
+//! (each model's state as bytes), from which an interrupted run resumes exactly as if
+//! it had not stopped.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use crate::error::{Result, SimError};
-use crate::step::Simulation;
 
-const MAGIC: &[u8; 8] = b"PFCKPT01";
+const MAGIC: &[u8; 8] = b"PFCKPT02";
 
-/// Where a checkpoint leaves the run.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Resume {
+/// A checkpoint: where the run was and the world's state.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Checkpoint {
+    /// Ties the checkpoint to its resolved scene.
+    pub scene_hash: u64,
     /// The last frame written before the checkpoint.
-    pub frame: usize,
+    pub frame: u64,
+    /// Steps taken.
+    pub steps: u64,
     /// Bonds broken so far.
     pub broken_bonds: u64,
+    /// Simulation time (s).
+    pub time: f64,
+    /// The world's saved state.
+    pub payload: Vec<u8>,
 }
 
-/// Encodes the saved state of `sim` after `frame`; `scene_hash` ties it to its scene.
-pub fn encode(sim: &Simulation, frame: usize, broken_bonds: u64, scene_hash: u64) -> Vec<u8> {
-    let m = &sim.model;
-    let mut out = Vec::new();
-    out.extend_from_slice(MAGIC);
-    for v in [
-        scene_hash,
-        m.len() as u64,
-        m.bonds.len() as u64,
-        sim.colliders.len() as u64,
-        frame as u64,
-        sim.steps,
-        broken_bonds,
-    ] {
-        out.extend_from_slice(&v.to_le_bytes());
-    }
-    out.extend_from_slice(&sim.time.to_le_bytes());
-    for p in m
-        .particles
-        .position
-        .iter()
-        .chain(&m.particles.velocity)
-        .chain(sim.acceleration())
-    {
-        for x in p {
-            out.extend_from_slice(&x.to_le_bytes());
+impl Checkpoint {
+    /// The bytes on disk.
+    pub fn encode(&self) -> Vec<u8> {
+        let mut out = Vec::with_capacity(self.payload.len() + 64);
+        out.extend_from_slice(MAGIC);
+        for v in [self.scene_hash, self.frame, self.steps, self.broken_bonds] {
+            out.extend_from_slice(&v.to_le_bytes());
         }
+        out.extend_from_slice(&self.time.to_le_bytes());
+        out.extend_from_slice(&(self.payload.len() as u64).to_le_bytes());
+        out.extend_from_slice(&self.payload);
+        out
     }
-    out.extend_from_slice(&sim.anchor_work.to_le_bytes());
-    for nb in &m.bonds.neighbours {
-        out.extend_from_slice(&nb.to_le_bytes());
-    }
-    if let Some(p) = &m.plastic {
-        for e in &p.extension {
-            out.extend_from_slice(&e.to_le_bytes());
+
+    /// Reads a checkpoint file.
+    pub fn read(path: &Path) -> Result<Checkpoint> {
+        let bytes = std::fs::read(path).map_err(|e| SimError::io(path, e))?;
+        let mut d = Decoder::new(&bytes, path);
+        if bytes.get(..8) != Some(MAGIC.as_slice()) {
+            return Err(d.invalid("not a perifrac checkpoint".into()));
         }
-    }
-    for c in &sim.colliders {
-        for x in c.center.iter().chain(&c.velocity) {
-            out.extend_from_slice(&x.to_le_bytes());
+        d.at = 8;
+        let scene_hash = d.take_u64("header")?;
+        let frame = d.take_u64("header")?;
+        let steps = d.take_u64("header")?;
+        let broken_bonds = d.take_u64("header")?;
+        let time = d.take_f64("header")?;
+        let len = d.take_u64("header")? as usize;
+        if bytes.len() - d.at != len {
+            return Err(d.invalid(format!(
+                "the payload is {} bytes where the header says {len}",
+                bytes.len() - d.at
+            )));
         }
+        Ok(Checkpoint {
+            scene_hash,
+            frame,
+            steps,
+            broken_bonds,
+            time,
+            payload: bytes[d.at..].to_vec(),
+        })
     }
-    out
 }
 
-struct Reader<'a> {
+/// Writes a checkpoint payload.
+#[derive(Debug, Default)]
+pub struct Encoder {
+    /// The bytes so far.
+    pub bytes: Vec<u8>,
+}
+
+impl Encoder {
+    /// A u64.
+    pub fn put_u64(&mut self, v: u64) {
+        self.bytes.extend_from_slice(&v.to_le_bytes());
+    }
+    /// An f64.
+    pub fn put_f64(&mut self, v: f64) {
+        self.bytes.extend_from_slice(&v.to_le_bytes());
+    }
+    /// f64 values.
+    pub fn put_f64s(&mut self, v: &[f64]) {
+        v.iter().for_each(|&x| self.put_f64(x));
+    }
+    /// 3-vectors.
+    pub fn put_f64x3s(&mut self, v: &[[f64; 3]]) {
+        v.iter().for_each(|x| self.put_f64s(x));
+    }
+    /// u32 values.
+    pub fn put_u32s(&mut self, v: &[u32]) {
+        v.iter()
+            .for_each(|x| self.bytes.extend_from_slice(&x.to_le_bytes()));
+    }
+}
+
+/// Reads a checkpoint payload, naming the file and the field on every failure.
+#[derive(Debug)]
+pub struct Decoder<'a> {
     bytes: &'a [u8],
     at: usize,
+    path: PathBuf,
 }
 
-impl Reader<'_> {
-    fn take<const N: usize>(&mut self) -> std::result::Result<[u8; N], String> {
+impl<'a> Decoder<'a> {
+    /// A decoder over the payload of the checkpoint at `path`.
+    pub fn new(bytes: &'a [u8], path: &Path) -> Decoder<'a> {
+        Decoder {
+            bytes,
+            at: 0,
+            path: path.to_path_buf(),
+        }
+    }
+    /// An error about this checkpoint.
+    pub fn invalid(&self, message: String) -> SimError {
+        SimError::Cache {
+            path: self.path.clone(),
+            message,
+        }
+    }
+    fn take<const N: usize>(&mut self, what: &str) -> Result<[u8; N]> {
         let s = self
             .bytes
             .get(self.at..self.at + N)
-            .ok_or("checkpoint is truncated")?;
+            .ok_or_else(|| self.invalid(format!("checkpoint is truncated in the {what}")))?;
         self.at += N;
         let mut a = [0u8; N];
         a.copy_from_slice(s);
         Ok(a)
     }
-    fn u64(&mut self) -> std::result::Result<u64, String> {
-        Ok(u64::from_le_bytes(self.take()?))
+    /// A u64.
+    pub fn take_u64(&mut self, what: &str) -> Result<u64> {
+        Ok(u64::from_le_bytes(self.take(what)?))
     }
-    fn f64(&mut self) -> std::result::Result<f64, String> {
-        Ok(f64::from_le_bytes(self.take()?))
+    /// An f64.
+    pub fn take_f64(&mut self, what: &str) -> Result<f64> {
+        Ok(f64::from_le_bytes(self.take(what)?))
     }
-}
-
-/// Restores a checkpoint into `sim` (built from the same scene).
-pub fn restore(path: &Path, sim: &mut Simulation, scene_hash: u64) -> Result<Resume> {
-    let bytes = std::fs::read(path).map_err(|e| SimError::io(path, e))?;
-    let fail = |message: String| SimError::Cache {
-        path: path.to_path_buf(),
-        message,
-    };
-    if bytes.get(..8) != Some(MAGIC.as_slice()) {
-        return Err(fail("not a perifrac checkpoint".into()));
-    }
-    let mut r = Reader {
-        bytes: &bytes,
-        at: 8,
-    };
-    let header: Vec<u64> = (0..7)
-        .map(|_| r.u64())
-        .collect::<std::result::Result<_, _>>()
-        .map_err(fail)?;
-    let [hash, n, bonds, colliders, frame, steps, broken] = header[..] else {
-        return Err(fail("checkpoint header is incomplete".into()));
-    };
-    if hash != scene_hash {
-        return Err(fail("the checkpoint was written for a different scene (or different settings); run without --resume".into()));
-    }
-    let m = &mut sim.model;
-    if n as usize != m.len()
-        || bonds as usize != m.bonds.len()
-        || colliders as usize != sim.colliders.len()
-    {
-        return Err(fail(format!(
-            "checkpoint has {n} particles, {bonds} bonds, {colliders} colliders; the scene gives {}, {}, {}",
-            m.len(),
-            m.bonds.len(),
-            sim.colliders.len()
-        )));
-    }
-    let mut acceleration = vec![[0.0f64; 3]; m.len()];
-    let mut read = || -> std::result::Result<(), String> {
-        sim.time = r.f64()?;
-        let vectors = m
-            .particles
-            .position
-            .iter_mut()
-            .chain(m.particles.velocity.iter_mut());
-        for p in vectors.chain(acceleration.iter_mut()) {
-            for x in p.iter_mut() {
-                *x = r.f64()?;
-            }
-        }
-        sim.anchor_work = r.f64()?;
-        for nb in m.bonds.neighbours.iter_mut() {
-            *nb = u32::from_le_bytes(r.take()?);
-        }
-        if let Some(p) = &mut m.plastic {
-            for e in p.extension.iter_mut() {
-                *e = f64::from_le_bytes(r.take()?);
-            }
-        }
-        for c in sim.colliders.iter_mut() {
-            for x in c.center.iter_mut().chain(c.velocity.iter_mut()) {
-                *x = r.f64()?;
-            }
+    /// A count that must equal `expected`.
+    pub fn expect_count(&mut self, what: &str, expected: usize) -> Result<()> {
+        let n = self.take_u64(what)?;
+        if n != expected as u64 {
+            return Err(self.invalid(format!(
+                "checkpoint has {n} {what} where the scene gives {expected}"
+            )));
         }
         Ok(())
-    };
-    read().map_err(fail)?;
-    sim.steps = steps;
-    sim.model.update_damage();
-    sim.model.update_yielded();
-    sim.restore_acceleration(acceleration);
-    Ok(Resume {
-        frame: frame as usize,
-        broken_bonds: broken,
-    })
+    }
+    /// f64 values into `out`.
+    pub fn take_f64s_into(&mut self, out: &mut [f64], what: &str) -> Result<()> {
+        for x in out {
+            *x = self.take_f64(what)?;
+        }
+        Ok(())
+    }
+    /// 3-vectors into `out`.
+    pub fn take_f64x3s_into(&mut self, out: &mut [[f64; 3]], what: &str) -> Result<()> {
+        for x in out {
+            self.take_f64s_into(x, what)?;
+        }
+        Ok(())
+    }
+    /// u32 values into `out`.
+    pub fn take_u32s_into(&mut self, out: &mut [u32], what: &str) -> Result<()> {
+        for x in out {
+            *x = u32::from_le_bytes(self.take(what)?);
+        }
+        Ok(())
+    }
+    /// Refuses bytes left over.
+    pub fn finish(&self) -> Result<()> {
+        if self.at != self.bytes.len() {
+            return Err(self.invalid(format!(
+                "{} bytes are left over after the state",
+                self.bytes.len() - self.at
+            )));
+        }
+        Ok(())
+    }
 }

@@ -22,9 +22,9 @@
 //! the same scene, so the two caches can be compared particle by particle.
 
 pub mod rotation;
-mod simulation;
+mod solver;
 
-pub use simulation::FemSimulation;
+pub use solver::Fem;
 
 use rayon::prelude::*;
 

@@ -5,8 +5,8 @@
 
 use rayon::prelude::*;
 
-use super::mesh::{Conformity, MeshSdf, Placement, TriMesh, conform};
-use super::shape::to_sdf;
+use super::mesh::{Conformity, MeshSdf, TriMesh, conform};
+use super::shape::{placement, to_sdf};
 use super::stuffing::stuff;
 use super::{MeshQuality, TetMesh};
 use crate::error::{Result, SimError};
@@ -43,18 +43,8 @@ pub fn discretize(scene: &Scene) -> Result<Discretization> {
                 body: b.name.clone(),
                 message,
             };
-            match &b.shape {
-                ShapeSpec::Mesh {
-                    path,
-                    scale,
-                    rotation,
-                    translation,
-                } => {
-                    let placement = Placement {
-                        scale: scale.factors(),
-                        rotation_deg: *rotation,
-                        translation: *translation,
-                    };
+            match (&b.shape, placement(&b.shape)) {
+                (ShapeSpec::Mesh { path, .. }, Some(placement)) => {
                     let surface = TriMesh::load(&scene.base_dir.join(path), &placement)
                         .map_err(|e| error(e.to_string()))?;
                     let sdf = MeshSdf::new(&surface);
@@ -62,10 +52,8 @@ pub fn discretize(scene: &Scene) -> Result<Discretization> {
                     let fit = conform(&mut tets, &surface, &sdf, b.resolution);
                     Ok((tets, Some(fit)))
                 }
-                shape => {
-                    let sdf = to_sdf(shape).ok_or_else(|| {
-                        error("a mesh file cannot be part of a union or difference".into())
-                    })?;
+                (shape, _) => {
+                    let sdf = to_sdf(shape, &scene.base_dir).map_err(error)?;
                     let tets =
                         stuff(sdf.as_ref(), b.resolution).map_err(|e| error(e.to_string()))?;
                     Ok((tets, None))

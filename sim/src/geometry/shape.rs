@@ -1,12 +1,33 @@
-//! Scene shapes as signed distance functions.
+//! Scene shapes as signed distance functions: primitives, CSG, and mesh files (exact
+//! signed distance to the closed surface, [`MeshSdf`]).
 
+use std::path::Path;
+
+use super::mesh::{MeshSdf, Placement, TriMesh};
 use super::sdf::{Ball, Cuboid, Cylinder, Difference, Sdf, Union};
 use crate::scene::ShapeSpec;
 
-/// The signed distance function of a primitive or CSG shape; `None` for a mesh file
-/// (meshes are read by the mesh loader, not here).
-pub fn to_sdf(shape: &ShapeSpec) -> Option<Box<dyn Sdf>> {
-    Some(match shape {
+/// How a mesh file of a shape is placed in the scene.
+pub fn placement(shape: &ShapeSpec) -> Option<Placement> {
+    match shape {
+        ShapeSpec::Mesh {
+            scale,
+            rotation,
+            translation,
+            ..
+        } => Some(Placement {
+            scale: scale.factors(),
+            rotation_deg: *rotation,
+            translation: *translation,
+        }),
+        _ => None,
+    }
+}
+
+/// The signed distance function of a shape; mesh files (relative to `base_dir`) are
+/// read and must be closed. The error says what is wrong with the file.
+pub fn to_sdf(shape: &ShapeSpec, base_dir: &Path) -> Result<Box<dyn Sdf>, String> {
+    Ok(match shape {
         ShapeSpec::Box { center, size } | ShapeSpec::Slab { center, size } => Box::new(Cuboid {
             center: *center,
             half_extents: [size[0] / 2.0, size[1] / 2.0, size[2] / 2.0],
@@ -26,12 +47,21 @@ pub fn to_sdf(shape: &ShapeSpec) -> Option<Box<dyn Sdf>> {
             radius: *radius,
             half_height: height / 2.0,
         }),
-        ShapeSpec::Union { parts } => {
-            Box::new(Union(parts.iter().map(to_sdf).collect::<Option<Vec<_>>>()?))
+        ShapeSpec::Union { parts } => Box::new(Union(
+            parts
+                .iter()
+                .map(|p| to_sdf(p, base_dir))
+                .collect::<Result<Vec<_>, _>>()?,
+        )),
+        ShapeSpec::Difference { base, minus } => Box::new(Difference(
+            to_sdf(base, base_dir)?,
+            to_sdf(minus, base_dir)?,
+        )),
+        ShapeSpec::Mesh { path, .. } => {
+            let placement = placement(shape).unwrap_or_default();
+            let surface =
+                TriMesh::load(&base_dir.join(path), &placement).map_err(|e| e.to_string())?;
+            Box::new(MeshSdf::new(&surface))
         }
-        ShapeSpec::Difference { base, minus } => {
-            Box::new(Difference(to_sdf(base)?, to_sdf(minus)?))
-        }
-        ShapeSpec::Mesh { .. } => return None,
     })
 }

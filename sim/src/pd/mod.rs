@@ -22,7 +22,10 @@
 //! Plasticity (Eq. 13–16) and fracture (Eq. 18–19) are optional stages; a scene
 //! without them allocates no plastic state and runs kernels compiled without them.
 
+mod crack;
 mod kernel;
+mod solver;
+mod stable;
 
 use rayon::prelude::*;
 
@@ -30,7 +33,10 @@ use crate::family::{BROKEN, Bonds, Corrections, INDEX};
 use crate::material::{Material, PdConstants};
 use crate::scene::DilatationForm;
 
+pub use crack::cut_initial_cracks;
 pub use kernel::StageTimes;
+pub use solver::Peridynamics;
+pub use stable::stable_time_step;
 
 /// Particle state that is saved in checkpoints.
 #[derive(Debug, Clone, Default)]

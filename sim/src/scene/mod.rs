@@ -344,6 +344,13 @@ pub struct BodySpec {
     pub cracks: Vec<CrackSpec>,
 }
 
+impl BodySpec {
+    /// The horizon δ in metres: `horizon` (δ/λ) × `resolution` (λ).
+    pub fn delta(&self) -> f64 {
+        self.horizon * self.resolution
+    }
+}
+
 /// `[[body.anchor]]`: particles inside `region` move rigidly with the given velocity.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

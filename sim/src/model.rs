@@ -1,0 +1,185 @@
+//! The interface every solver implements, so that one integrator ([`crate::world`])
+//! steps them all: peridynamics (`pd`), the FEM references (`fem`), and the models
+//! that come next (membranes, MPM).
+//!
+//! A model owns a set of *points* (particles or mesh vertices) with positions,
+//! velocities, reference positions and masses. The integrator moves them by velocity
+//! Verlet with accelerations the model computes from the current state; anchors,
+//! colliders, the blow-up detector, checkpoints and the cache are the world's, written
+//! once over this trait. A model that advances itself (an MPM sub-step through its
+//! grid) says so with [`Stepping::Own`] and gets [`Model::advance`] called instead.
+
+use std::any::Any;
+use std::fmt::Debug;
+
+use crate::cache::checkpoint::{Decoder, Encoder};
+use crate::cache::vtu::TetFrame;
+use crate::contact::{Anchor, Collider};
+use crate::error::Result;
+
+/// A model's points, read-only.
+#[derive(Debug, Clone, Copy)]
+pub struct Points<'a> {
+    /// Current positions (m).
+    pub position: &'a [[f64; 3]],
+    /// Velocities (m/s).
+    pub velocity: &'a [[f64; 3]],
+    /// Reference (rest) positions (m): anchors move points relative to these.
+    pub reference: &'a [[f64; 3]],
+    /// Masses (kg).
+    pub mass: &'a [f64],
+}
+
+/// A model's points, with positions and velocities writable.
+#[derive(Debug)]
+pub struct PointsMut<'a> {
+    /// Current positions (m).
+    pub position: &'a mut [[f64; 3]],
+    /// Velocities (m/s).
+    pub velocity: &'a mut [[f64; 3]],
+    /// Reference (rest) positions (m).
+    pub reference: &'a [[f64; 3]],
+    /// Masses (kg).
+    pub mass: &'a [f64],
+}
+
+/// The columns a model gives the particle cache (`particles/NNNN.ply`), one entry a
+/// particle. Particles need not be the integrator's points: the FEM writes its tet
+/// barycentres.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ParticleColumns {
+    /// Positions.
+    pub position: Vec<[f32; 3]>,
+    /// Velocities.
+    pub velocity: Vec<[f32; 3]>,
+    /// Damage φ in [0, 1].
+    pub damage: Vec<f32>,
+    /// Plastic strain measure.
+    pub plastic: Vec<f32>,
+    /// Scene body index.
+    pub body: Vec<u32>,
+    /// Fragment id, numbered from 0 within the model.
+    pub fragment: Vec<u32>,
+}
+
+/// How a model's points are advanced in time.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stepping {
+    /// The world's velocity Verlet with [`Model::accelerations`].
+    Verlet,
+    /// The model's own [`Model::advance`] (for example an MPM grid sub-step).
+    Own,
+}
+
+/// What [`Model::advance`] may use of the world.
+#[derive(Debug)]
+pub struct Environment<'a> {
+    /// Gravity (m/s²).
+    pub gravity: [f64; 3],
+    /// The rigid colliders, at their positions at the start of the step.
+    pub colliders: &'a [Collider],
+    /// The model's anchors.
+    pub anchors: &'a [Anchor],
+    /// Time at the end of the step (s).
+    pub time: f64,
+}
+
+/// A solver behind the one integrator. Everything the time loop, the frame loop,
+/// anchors, colliders, the blow-up detector, checkpoints and the cache need of it.
+pub trait Model: Any + Debug + Send + Sync {
+    /// The model's name, for messages and the manifest (`"peridynamics"`).
+    fn name(&self) -> &'static str;
+
+    /// What the integrator's points are, for messages (`"particle"`, `"mesh vertex"`).
+    fn point_kind(&self) -> &'static str {
+        "particle"
+    }
+
+    /// The points.
+    fn points(&self) -> Points<'_>;
+
+    /// The points, positions and velocities writable.
+    fn points_mut(&mut self) -> PointsMut<'_>;
+
+    /// The scene body of each point.
+    fn point_bodies(&self) -> &[u32];
+
+    /// How the points are advanced.
+    fn stepping(&self) -> Stepping {
+        Stepping::Verlet
+    }
+
+    /// Computes the internal forces at the current positions (and whatever the model
+    /// updates with them: plasticity, fracture); returns how many bonds broke.
+    fn internal_forces(&mut self) -> usize;
+
+    /// Writes each point's acceleration, internal force over mass plus `gravity`,
+    /// into `out` (after [`Model::internal_forces`]).
+    fn accelerations(&self, gravity: [f64; 3], out: &mut [[f64; 3]]);
+
+    /// Damps the velocities over one step `dt` (air drag, smoothing), leaving points
+    /// that are `anchored` alone.
+    fn damp(&mut self, dt: f64, anchored: &[bool]);
+
+    /// Advances the model by `dt` on its own ([`Stepping::Own`]); returns how many
+    /// bonds broke. Verlet models are never asked.
+    fn advance(&mut self, dt: f64, environment: &Environment<'_>) -> Result<usize> {
+        let _ = (dt, environment);
+        Err(crate::error::SimError::Refused(format!(
+            "the {} model is stepped by the world's integrator, not by itself",
+            self.name()
+        )))
+    }
+
+    /// The largest stable time step (s) and the point that limits it.
+    fn stable_time_step(&self) -> (f64, usize);
+
+    /// Kinetic energy (J), summed in an order independent of the thread count.
+    fn kinetic_energy(&self) -> f64;
+
+    /// Strain energy (J) at the last computed forces.
+    fn strain_energy(&self) -> f64;
+
+    /// The cache particle that stands for point `point` (for messages).
+    fn particle_of_point(&self, point: usize) -> usize {
+        point
+    }
+
+    /// The particles for the cache.
+    fn particles(&self) -> ParticleColumns;
+
+    /// The cache particles' positions in full precision (for measurements); the
+    /// points' positions unless the particles are not the points.
+    fn particle_positions(&self) -> Vec<[f64; 3]> {
+        self.points().position.to_vec()
+    }
+
+    /// Bonds the model holds (directed), for the manifest.
+    fn bonds(&self) -> usize {
+        0
+    }
+
+    /// Writes the model's saved state (not scratch) into a checkpoint.
+    fn save(&self, out: &mut Encoder);
+
+    /// Restores the saved state written by [`Model::save`] for the same scene.
+    fn restore(&mut self, input: &mut Decoder<'_>) -> Result<()>;
+
+    /// Wall time of each of the model's stages so far (s), by name.
+    fn stage_times(&self) -> Vec<(&'static str, f64)>;
+
+    /// Sets the stage times back to zero (benchmarks).
+    fn reset_stage_times(&mut self);
+
+    /// The split tet mesh of the current state, for models that write `tets/`.
+    fn tet_frame(&mut self) -> Option<TetFrame> {
+        None
+    }
+
+    /// Restores the split tet mesh's topology from the last frame written before a
+    /// checkpoint, so that resumed frames keep its vertex numbering.
+    fn restore_tet_frame(&mut self, last: TetFrame) -> Result<()> {
+        let _ = last;
+        Ok(())
+    }
+}

@@ -1,0 +1,256 @@
+//! The peridynamic model behind [`Model`]: Chen et al. 2018's particles stepped by the
+//! world's integrator, with air and Laplacian damping (Chen §6), the stable step of
+//! [`stable_time_step`], checkpoints of the saved state, and the split tet mesh
+//! (Chen §5.2) when the scene writes one.
+
+use rayon::prelude::*;
+
+use super::{PdModel, stable_time_step};
+use crate::cache::checkpoint::{Decoder, Encoder};
+use crate::cache::vtu::TetFrame;
+use crate::embed::{EmbeddedMesh, NO_PARENT, deformation_gradients};
+use crate::error::Result;
+use crate::family::{BROKEN, INDEX};
+use crate::model::{Model, ParticleColumns, Points, PointsMut};
+
+/// A [`PdModel`] with its particle masses and, when the scene writes `tets/`, its
+/// embedded tet mesh.
+#[derive(Debug, Clone)]
+pub struct Peridynamics {
+    /// The model.
+    pub model: PdModel,
+    /// Particle masses ρV (kg).
+    mass: Vec<f64>,
+    /// The embedded tet mesh split along the cracks, when written.
+    embedded: Option<EmbeddedMesh>,
+}
+
+impl Peridynamics {
+    /// The model, writing the split tet mesh `embedded` if given.
+    pub fn new(model: PdModel, embedded: Option<EmbeddedMesh>) -> Peridynamics {
+        let mass = (0..model.len()).map(|i| model.mass(i)).collect();
+        Peridynamics {
+            model,
+            mass,
+            embedded,
+        }
+    }
+}
+
+fn f32x3(v: &[f64; 3]) -> [f32; 3] {
+    [v[0] as f32, v[1] as f32, v[2] as f32]
+}
+
+impl Model for Peridynamics {
+    fn name(&self) -> &'static str {
+        "peridynamics"
+    }
+
+    fn points(&self) -> Points<'_> {
+        let m = &self.model;
+        Points {
+            position: &m.particles.position,
+            velocity: &m.particles.velocity,
+            reference: &m.reference.position,
+            mass: &self.mass,
+        }
+    }
+
+    fn points_mut(&mut self) -> PointsMut<'_> {
+        let m = &mut self.model;
+        PointsMut {
+            position: &mut m.particles.position,
+            velocity: &mut m.particles.velocity,
+            reference: &m.reference.position,
+            mass: &self.mass,
+        }
+    }
+
+    fn point_bodies(&self) -> &[u32] {
+        &self.model.reference.body
+    }
+
+    fn internal_forces(&mut self) -> usize {
+        self.model.internal_forces()
+    }
+
+    /// a_i = f_i/ρ_i + g: the force *density* over the density (Chen Eq. 1).
+    fn accelerations(&self, gravity: [f64; 3], out: &mut [[f64; 3]]) {
+        let m = &self.model;
+        out.par_iter_mut()
+            .enumerate()
+            .with_min_len(1024)
+            .for_each(|(i, a)| {
+                let rho = m.bodies[m.reference.body[i] as usize].material.density;
+                let f = m.force[i];
+                *a = [
+                    f[0] / rho + gravity[0],
+                    f[1] / rho + gravity[1],
+                    f[2] / rho + gravity[2],
+                ];
+            });
+    }
+
+    /// Air damping v ← (1 − λa) v and Laplacian smoothing v ← v + λl L(v) over
+    /// intact bonds, L(v)_i = Σ_j V_j (v_j − v_i) / Σ_j V_j (Chen §6), with the
+    /// per-step coefficients λ = rate·Δt.
+    fn damp(&mut self, dt: f64, anchored: &[bool]) {
+        let m = &self.model;
+        let any_air = m.bodies.iter().any(|b| b.material.air_damping > 0.0);
+        let any_laplace = m.bodies.iter().any(|b| b.material.laplacian_damping > 0.0);
+        if !any_air && !any_laplace {
+            return;
+        }
+        let old = &m.particles.velocity;
+        let bonds = &m.bonds;
+        let volume = &m.reference.volume;
+        let new: Vec<[f64; 3]> = (0..m.len())
+            .into_par_iter()
+            .with_min_len(256)
+            .map(|i| {
+                let mat = &m.bodies[m.reference.body[i] as usize].material;
+                let mut v = old[i];
+                if anchored[i] {
+                    return v;
+                }
+                let lambda_l = (mat.laplacian_damping * dt).min(1.0);
+                if lambda_l > 0.0 {
+                    let mut sum = [0.0; 3];
+                    let mut w = 0.0;
+                    for k in bonds.range(i) {
+                        let nb = bonds.neighbours[k];
+                        if nb & BROKEN != 0 {
+                            continue;
+                        }
+                        let j = (nb & INDEX) as usize;
+                        for a in 0..3 {
+                            sum[a] += volume[j] * (old[j][a] - old[i][a]);
+                        }
+                        w += volume[j];
+                    }
+                    if w > 0.0 {
+                        for a in 0..3 {
+                            v[a] += lambda_l * sum[a] / w;
+                        }
+                    }
+                }
+                let keep = 1.0 - (mat.air_damping * dt).min(1.0);
+                [v[0] * keep, v[1] * keep, v[2] * keep]
+            })
+            .collect();
+        self.model.particles.velocity = new;
+    }
+
+    fn stable_time_step(&self) -> (f64, usize) {
+        stable_time_step(&self.model)
+    }
+
+    fn kinetic_energy(&self) -> f64 {
+        self.model.kinetic_energy()
+    }
+
+    fn strain_energy(&self) -> f64 {
+        self.model.strain_energy()
+    }
+
+    fn particles(&self) -> ParticleColumns {
+        let m = &self.model;
+        let p = &m.particles;
+        ParticleColumns {
+            position: p.position.iter().map(f32x3).collect(),
+            velocity: p.velocity.iter().map(f32x3).collect(),
+            damage: p.damage.iter().map(|&d| d as f32).collect(),
+            plastic: m.plastic_strain().into_iter().map(|s| s as f32).collect(),
+            body: m.reference.body.clone(),
+            fragment: m.fragments(),
+        }
+    }
+
+    fn bonds(&self) -> usize {
+        self.model.bonds.len()
+    }
+
+    /// Positions, velocities, the bonds' broken bits and the plastic extensions;
+    /// damage and the `yielded` flags are derived from them on restore.
+    fn save(&self, out: &mut Encoder) {
+        let m = &self.model;
+        out.put_u64(m.len() as u64);
+        out.put_f64x3s(&m.particles.position);
+        out.put_f64x3s(&m.particles.velocity);
+        out.put_u64(m.bonds.len() as u64);
+        out.put_u32s(&m.bonds.neighbours);
+        if let Some(p) = &m.plastic {
+            out.put_f64s(&p.extension);
+        }
+    }
+
+    fn restore(&mut self, input: &mut Decoder<'_>) -> Result<()> {
+        let m = &mut self.model;
+        input.expect_count("particles", m.len())?;
+        input.take_f64x3s_into(&mut m.particles.position, "positions")?;
+        input.take_f64x3s_into(&mut m.particles.velocity, "velocities")?;
+        input.expect_count("bonds", m.bonds.len())?;
+        let mut neighbours = vec![0u32; m.bonds.len()];
+        input.take_u32s_into(&mut neighbours, "bonds")?;
+        // Only the broken bit may differ from the bonds this scene builds.
+        if let Some(k) =
+            (0..neighbours.len()).find(|&k| neighbours[k] & INDEX != m.bonds.neighbours[k] & INDEX)
+        {
+            return Err(input.invalid(format!(
+                "bond {k} points at particle {} where the scene has {}",
+                neighbours[k] & INDEX,
+                m.bonds.neighbours[k] & INDEX
+            )));
+        }
+        m.bonds.neighbours = neighbours;
+        if let Some(p) = &mut m.plastic {
+            input.take_f64s_into(&mut p.extension, "plastic extensions")?;
+        }
+        m.update_damage();
+        m.update_yielded();
+        Ok(())
+    }
+
+    fn stage_times(&self) -> Vec<(&'static str, f64)> {
+        let t = self.model.times;
+        vec![("dilatation", t.dilatation), ("forces", t.forces)]
+    }
+
+    fn reset_stage_times(&mut self) {
+        self.model.times = Default::default();
+    }
+
+    /// Updates the crack-face set and splits vertices, then places the vertices (see
+    /// [`crate::embed`]).
+    fn tet_frame(&mut self) -> Option<TetFrame> {
+        let mesh = self.embedded.as_mut()?;
+        let m = &self.model;
+        mesh.update(&m.bonds);
+        let reference = &m.reference.position;
+        let position = &m.particles.position;
+        let gradient = deformation_gradients(&m.bonds, reference, position, &m.reference.volume);
+        Some(TetFrame {
+            points: mesh.positions(reference, position, &self.mass, &gradient),
+            tets: mesh.tets.clone(),
+            particle: (0..m.len() as u32).collect(),
+            damage: m.particles.damage.iter().map(|&d| d as f32).collect(),
+            parent: mesh
+                .parent
+                .iter()
+                .map(|&p| if p == NO_PARENT { -1 } else { p as i32 })
+                .collect(),
+        })
+    }
+
+    fn restore_tet_frame(&mut self, last: TetFrame) -> Result<()> {
+        let Some(mesh) = self.embedded.as_mut() else {
+            return Ok(());
+        };
+        let parent = last
+            .parent
+            .iter()
+            .map(|&p| if p < 0 { NO_PARENT } else { p as u32 })
+            .collect();
+        mesh.restore(last.tets, parent, &self.model.bonds)
+    }
+}

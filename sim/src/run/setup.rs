@@ -1,0 +1,220 @@
+//! From a scene to a world ready to step: discretize, build each model (families and
+//! initial cracks for peridynamics, elements for the FEM), initial velocities,
+//! anchors, colliders, and the time step.
+
+use std::time::Instant;
+
+use crate::cache::manifest::Timings;
+use crate::contact::{self, Collider, centroid};
+use crate::embed::EmbeddedMesh;
+use crate::error::{Result, SimError};
+use crate::family;
+use crate::fem::{Fem, FemBody, FemModel};
+use crate::geometry::discretize::{Discretization, discretize};
+use crate::material::Material;
+use crate::pd::{BodyModel, PdModel, Peridynamics, cut_initial_cracks};
+use crate::scene::{ModelKind, Scene};
+use crate::world::{Part, World, WorldSettings};
+
+/// A scene made ready to step.
+#[derive(Debug)]
+pub struct Prepared {
+    /// The world at t = 0.
+    pub world: World,
+    /// Particles and meshes.
+    pub discretization: Discretization,
+    /// The stable time step bound (s) and the point that limits it.
+    pub stable_dt: (f64, usize),
+    /// Steps per output frame.
+    pub steps_per_frame: usize,
+    /// Setup timings.
+    pub timings: Timings,
+}
+
+/// Whether the scene runs the FEM reference solvers (every body then does).
+pub fn uses_fem(scene: &Scene) -> bool {
+    scene.bodies.iter().any(|b| b.model.is_fem())
+}
+
+/// Builds the particles, bonds (or elements), colliders and anchors of a scene and
+/// picks the time step (refusing a `dt` above the stable bound unless `force_dt`).
+pub fn prepare(scene: &Scene) -> Result<Prepared> {
+    let t0 = Instant::now();
+    let disc = discretize(scene)?;
+    let t_disc = t0.elapsed().as_secs_f64();
+    let mut prepared = prepare_discretized(scene, disc)?;
+    prepared.timings.discretize = t_disc;
+    Ok(prepared)
+}
+
+/// [`prepare`] for a scene already discretized.
+pub fn prepare_discretized(scene: &Scene, disc: Discretization) -> Result<Prepared> {
+    let t1 = Instant::now();
+    let part = if uses_fem(scene) {
+        fem_part(scene, &disc)?
+    } else {
+        peridynamic_part(scene, &disc)?
+    };
+    let parts = vec![part];
+    let stable = parts
+        .iter()
+        .map(|p| p.model.stable_time_step())
+        .fold((f64::INFINITY, 0), |a, b| if b.0 < a.0 { b } else { a });
+    let t_setup = t1.elapsed().as_secs_f64();
+    let (dt, steps_per_frame) = time_step(scene, stable)?;
+    let colliders = scene.colliders.iter().map(Collider::from_spec).collect();
+    let world = World::new(
+        parts,
+        colliders,
+        WorldSettings {
+            gravity: scene.scene.gravity,
+            dt,
+            duration: scene.scene.duration,
+            energy_growth: scene.scene.blowup_energy_growth,
+        },
+    );
+    Ok(Prepared {
+        world,
+        discretization: disc,
+        stable_dt: stable,
+        steps_per_frame,
+        timings: Timings {
+            families: t_setup,
+            ..Timings::default()
+        },
+    })
+}
+
+/// The peridynamic model of every body (Chen et al. 2018): families within each
+/// body's horizon δ, initial velocities, initial cracks, anchors, and the embedded tet
+/// mesh when the scene writes `tets/`.
+fn peridynamic_part(scene: &Scene, disc: &Discretization) -> Result<Part> {
+    let delta: Vec<f64> = disc
+        .body
+        .iter()
+        .map(|&b| scene.bodies[b as usize].delta())
+        .collect();
+    let (bonds, corrections) = family::build(
+        &disc.position,
+        &disc.volume,
+        &disc.body,
+        &delta,
+        scene.scene.surface_correction,
+    )?;
+    let bodies: Vec<BodyModel> = scene
+        .bodies
+        .iter()
+        .map(|b| {
+            BodyModel::new(
+                Material::from_spec(&scene.materials[&b.material]),
+                b.delta(),
+            )
+        })
+        .collect();
+    let mut model = PdModel::new(
+        disc.position.clone(),
+        disc.volume.clone(),
+        disc.body.clone(),
+        bonds,
+        corrections,
+        bodies,
+        scene.scene.dilatation,
+    );
+    let r = &model.reference;
+    set_initial_velocities(
+        scene,
+        &r.position,
+        &r.volume,
+        &r.body,
+        &mut model.particles.velocity,
+    );
+    cut_initial_cracks(&mut model, scene)?;
+    let r = &model.reference;
+    let anchors = contact::anchors(scene, &r.position, &r.volume, &r.body)?;
+    let embedded = if scene.output.writes_tets() {
+        let names: Vec<String> = scene.bodies.iter().map(|b| b.name.clone()).collect();
+        Some(EmbeddedMesh::build(disc, &model.bonds, &names)?)
+    } else {
+        None
+    };
+    Ok(Part::new(
+        Box::new(Peridynamics::new(model, embedded)),
+        anchors,
+    ))
+}
+
+/// The FEM reference of a scene whose bodies use `fem-linear` or `fem-corotated`: the
+/// same meshes, anchors and initial velocities as the peridynamic run, on the mesh
+/// vertices (weighted by their lumped masses).
+fn fem_part(scene: &Scene, disc: &Discretization) -> Result<Part> {
+    if scene.output.writes_tets() {
+        return Err(SimError::Refused(
+            "FEM reference bodies do not fracture, so they have no split tet mesh: set [output] tets = false and a surface method other than \"embedded\"".into(),
+        ));
+    }
+    let bodies = scene
+        .bodies
+        .iter()
+        .map(|b| {
+            FemBody::new(
+                Material::from_spec(&scene.materials[&b.material]),
+                b.model == ModelKind::FemCorotated,
+            )
+        })
+        .collect();
+    let mut model = FemModel::new(disc, bodies)?;
+    set_initial_velocities(
+        scene,
+        &model.rest,
+        &model.mass,
+        &model.vertex_body,
+        &mut model.velocity,
+    );
+    let anchors = contact::anchors(scene, &model.rest, &model.mass, &model.vertex_body)?;
+    Ok(Part::new(Box::new(Fem::new(model)), anchors))
+}
+
+/// The time step (a multiple of the frame time) and the steps per frame: the scene's
+/// `dt`, refused above the stable bound unless `force_dt`, or `dt_safety` × the bound.
+fn time_step(scene: &Scene, stable: (f64, usize)) -> Result<(f64, usize)> {
+    let dt = match scene.scene.dt {
+        Some(dt) if dt > stable.0 && !scene.scene.force_dt => {
+            return Err(SimError::Refused(format!(
+                "dt = {dt:e} s is above the stable time step {:e} s (limited at particle {}); \
+                 use dt ≤ {:e} or set force_dt = true in [scene] to run anyway",
+                stable.0, stable.1, stable.0
+            )));
+        }
+        Some(dt) => dt,
+        None => scene.scene.dt_safety * stable.0,
+    };
+    let frame_time = scene.frame_time();
+    let steps_per_frame = (frame_time / dt).ceil().max(1.0) as usize;
+    Ok((frame_time / steps_per_frame as f64, steps_per_frame))
+}
+
+/// Each body's initial velocity and spin about its centroid (weighted by `weight`).
+fn set_initial_velocities(
+    scene: &Scene,
+    position: &[[f64; 3]],
+    weight: &[f64],
+    body: &[u32],
+    velocity: &mut [[f64; 3]],
+) {
+    for (b, spec) in scene.bodies.iter().enumerate() {
+        let members: Vec<usize> = (0..position.len())
+            .filter(|&i| body[i] == b as u32)
+            .collect();
+        let c = centroid(position, weight, &members);
+        let w = spec.angular_velocity;
+        for &i in &members {
+            let r = position[i];
+            let r = [r[0] - c[0], r[1] - c[1], r[2] - c[2]];
+            velocity[i] = [
+                spec.velocity[0] + w[1] * r[2] - w[2] * r[1],
+                spec.velocity[1] + w[2] * r[0] - w[0] * r[2],
+                spec.velocity[2] + w[0] * r[1] - w[1] * r[0],
+            ];
+        }
+    }
+}

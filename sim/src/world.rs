@@ -1,0 +1,457 @@
+//! The one integrator: a world of models on one time line, stepped by velocity Verlet
+//! with anchors, rigid colliders, damping and the blow-up detector, written once over
+//! [`Model`].
+//!
+//! One step is the list of stages `kick → drift → anchors → forces → kick → anchors →
+//! damping → contact`, each model's forces timed by the model, the rest by the world.
+//! Every model shares the world's time step: the smallest of their stable steps.
+
+use std::any::Any;
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use crate::cache::checkpoint::{Decoder, Encoder};
+use crate::contact::{self, Anchor, Collider};
+use crate::error::{Result, SimError};
+use crate::model::{Environment, Model, ParticleColumns, Stepping};
+
+/// A model in the world with its anchors and the integrator's per-point state.
+#[derive(Debug)]
+pub struct Part {
+    /// The model.
+    pub model: Box<dyn Model>,
+    /// Anchored regions; their `particles` index the model's points.
+    pub anchors: Vec<Anchor>,
+    /// Verlet's acceleration at the current positions (saved in checkpoints: after a
+    /// step's contact projection it is not the acceleration of the new positions).
+    acceleration: Vec<[f64; 3]>,
+    /// Whether a point is held by an active anchor.
+    anchored: Vec<bool>,
+}
+
+impl Part {
+    /// A model with its anchors.
+    pub fn new(model: Box<dyn Model>, anchors: Vec<Anchor>) -> Part {
+        let n = model.points().position.len();
+        Part {
+            model,
+            anchors,
+            acceleration: vec![[0.0; 3]; n],
+            anchored: vec![false; n],
+        }
+    }
+
+    /// Verlet's acceleration at the current positions.
+    pub fn acceleration(&self) -> &[[f64; 3]] {
+        &self.acceleration
+    }
+
+    fn apply_anchors(&mut self, time: f64) {
+        let p = self.model.points_mut();
+        contact::apply_anchors(
+            &self.anchors,
+            time,
+            p.reference,
+            p.position,
+            p.velocity,
+            &mut self.anchored,
+        );
+    }
+
+    fn forces(&mut self, gravity: [f64; 3]) -> usize {
+        let broken = self.model.internal_forces();
+        self.model.accelerations(gravity, &mut self.acceleration);
+        broken
+    }
+
+    /// |m a · v| summed over the anchored points: the anchors' power.
+    fn anchor_power(&self) -> f64 {
+        if self.anchors.is_empty() {
+            return 0.0;
+        }
+        let p = self.model.points();
+        contact::anchor_power(&self.anchored, p.mass, &self.acceleration, p.velocity)
+    }
+}
+
+/// Velocity Verlet's half kick v ← v + ½Δt a, with the drift y ← y + Δt v after it
+/// when `drift`.
+fn kick(part: &mut Part, dt: f64, drift: bool) {
+    let p = part.model.points_mut();
+    let acc = &part.acceleration;
+    if drift {
+        p.position
+            .par_iter_mut()
+            .zip(p.velocity.par_iter_mut())
+            .zip(acc.par_iter())
+            .with_min_len(1024)
+            .for_each(|((y, v), a)| {
+                for k in 0..3 {
+                    v[k] += 0.5 * dt * a[k];
+                    y[k] += dt * v[k];
+                }
+            });
+    } else {
+        p.velocity
+            .par_iter_mut()
+            .zip(acc.par_iter())
+            .with_min_len(1024)
+            .for_each(|(v, a)| {
+                for k in 0..3 {
+                    v[k] += 0.5 * dt * a[k];
+                }
+            });
+    }
+}
+
+/// Settings of a world that do not change during a run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WorldSettings {
+    /// Gravity (m/s²).
+    pub gravity: [f64; 3],
+    /// Time step (s).
+    pub dt: f64,
+    /// Duration of the run (s), for the blow-up detector's energy budget.
+    pub duration: f64,
+    /// Growth over the energy budget that counts as a blow-up.
+    pub energy_growth: f64,
+}
+
+/// Every model of a scene, the colliders and the clock.
+#[derive(Debug)]
+pub struct World {
+    /// The models, in the order their particles go to the cache.
+    pub parts: Vec<Part>,
+    /// Rigid colliders.
+    pub colliders: Vec<Collider>,
+    /// Gravity (m/s²).
+    pub gravity: [f64; 3],
+    /// Time step (s).
+    pub dt: f64,
+    /// Current time (s).
+    pub time: f64,
+    /// Steps taken.
+    pub steps: u64,
+    /// Σ |power| dt of the anchors' forces so far (J): work they may have put in.
+    pub anchor_work: f64,
+    /// Seconds spent outside the models' stages (integration, anchors, contact,
+    /// damping).
+    pub other_time: f64,
+    /// Energy scale for blow-up detection (J).
+    energy_budget: f64,
+    /// Growth factor over the budget that counts as a blow-up.
+    energy_growth: f64,
+}
+
+impl World {
+    /// Assembles a world; `settings.dt` must already be chosen. Holds the anchored
+    /// points and computes the first forces.
+    pub fn new(parts: Vec<Part>, colliders: Vec<Collider>, settings: WorldSettings) -> World {
+        let mut world = World {
+            parts,
+            colliders,
+            gravity: settings.gravity,
+            dt: settings.dt,
+            time: 0.0,
+            steps: 0,
+            anchor_work: 0.0,
+            other_time: 0.0,
+            energy_budget: 0.0,
+            energy_growth: settings.energy_growth,
+        };
+        let gravity = world.gravity;
+        for part in &mut world.parts {
+            part.apply_anchors(0.0);
+            part.forces(gravity);
+        }
+        world.energy_budget = world.initial_energy_budget(settings.duration);
+        world
+    }
+
+    /// Sets every point's velocity from its reference position (initial conditions
+    /// given in code) and recomputes the energy budget of the blow-up check.
+    pub fn set_velocity(&mut self, velocity: impl Fn([f64; 3]) -> [f64; 3] + Sync, duration: f64) {
+        let time = self.time;
+        for part in &mut self.parts {
+            let p = part.model.points_mut();
+            p.velocity
+                .par_iter_mut()
+                .zip(p.reference.par_iter())
+                .for_each(|(v, x)| *v = velocity(*x));
+            part.apply_anchors(time);
+        }
+        self.energy_budget = self.initial_energy_budget(duration);
+    }
+
+    /// The most energy the scene can hold over `duration` (see
+    /// [`contact::energy_budget`]).
+    fn initial_energy_budget(&self, duration: f64) -> f64 {
+        let initial: f64 = self
+            .parts
+            .iter()
+            .map(|p| p.model.kinetic_energy() + p.model.strain_energy())
+            .sum();
+        let points: Vec<_> = self.parts.iter().map(|p| p.model.points()).collect();
+        let anchors: Vec<&Anchor> = self.parts.iter().flat_map(|p| &p.anchors).collect();
+        contact::energy_budget(
+            initial,
+            &points,
+            self.gravity,
+            duration,
+            &self.colliders,
+            &anchors,
+        )
+    }
+
+    /// One step of every model; returns the number of bonds broken.
+    pub fn step(&mut self) -> Result<usize> {
+        let dt = self.dt;
+        let t0 = Instant::now();
+        let time = (self.steps + 1) as f64 * dt;
+        let mut broken = 0;
+        let mut model_time = 0.0;
+        for part in &mut self.parts {
+            match part.model.stepping() {
+                Stepping::Verlet => {
+                    kick(part, dt, true);
+                    part.apply_anchors(time);
+                    let t = Instant::now();
+                    broken += part.model.internal_forces();
+                    model_time += t.elapsed().as_secs_f64();
+                    part.model
+                        .accelerations(self.gravity, &mut part.acceleration);
+                    self.anchor_work += part.anchor_power() * dt;
+                    kick(part, dt, false);
+                    part.apply_anchors(time);
+                    part.model.damp(dt, &part.anchored);
+                }
+                Stepping::Own => {
+                    let t = Instant::now();
+                    let environment = Environment {
+                        gravity: self.gravity,
+                        colliders: &self.colliders,
+                        anchors: &part.anchors,
+                        time,
+                    };
+                    broken += part.model.advance(dt, &environment)?;
+                    model_time += t.elapsed().as_secs_f64();
+                    part.apply_anchors(time);
+                }
+            }
+        }
+        self.time = time;
+        let mut impulses = vec![[0.0; 3]; self.colliders.len()];
+        for part in &mut self.parts {
+            let p = part.model.points_mut();
+            let j = contact::resolve(
+                &self.colliders,
+                p.position,
+                p.velocity,
+                p.mass,
+                &part.anchored,
+            );
+            for (total, j) in impulses.iter_mut().zip(j) {
+                for a in 0..3 {
+                    total[a] += j[a];
+                }
+            }
+        }
+        contact::advance(&mut self.colliders, &impulses, self.gravity, dt);
+        self.steps += 1;
+        if self.steps % 16 == 0 {
+            self.check_blowup()?;
+        }
+        self.other_time += t0.elapsed().as_secs_f64() - model_time;
+        Ok(broken)
+    }
+
+    /// The first model of type `T`, for measurements and tests that read a model's own
+    /// state (the loop itself never asks).
+    pub fn model<T: Model>(&self) -> Option<&T> {
+        self.parts
+            .iter()
+            .find_map(|p| (p.model.as_ref() as &dyn Any).downcast_ref())
+    }
+
+    /// The first model of type `T`, writable.
+    pub fn model_mut<T: Model>(&mut self) -> Option<&mut T> {
+        self.parts
+            .iter_mut()
+            .find_map(|p| (p.model.as_mut() as &mut dyn Any).downcast_mut())
+    }
+
+    /// Kinetic energy of every model (J).
+    pub fn kinetic_energy(&self) -> f64 {
+        self.parts.iter().map(|p| p.model.kinetic_energy()).sum()
+    }
+
+    /// Stops the run on non-finite state or kinetic energy far above what the scene
+    /// can supply; names the step, the point and its cache particle.
+    pub fn check_blowup(&self) -> Result<()> {
+        for part in &self.parts {
+            let p = part.model.points();
+            let bad = (0..p.position.len()).into_par_iter().find_first(|&i| {
+                !(p.position[i].iter().all(|x| x.is_finite())
+                    && p.velocity[i].iter().all(|x| x.is_finite()))
+            });
+            if let Some(i) = bad {
+                let what = match part.model.point_kind() {
+                    "particle" => "non-finite position or velocity".to_string(),
+                    kind => format!("non-finite position or velocity ({kind} {i})"),
+                };
+                return Err(self.blowup(part, what, i));
+            }
+        }
+        let kinetic = self.kinetic_energy();
+        let budget = self.energy_budget + self.anchor_work;
+        if kinetic <= self.energy_growth * budget {
+            return Ok(());
+        }
+        let speed2 = |v: [f64; 3]| v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+        let fastest = self
+            .parts
+            .iter()
+            .flat_map(|part| {
+                let v = part.model.points().velocity;
+                (0..v.len()).map(move |i| (part, i, speed2(v[i])))
+            })
+            .max_by(|a, b| a.2.total_cmp(&b.2));
+        let Some((part, point, speed)) = fastest else {
+            return Ok(());
+        };
+        let who = match part.model.point_kind() {
+            "particle" => "particle".to_string(),
+            kind => format!("{kind} {point}"),
+        };
+        Err(self.blowup(
+            part,
+            format!(
+                "kinetic energy {kinetic:.3e} J exceeds {}× the energy the scene can supply ({budget:.3e} J); \
+                 fastest {who} moves at {:.3e} m/s",
+                self.energy_growth,
+                speed.sqrt()
+            ),
+            point,
+        ))
+    }
+
+    fn blowup(&self, part: &Part, what: String, point: usize) -> SimError {
+        let offset: usize = self
+            .parts
+            .iter()
+            .take_while(|p| !std::ptr::eq(*p, part))
+            .map(|p| p.model.particles().position.len())
+            .sum();
+        SimError::BlowUp {
+            step: self.steps,
+            time: self.time,
+            what,
+            particle: offset + part.model.particle_of_point(point),
+            position: part.model.points().position[point],
+            last_good_frame: 0,
+        }
+    }
+
+    /// The particles of every model, in part order, with fragment ids made unique
+    /// across models.
+    pub fn particles(&self) -> ParticleColumns {
+        let mut all = ParticleColumns::default();
+        let mut fragment_base = 0u32;
+        for part in &self.parts {
+            let c = part.model.particles();
+            let next = c.fragment.iter().map(|&f| f + 1).max().unwrap_or(0);
+            all.position.extend(c.position);
+            all.velocity.extend(c.velocity);
+            all.damage.extend(c.damage);
+            all.plastic.extend(c.plastic);
+            all.body.extend(c.body);
+            all.fragment
+                .extend(c.fragment.into_iter().map(|f| f + fragment_base));
+            fragment_base += next;
+        }
+        all
+    }
+
+    /// Total mass of every point (kg).
+    pub fn total_mass(&self) -> f64 {
+        self.parts
+            .iter()
+            .map(|p| p.model.points().mass.iter().sum::<f64>())
+            .sum()
+    }
+
+    /// Bonds of every model (directed).
+    pub fn bonds(&self) -> usize {
+        self.parts.iter().map(|p| p.model.bonds()).sum()
+    }
+
+    /// Wall time of the models' stages by name, summed over the models.
+    pub fn stage_times(&self) -> Vec<(&'static str, f64)> {
+        let mut out: Vec<(&'static str, f64)> = Vec::new();
+        for part in &self.parts {
+            for (name, t) in part.model.stage_times() {
+                match out.iter_mut().find(|(n, _)| *n == name) {
+                    Some(slot) => slot.1 += t,
+                    None => out.push((name, t)),
+                }
+            }
+        }
+        out
+    }
+
+    /// Sets every stage timer back to zero (benchmarks).
+    pub fn reset_times(&mut self) {
+        self.other_time = 0.0;
+        for part in &mut self.parts {
+            part.model.reset_stage_times();
+        }
+    }
+
+    /// Writes the saved state (models, Verlet's accelerations, colliders, anchor
+    /// work) into a checkpoint payload; the clock goes in the container's header.
+    pub fn save(&self, out: &mut Encoder) {
+        out.put_u64(self.parts.len() as u64);
+        for part in &self.parts {
+            out.put_u64(part.acceleration.len() as u64);
+            out.put_f64x3s(&part.acceleration);
+            part.model.save(out);
+        }
+        out.put_f64(self.anchor_work);
+        out.put_u64(self.colliders.len() as u64);
+        for c in &self.colliders {
+            out.put_f64x3s(&[c.center, c.velocity]);
+        }
+    }
+
+    /// Restores what [`World::save`] wrote, at `time` after `steps` steps.
+    pub fn restore(&mut self, input: &mut Decoder<'_>, time: f64, steps: u64) -> Result<()> {
+        input.expect_count("models", self.parts.len())?;
+        for part in &mut self.parts {
+            input.expect_count("points", part.acceleration.len())?;
+            input.take_f64x3s_into(&mut part.acceleration, "acceleration")?;
+            part.model.restore(input)?;
+        }
+        self.anchor_work = input.take_f64("anchor work")?;
+        input.expect_count("colliders", self.colliders.len())?;
+        for c in &mut self.colliders {
+            let mut cv = [[0.0; 3]; 2];
+            input.take_f64x3s_into(&mut cv, "collider")?;
+            [c.center, c.velocity] = cv;
+        }
+        input.finish()?;
+        self.time = time;
+        self.steps = steps;
+        for part in &mut self.parts {
+            part.anchored.iter_mut().for_each(|a| *a = false);
+            for anchor in &part.anchors {
+                if time <= anchor.until {
+                    for &p in &anchor.particles {
+                        part.anchored[p as usize] = true;
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}
