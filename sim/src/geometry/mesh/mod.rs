@@ -17,6 +17,8 @@ mod read;
 
 use std::path::{Path, PathBuf};
 
+use perifrac_math::{cross, dist, dot, norm, sub};
+
 pub use self::bvh::Bvh;
 pub use self::conformity::{Conformity, conform};
 pub use self::distance::MeshSdf;
@@ -316,43 +318,6 @@ impl TriMesh {
             })
             .sum()
     }
-}
-
-pub(crate) fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-pub(crate) fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-
-pub(crate) fn scale(a: [f64; 3], s: f64) -> [f64; 3] {
-    [a[0] * s, a[1] * s, a[2] * s]
-}
-
-pub(crate) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-pub(crate) fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-pub(crate) fn norm(a: [f64; 3]) -> f64 {
-    dot(a, a).sqrt()
-}
-
-pub(crate) fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
-    norm(sub(a, b))
-}
-
-pub(crate) fn normalize(a: [f64; 3]) -> [f64; 3] {
-    let n = norm(a);
-    if n > 0.0 { scale(a, 1.0 / n) } else { [0.0; 3] }
 }
 
 #[cfg(test)]
