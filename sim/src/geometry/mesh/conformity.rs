@@ -208,7 +208,7 @@ fn feature_points(surface: &TriMesh, lambda: f64) -> Vec<FeaturePoint> {
 }
 
 /// Two-sided Hausdorff distance and mean distance (in λ) between the boundary
-/// faces of `tets` and `surface`, sampled at [`SAMPLE_SPACING`]·λ, and the
+/// faces of `tets` and `surface`, sampled at `SAMPLE_SPACING` = 0.1 λ, and the
 /// sample point where the largest distance was found.
 pub fn hausdorff(
     tets: &TetMesh,

@@ -1,9 +1,9 @@
 //! Closed triangle meshes as body shapes (issue 3, item 1).
 //!
-//! A mesh file (OBJ, PLY or glTF/GLB, [`read`]) is read into a [`TriMesh`], its
+//! A mesh file (OBJ, PLY or glTF/GLB, module `read`) is read into a [`TriMesh`], its
 //! duplicate vertices welded, placed in the scene by a [`Placement`]
 //! (scale, rotation, translation), checked to be a closed, consistently oriented,
-//! non-degenerate, non-self-intersecting surface ([`check`]) and turned into an
+//! non-degenerate, non-self-intersecting surface (module `check`) and turned into an
 //! exact signed distance function ([`MeshSdf`], BVH + angle-weighted
 //! pseudonormals, Bærentzen & Aanæs 2005) that the isosurface-stuffing mesher
 //! fills with tetrahedra; [`conformity`] measures how closely the tet mesh's
@@ -237,7 +237,7 @@ impl TriMesh {
         Ok(mesh)
     }
 
-    /// Merges vertices that coincide (to [`WELD_TOLERANCE`] of the bounding-box
+    /// Merges vertices that coincide (to `WELD_TOLERANCE` = 10⁻⁹ of the bounding-box
     /// diagonal) and drops unused ones; the first occurrence's position is kept.
     pub fn weld(&mut self) {
         let (lo, hi) = self.bounds();
