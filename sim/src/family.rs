@@ -14,6 +14,7 @@
 //! homogeneous deformation wherever positive weights can do it.
 
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
+use perifrac_math::{dist, sub};
 use rayon::prelude::*;
 
 use crate::error::{Result, SimError};
@@ -160,7 +161,7 @@ pub fn build(
         .map(|(i, family)| {
             let lengths: Vec<f64> = family
                 .iter()
-                .map(|&j| distance(positions[i], positions[j as usize]))
+                .map(|&j| dist(positions[i], positions[j as usize]))
                 .collect();
             if !surface_correction {
                 return (lengths, vec![1.0; family.len()], vec![1.0; family.len()]);
@@ -197,14 +198,10 @@ pub fn build(
     ))
 }
 
-fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
-    ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2) + (b[2] - a[2]).powi(2)).sqrt()
-}
-
+/// (b − a) / |b − a|.
 fn unit(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-    let l = distance(a, b);
-    [d[0] / l, d[1] / l, d[2] / l]
+    let l = dist(a, b);
+    sub(b, a).map(|x| x / l)
 }
 
 /// Exponents (a, b, c) of the monomials n_x^a n_y^b n_z^c of degree `degree`.

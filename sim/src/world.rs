@@ -9,6 +9,7 @@
 use std::any::Any;
 use std::time::Instant;
 
+use perifrac_math::dot;
 use rayon::prelude::*;
 
 use crate::cache::checkpoint::{Decoder, Encoder};
@@ -308,13 +309,12 @@ impl World {
         if kinetic <= self.energy_growth * budget {
             return Ok(());
         }
-        let speed2 = |v: [f64; 3]| v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
         let fastest = self
             .parts
             .iter()
             .flat_map(|part| {
                 let v = part.model.points().velocity;
-                (0..v.len()).map(move |i| (part, i, speed2(v[i])))
+                (0..v.len()).map(move |i| (part, i, dot(v[i], v[i])))
             })
             .max_by(|a, b| a.2.total_cmp(&b.2));
         let Some((part, point, speed)) = fastest else {
