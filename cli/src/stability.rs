@@ -134,11 +134,7 @@ pub fn stability(out: &Path, quiet: bool) -> Result<(), Failure> {
             Path::new("stability: time step"),
             Path::new("."),
         )?;
-        let stable = if model == "peridynamics" {
-            run::prepare(&probe)?.stable_dt.0
-        } else {
-            run::prepare(&probe)?.stable_dt.0
-        };
+        let stable = run::prepare(&probe)?.stable_dt.0;
         for factor in [0.9, 2.0] {
             let name = format!("{label}, dt = {factor}× the stable bound {stable:.2e} s");
             rows.push(run_case(

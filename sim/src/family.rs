@@ -14,6 +14,7 @@
 //! homogeneous deformation wherever positive weights can do it.
 
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
+use perifrac_math::{dist, sub};
 use rayon::prelude::*;
 
 use crate::error::{Result, SimError};
@@ -80,46 +81,6 @@ impl Bonds {
             })
             .collect()
     }
-}
-
-/// Connected components of intact bonds (one union-find for every model), numbered by
-/// their smallest particle index in increasing order (deterministic).
-pub fn fragments(bonds: &Bonds) -> Vec<u32> {
-    let n = bonds.offsets.len() - 1;
-    let mut parent: Vec<u32> = (0..n as u32).collect();
-    fn find(parent: &mut [u32], mut i: u32) -> u32 {
-        while parent[i as usize] != i {
-            let p = parent[parent[i as usize] as usize];
-            parent[i as usize] = p;
-            i = p;
-        }
-        i
-    }
-    for i in 0..n {
-        for k in bonds.range(i) {
-            let nb = bonds.neighbours[k];
-            if nb & BROKEN != 0 {
-                continue;
-            }
-            let (a, b) = (find(&mut parent, i as u32), find(&mut parent, nb & INDEX));
-            if a != b {
-                let (lo, hi) = (a.min(b), a.max(b));
-                parent[hi as usize] = lo;
-            }
-        }
-    }
-    let mut label = vec![u32::MAX; n];
-    let mut next = 0u32;
-    (0..n as u32)
-        .map(|i| {
-            let root = find(&mut parent, i) as usize;
-            if label[root] == u32::MAX {
-                label[root] = next;
-                next += 1;
-            }
-            label[root]
-        })
-        .collect()
 }
 
 /// Bytes a bond costs in the elastic model (neighbour, rest length, and the four
@@ -200,7 +161,7 @@ pub fn build(
         .map(|(i, family)| {
             let lengths: Vec<f64> = family
                 .iter()
-                .map(|&j| distance(positions[i], positions[j as usize]))
+                .map(|&j| dist(positions[i], positions[j as usize]))
                 .collect();
             if !surface_correction {
                 return (lengths, vec![1.0; family.len()], vec![1.0; family.len()]);
@@ -237,14 +198,10 @@ pub fn build(
     ))
 }
 
-fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
-    ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2) + (b[2] - a[2]).powi(2)).sqrt()
-}
-
+/// (b − a) / |b − a|.
 fn unit(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-    let l = distance(a, b);
-    [d[0] / l, d[1] / l, d[2] / l]
+    let l = dist(a, b);
+    sub(b, a).map(|x| x / l)
 }
 
 /// Exponents (a, b, c) of the monomials n_x^a n_y^b n_z^c of degree `degree`.

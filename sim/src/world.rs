@@ -9,6 +9,7 @@
 use std::any::Any;
 use std::time::Instant;
 
+use perifrac_math::dot;
 use rayon::prelude::*;
 
 use crate::cache::checkpoint::{Decoder, Encoder};
@@ -305,36 +306,34 @@ impl World {
         }
         let kinetic = self.kinetic_energy();
         let budget = self.energy_budget + self.anchor_work;
-        if kinetic > self.energy_growth * budget {
-            let speed2 = |v: [f64; 3]| v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-            let (part, fastest, speed) = self
-                .parts
-                .iter()
-                .flat_map(|part| {
-                    let v = part.model.points().velocity;
-                    (0..v.len()).map(move |i| (part, i, speed2(v[i])))
-                })
-                .fold(None, |best: Option<(&Part, usize, f64)>, c| match best {
-                    Some(b) if b.2 >= c.2 => Some(b),
-                    _ => Some(c),
-                })
-                .ok_or_else(|| SimError::Refused("a world without points cannot blow up".into()))?;
-            let who = match part.model.point_kind() {
-                "particle" => "particle".to_string(),
-                kind => format!("{kind} {fastest}"),
-            };
-            return Err(self.blowup(
-                part,
-                format!(
-                    "kinetic energy {kinetic:.3e} J exceeds {}× the energy the scene can supply ({budget:.3e} J); \
-                     fastest {who} moves at {:.3e} m/s",
-                    self.energy_growth,
-                    speed.sqrt()
-                ),
-                fastest,
-            ));
+        if kinetic <= self.energy_growth * budget {
+            return Ok(());
         }
-        Ok(())
+        let fastest = self
+            .parts
+            .iter()
+            .flat_map(|part| {
+                let v = part.model.points().velocity;
+                (0..v.len()).map(move |i| (part, i, dot(v[i], v[i])))
+            })
+            .max_by(|a, b| a.2.total_cmp(&b.2));
+        let Some((part, point, speed)) = fastest else {
+            return Ok(());
+        };
+        let who = match part.model.point_kind() {
+            "particle" => "particle".to_string(),
+            kind => format!("{kind} {point}"),
+        };
+        Err(self.blowup(
+            part,
+            format!(
+                "kinetic energy {kinetic:.3e} J exceeds {}× the energy the scene can supply ({budget:.3e} J); \
+                 fastest {who} moves at {:.3e} m/s",
+                self.energy_growth,
+                speed.sqrt()
+            ),
+            point,
+        ))
     }
 
     fn blowup(&self, part: &Part, what: String, point: usize) -> SimError {

@@ -92,3 +92,56 @@ fn a_torn_film_resumes_and_threads_to_the_same_bytes() {
         "a resumed run differs from an uninterrupted one",
     );
 }
+
+/// Particle-steps per second of a square sheet of about `particles` particles (Han
+/// Table 1 "Crack path" material, with a slit), over `steps` steps after one warm-up
+/// frame. Run with
+/// `cargo test -p perifrac-sim --test membrane -- --ignored --nocapture throughput`.
+fn throughput(particles: f64, steps: usize) -> f64 {
+    let side = (particles * 0.02 * 0.02 * 3f64.sqrt() / 2.0).sqrt();
+    let text = SCENE.replace(
+        "size = [0.6, 0.001, 0.4]",
+        &format!("size = [{side}, 0.001, {side}]"),
+    );
+    let s = Scene::parse(&text, Path::new("film.toml"), Path::new(".")).expect("scene");
+    let mut prepared = run::prepare(&s).expect("prepared");
+    let world = &mut prepared.world;
+    let n = world.particles().position.len();
+    for _ in 0..2 {
+        world.step().expect("step");
+    }
+    let start = std::time::Instant::now();
+    for _ in 0..steps {
+        world.step().expect("step");
+    }
+    let rate = (n * steps) as f64 / start.elapsed().as_secs_f64();
+    println!(
+        "{n} particles, {} bonds: {rate:.3e} particle-steps/s on {} threads",
+        world.bonds(),
+        rayon::current_num_threads()
+    );
+    rate
+}
+
+#[test]
+#[ignore = "a measurement, not a check: run it on purpose"]
+fn throughput_at_ten_thousand_and_a_quarter_million_particles() {
+    assert!(throughput(1e4, 400) > 0.0);
+    assert!(throughput(2.5e5, 40) > 0.0);
+}
+
+#[test]
+fn the_membrane_scenes_validate() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/scenes");
+    let mut found = 0;
+    for entry in std::fs::read_dir(&dir).expect("scenes") {
+        let path = entry.expect("entry").path();
+        let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
+        if name.starts_with("membrane-") && name.ends_with(".toml") {
+            let s = Scene::load(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
+            run::prepare(&s).unwrap_or_else(|e| panic!("{name}: {e}"));
+            found += 1;
+        }
+    }
+    assert!(found >= 4, "{found} membrane scenes");
+}

@@ -6,6 +6,7 @@
 use std::path::Path;
 use std::time::Instant;
 
+use perifrac_math::{norm, sub};
 use perifrac_sim::cache::Layout;
 use perifrac_sim::cache::checkpoint::{Decoder, Encoder};
 use perifrac_sim::cache::manifest::{Manifest, Timings};
@@ -31,14 +32,6 @@ struct Springs {
     k: f64,
     force: Vec<[f64; 3]>,
     force_time: f64,
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn norm(a: [f64; 3]) -> f64 {
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
 }
 
 impl Springs {

@@ -25,10 +25,8 @@
 //! vertices along their normals by a common offset h = ΔV / A (three Newton steps),
 //! under the same guard.
 
+use perifrac_math::{TET_FACES, UnionFind, cross, dot, norm, signed_volume, sub};
 use perifrac_sim::cache::vtu::TetFrame;
-
-/// Face f (opposite local vertex f) of a positively oriented tet, wound outward.
-const OUTWARD: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
 
 /// Fraction of the way to the neighbours' mean a smoothing pass moves a vertex.
 const STEP: f64 = 0.5;
@@ -120,25 +118,9 @@ pub struct RenderMesh {
     pub crack_indices: Vec<u32>,
 }
 
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
 fn tet_volume(x: &[[f64; 3]], t: [u32; 4]) -> f64 {
     let [a, b, c, d] = t.map(|v| x[v as usize]);
-    dot(sub(b, a), cross(sub(c, a), sub(d, a))) / 6.0
+    signed_volume(a, b, c, d)
 }
 
 /// Area vector (twice the area, along the normal) of a triangle.
@@ -183,7 +165,7 @@ pub fn boundary(frame: &TetFrame) -> (Vec<[u32; 3]>, Vec<bool>, Vec<u32>) {
     let faces: Vec<[u32; 3]> = frame
         .tets
         .iter()
-        .flat_map(|t| OUTWARD.map(|f| sorted3(f.map(|i| t[i]))))
+        .flat_map(|t| TET_FACES.map(|f| sorted3(f.map(|i| t[i]))))
         .collect();
     let roots: Vec<[u32; 3]> = faces
         .iter()
@@ -195,7 +177,7 @@ pub fn boundary(frame: &TetFrame) -> (Vec<[u32; 3]>, Vec<bool>, Vec<u32>) {
     let mut crack = Vec::new();
     let mut owner = Vec::new();
     for (t, tet) in frame.tets.iter().enumerate() {
-        for (f, local) in OUTWARD.iter().enumerate() {
+        for (f, local) in TET_FACES.iter().enumerate() {
             if count_of(&face_counts, faces[4 * t + f]) == 1 {
                 triangles.push(local.map(|i| tet[i]));
                 crack.push(count_of(&root_counts, roots[4 * t + f]) == 2);
@@ -210,34 +192,13 @@ pub fn boundary(frame: &TetFrame) -> (Vec<[u32; 3]>, Vec<bool>, Vec<u32>) {
 /// lowest tet.
 pub fn fragments(frame: &TetFrame) -> Vec<u32> {
     let nv = frame.points.len();
-    let mut parent: Vec<u32> = (0..(nv + frame.tets.len()) as u32).collect();
-    fn find(p: &mut [u32], mut i: u32) -> u32 {
-        while p[i as usize] != i {
-            p[i as usize] = p[p[i as usize] as usize];
-            i = p[i as usize];
-        }
-        i
-    }
+    let mut sets = UnionFind::new(nv + frame.tets.len());
     for (t, tet) in frame.tets.iter().enumerate() {
         for &v in tet {
-            let (a, b) = (find(&mut parent, (nv + t) as u32), find(&mut parent, v));
-            if a != b {
-                parent[a.max(b) as usize] = a.min(b);
-            }
+            sets.union(nv + t, v as usize);
         }
     }
-    let mut label = vec![u32::MAX; nv + frame.tets.len()];
-    let mut next = 0;
-    (0..frame.tets.len())
-        .map(|t| {
-            let r = find(&mut parent, (nv + t) as u32) as usize;
-            if label[r] == u32::MAX {
-                label[r] = next;
-                next += 1;
-            }
-            label[r]
-        })
-        .collect()
+    sets.labels_of(nv..nv + frame.tets.len())
 }
 
 /// Extracts the surface of a frame and smooths its cracks with `passes` passes.
@@ -291,7 +252,7 @@ pub fn surface(frame: &TetFrame, passes: usize) -> EmbeddedSurface {
     let mut planes: Vec<Vec<[f64; 3]>> = vec![Vec::new(); nv];
     for (f, _) in triangles.iter().zip(&crack).filter(|(_, c)| !**c) {
         let n = area_vector(&points, *f);
-        let l = dot(n, n).sqrt();
+        let l = norm(n);
         if l <= 0.0 {
             continue;
         }
@@ -315,7 +276,7 @@ pub fn surface(frame: &TetFrame, passes: usize) -> EmbeddedSurface {
                 [n] => Some(Constraint::Plane(*n)),
                 [n, m] => {
                     let d = cross(*n, *m);
-                    let l = dot(d, d).sqrt();
+                    let l = norm(d);
                     (l > 0.0).then(|| Constraint::Line(d.map(|c| c / l)))
                 }
                 _ => None,
@@ -445,14 +406,14 @@ pub fn surface(frame: &TetFrame, passes: usize) -> EmbeddedSurface {
         // dV/dh of fragment k = Σ over its vertices of |area vector|/3 along n̂.
         let mut rate = vec![0.0; now.len()];
         for (i, n) in normal.iter().enumerate() {
-            rate[frag_of[i]] += dot(*n, *n).sqrt();
+            rate[frag_of[i]] += norm(*n);
         }
         let moves: Vec<[f64; 3]> = normal
             .iter()
             .enumerate()
             .map(|(i, n)| {
                 let k = frag_of[i];
-                let len = dot(*n, *n).sqrt();
+                let len = norm(*n);
                 if rate[k] <= 0.0 || len <= 0.0 {
                     return [0.0; 3];
                 }
@@ -607,7 +568,7 @@ impl EmbeddedSurface {
         }
         n.iter()
             .map(|v| {
-                let l = dot(*v, *v).sqrt();
+                let l = norm(*v);
                 if l > 0.0 {
                     v.map(|c| (c / l) as f32)
                 } else {

@@ -1,17 +1,14 @@
-//! perifrac's surface stage: frames of particles from the cache (`perifrac-sim`'s
-//! `cache`) become surfaces.
+//! perifrac's surface stage: frames from the cache (`perifrac-sim`'s `cache`) become
+//! surfaces.
 //!
-//! - [`particles`]: sphere radii from the bodies' mean tet edges, fragments, and the
-//!   check that refuses single layers of particles;
-//! - [`vdb`] (feature `openvdb`): the `vdb` method, level sets through the system
-//!   OpenVDB (`tools::ParticlesToLevelSet`, `tools::LevelSetTracker`,
-//!   `tools::LevelSetFilter`, `tools::volumeToMesh`, `tools::csgUnion`), written as
-//!   `vdb/NNNN.vdb`;
-//! - [`mesh`]: the triangle meshes it returns (the CLI writes them as
-//!   `surface/NNNN.glb` with `perifrac-render`);
-//! - [`embedded`]: the `embedded` method, the boundary of the split tet mesh
-//!   (`tets/NNNN.vtu`, Chen §5.2) with smoothed crack faces (Chen §7);
-//! - [`debris`]: fragments too small to surface, as `surface/NNNN_debris.ply` points.
+//! | module | main items |
+//! |---|---|
+//! | [`embedded`] | [`embedded::surface`], [`embedded::EmbeddedSurface`], [`embedded::fragments`]: the `embedded` method, the boundary of the split tet mesh (`tets/NNNN.vtu`, Chen §5.2) with smoothed crack faces (Chen §7) |
+//! | `vdb` (feature `openvdb`) | the `vdb` method: level sets through the system OpenVDB, written as `vdb/NNNN.vdb` |
+//! | [`particles`] | sphere radii from the bodies' mean tet edges, fragments, the check that refuses single layers of particles |
+//! | [`mesh`] | [`mesh::TriangleMesh`]: the meshes both methods return (the CLI writes them as `surface/NNNN.glb` with `perifrac-render`) |
+//! | [`debris`] | [`debris::Debris`]: fragments too small to surface, as `surface/NNNN_debris.ply` points |
+//! | [`error`] | [`SurfaceError`], the crate's one error type |
 #![warn(missing_docs)]
 
 pub mod debris;

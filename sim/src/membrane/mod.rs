@@ -43,6 +43,7 @@ mod tests;
 
 use std::time::Instant;
 
+use perifrac_math::{UnionFind, det_sum};
 use rayon::prelude::*;
 
 pub use solver::Membrane;
@@ -51,7 +52,7 @@ use crate::error::{Result, SimError};
 use crate::family::{self, BROKEN, Bonds, INDEX};
 use crate::geometry::discretize::Discretization;
 use crate::material::Material;
-use crate::pd::{Cracks, det_sum, rows_mut};
+use crate::pd::{Cracks, rows_mut};
 use crate::scene::{MembraneMaterialSpec, ModelKind, Scene};
 
 /// The constants of one membrane body.
@@ -433,6 +434,21 @@ impl MembraneModel {
             }
             0.5 * self.volume[i] * e
         })
+    }
+
+    /// Connected components of intact bonds, numbered by their smallest particle
+    /// index in increasing order (deterministic).
+    pub fn fragments(&self) -> Vec<u32> {
+        let mut sets = UnionFind::new(self.len());
+        for i in 0..self.len() {
+            for k in self.bonds.range(i) {
+                let nb = self.bonds.neighbours[k];
+                if nb & BROKEN == 0 {
+                    sets.union(i, (nb & INDEX) as usize);
+                }
+            }
+        }
+        sets.labels()
     }
 
     /// φ_i = 1 − intact/initial bonds, from the broken bits.

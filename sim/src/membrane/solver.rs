@@ -13,7 +13,7 @@ use rayon::prelude::*;
 use super::MembraneModel;
 use crate::cache::checkpoint::{Decoder, Encoder};
 use crate::error::Result;
-use crate::family::{self, INDEX};
+use crate::family::INDEX;
 use crate::model::{Model, ParticleColumns, Points, PointsMut};
 
 /// A [`MembraneModel`] behind the model interface.
@@ -126,7 +126,7 @@ impl Model for Membrane {
             damage: m.damage.iter().map(|&d| d as f32).collect(),
             plastic: vec![0.0; m.len()],
             body: m.body.clone(),
-            fragment: family::fragments(&m.bonds),
+            fragment: m.fragments(),
         }
     }
 

@@ -1,6 +1,8 @@
 //! Initial cracks (`[[body.crack]]`): bonds of a body that cross the crack plane inside
 //! the crack's region are cut before the run starts.
 
+use perifrac_math::{add, dot, scale, sub};
+
 use super::PdModel;
 use crate::error::{Result, SimError};
 use crate::geometry::sdf::Sdf;
@@ -55,14 +57,8 @@ impl Cracks {
     /// the crack's region.
     pub fn cuts(&self, body: u32, xi: [f64; 3], xj: [f64; 3]) -> bool {
         self.cracks.iter().any(|c| {
-            let (p, n) = (c.point, c.normal);
-            let side =
-                |x: [f64; 3]| (x[0] - p[0]) * n[0] + (x[1] - p[1]) * n[1] + (x[2] - p[2]) * n[2];
-            let mid = [
-                (xi[0] + xj[0]) / 2.0,
-                (xi[1] + xj[1]) / 2.0,
-                (xi[2] + xj[2]) / 2.0,
-            ];
+            let side = |x: [f64; 3]| dot(sub(x, c.point), c.normal);
+            let mid = scale(add(xi, xj), 0.5);
             c.body == body && side(xi) * side(xj) < 0.0 && c.region.distance(mid) <= 0.0
         })
     }
