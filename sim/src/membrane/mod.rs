@@ -10,7 +10,7 @@
 //! W_ij = 1 − |ξ_ij|/R                                       (Eq. 23)
 //! c    = 18K/(πR⁴)                                          (Eq. 24)
 //! η_ij = |y_j − y_i| / |ξ_ij| − 1   (s_ij − 1, Eq. 10)
-//! f_ij = c η_ij                     (linear elastic, Eq. 18)
+//! f_ij = c F(η'_ij)                 (Eq. 18–20, [`law`]; η' with the expansion αθ̄)
 //! ρ a_i = Σ_j γ_ij f_ij W_ij V_j (y_j − y_i)/|y_j − y_i|   (Eq. 22 with γ, Eq. 26)
 //! ```
 //!
@@ -36,6 +36,7 @@
 //! which conserves Σ_i ρ C A_i θ_i exactly when the bonded particles carry equal areas
 //! (every particle of a sheet does, and bonds join particles of one body only).
 
+pub mod law;
 pub mod sheet;
 mod solver;
 #[cfg(test)]
@@ -46,6 +47,7 @@ use std::time::Instant;
 use perifrac_math::{UnionFind, det_sum};
 use rayon::prelude::*;
 
+pub use law::Law;
 pub use solver::Membrane;
 
 use crate::error::{Result, SimError};
@@ -74,6 +76,10 @@ pub struct SheetBody {
     pub conductivity: f64,
     /// Air damping rate (1/s): v ← (1 − rate·Δt) v.
     pub air_damping: f64,
+    /// The bond law (Eq. 18–20).
+    pub law: Law,
+    /// Coefficient of linear expansion α (per unit of θ).
+    pub expansion: f64,
 }
 
 impl SheetBody {
@@ -98,6 +104,8 @@ impl SheetBody {
             capacity: spec.diffusion_capacity,
             conductivity: spec.diffusion_conductivity,
             air_damping: material.air_damping,
+            law: Law::of(spec),
+            expansion: spec.expansion,
         }
     }
 }
@@ -256,6 +264,7 @@ impl MembraneModel {
     pub fn internal_forces(&mut self) -> usize {
         let t = Instant::now();
         let (y, volume, body, bodies) = (&self.position, &self.volume, &self.body, &self.bodies);
+        let theta = &self.quantity;
         let (rest, weight, offsets) = (&self.bonds.rest_length, &self.weight, &self.bonds.offsets);
         let initial = &self.initial_bonds;
         let rows = rows_mut(&mut self.bonds.neighbours, offsets);
@@ -268,6 +277,7 @@ impl MembraneModel {
             .map(|(i, ((row, force), damage))| {
                 let constants = &bodies[body[i] as usize];
                 let (c, critical) = (constants.micromodulus, constants.critical_strain);
+                let (law, alpha) = (constants.law, constants.expansion);
                 let yi = y[i];
                 let mut f = [0.0; 3];
                 let (mut broke, mut intact) = (0, 0);
@@ -278,7 +288,9 @@ impl MembraneModel {
                     let j = (*nb & INDEX) as usize;
                     let r = [y[j][0] - yi[0], y[j][1] - yi[1], y[j][2] - yi[2]];
                     let length = (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt();
-                    let eta = length / rest[k] - 1.0;
+                    // The strain over the expanded rest length |ξ|(1 + αθ̄) (see [`law`]).
+                    let expanded = 1.0 + alpha * 0.5 * (theta[i] + theta[j]);
+                    let eta = length / (rest[k] * expanded) - 1.0;
                     if eta > critical {
                         *nb |= BROKEN;
                         broke += 1;
@@ -286,7 +298,7 @@ impl MembraneModel {
                     }
                     intact += 1;
                     if length > 0.0 {
-                        let s = c * eta * weight[k] * volume[j] / length;
+                        let s = c * law.force(eta) * weight[k] * volume[j] / length;
                         for a in 0..3 {
                             f[a] += s * r[a];
                         }
@@ -378,7 +390,7 @@ impl MembraneModel {
                 for k in bonds.range(i) {
                     let j = (bonds.neighbours[k] & INDEX) as usize;
                     let (xi, w) = (bonds.rest_length[k], self.weight[k]);
-                    springs += b.micromodulus * w * self.volume[j] / xi;
+                    springs += b.law.stiffness() * b.micromodulus * w * self.volume[j] / xi;
                     diffusion += b.conductivity * w * self.area[j] / (xi * xi);
                 }
                 let mechanical = if springs > 0.0 {
@@ -415,7 +427,8 @@ impl MembraneModel {
     }
 
     /// Strain energy ½ Σ_i V_i Σ_j ½ c η_ij² |ξ_ij| W_ij V_j (J) over intact bonds:
-    /// Silling's micropotential, of which Eq. 18 is the derivative.
+    /// Silling's micropotential, of which Eq. 18 is the derivative (the linear law's
+    /// energy at the bond's mechanical strain; a measure for the other laws).
     pub fn strain_energy(&self) -> f64 {
         let (y, bonds) = (&self.position, &self.bonds);
         det_sum(self.len(), |i| {
@@ -429,7 +442,9 @@ impl MembraneModel {
                 let j = (nb & INDEX) as usize;
                 let r = [y[j][0] - y[i][0], y[j][1] - y[i][1], y[j][2] - y[i][2]];
                 let xi = bonds.rest_length[k];
-                let eta = (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt() / xi - 1.0;
+                let b = &self.bodies[self.body[i] as usize];
+                let expanded = 1.0 + b.expansion * 0.5 * (self.quantity[i] + self.quantity[j]);
+                let eta = (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt() / (xi * expanded) - 1.0;
                 e += 0.5 * c * eta * eta * xi * self.weight[k] * self.volume[j];
             }
             0.5 * self.volume[i] * e

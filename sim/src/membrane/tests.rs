@@ -317,3 +317,91 @@ fn a_notched_strip_breaks_at_the_critical_strain_and_not_below() {
         }
     }
 }
+
+#[test]
+fn a_free_sheet_at_uniform_theta_expands_by_alpha_theta_without_force() {
+    let s = scene(
+        "{ type = \"slab\", center = [0, 0, 0], size = [0.3, 0.001, 0.2] }",
+        "expansion = 0.01\nlaw = \"rubber\"\nrubber_coefficient = -0.2\nrubber_exponent = 3",
+        "",
+    );
+    let mut m = model(&s);
+    m.quantity.iter_mut().for_each(|t| *t = 2.0);
+    for i in 0..m.len() {
+        m.position[i] = m.reference[i].map(|x| x * 1.02);
+    }
+    m.internal_forces();
+    let c = m.bodies[0].micromodulus;
+    let worst = m
+        .force
+        .iter()
+        .map(|f| f.iter().map(|x| x.abs()).fold(0.0, f64::max))
+        .fold(0.0, f64::max);
+    assert!(
+        worst < 1e-9 * c * m.volume[0],
+        "largest force density {worst:e}"
+    );
+    // Held at its rest size instead, the heated sheet pushes its edges outward.
+    m.position = m.reference.clone();
+    m.internal_forces();
+    let edge = (0..m.len())
+        .max_by(|&a, &b| m.reference[a][0].total_cmp(&m.reference[b][0]))
+        .expect("particles");
+    assert!(
+        m.force[edge][0] > 0.0,
+        "a constrained heated sheet pushes its edge out"
+    );
+}
+
+#[test]
+fn bad_membrane_keys_name_the_key() {
+    let good = "[scene]\nname = \"m\"\n[materials.film]\ndensity = 5000\nyoungs_modulus = 2e4\npoisson_ratio = 0.3\n\
+        [materials.film.membrane]\nfracture_energy = 11.3\n\
+        [[body]]\nmaterial = \"film\"\nmodel = \"membrane\"\nresolution = 0.02\n\
+        shape = { type = \"slab\", center = [0, 0, 0], size = [1, 0.001, 1] }\n";
+    let key = |text: &str| match Scene::parse(text, Path::new("bad.toml"), Path::new(".")) {
+        Err(SimError::Scene { key, .. }) => key,
+        other => panic!("expected a scene error, got {other:?}"),
+    };
+    assert!(Scene::parse(good, Path::new("good.toml"), Path::new(".")).is_ok());
+    let cases = [
+        (
+            good.replace(
+                "type = \"slab\", center = [0, 0, 0], size = [1, 0.001, 1]",
+                "type = \"sphere\", center = [0, 0, 0], radius = 1",
+            ),
+            "body.0.shape",
+        ),
+        (
+            format!("{good}[body.membrane]\ncutoff = 5\n"),
+            "body.0.membrane.cutoff",
+        ),
+        (
+            good.replace("fracture_energy = 11.3", "fracture_energy = -1"),
+            "materials.film.membrane.fracture_energy",
+        ),
+        (
+            good.replace(
+                "fracture_energy = 11.3",
+                "law = \"rubber\"\nrubber_exponent = 1",
+            ),
+            "materials.film.membrane.rubber_exponent",
+        ),
+        (
+            good.replace(
+                "poisson_ratio = 0.3\n",
+                "poisson_ratio = 0.3\ncritical_stretch = 0.1\n",
+            ),
+            "materials.film.critical_stretch",
+        ),
+        (
+            format!(
+                "{good}[[body]]\nmaterial = \"film\"\nresolution = 0.1\nshape = {{ type = \"box\", center = [0, 2, 0], size = [1, 1, 1] }}\n"
+            ),
+            "body.1.model",
+        ),
+    ];
+    for (text, expected) in cases {
+        assert_eq!(key(&text), expected);
+    }
+}

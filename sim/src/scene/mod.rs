@@ -160,6 +160,50 @@ pub struct MembraneMaterialSpec {
     /// Diffusion coefficient k of Han Eq. 25 in W/(m·unit). Default 0 (no diffusion).
     #[serde(default)]
     pub diffusion_conductivity: f64,
+    /// Coefficient of linear expansion α per unit of the diffused quantity (Han
+    /// Eq. 18–20: a free sheet at θ expands by αθ). Default 0.
+    #[serde(default)]
+    pub expansion: f64,
+    /// The bond law: `"linear"` (Eq. 18), `"rubber"` (power law, Eq. 19) or
+    /// `"elastoplastic"` (exponential softening, Eq. 20). Default `"linear"`.
+    #[serde(default)]
+    pub law: MembraneLaw,
+    /// Rubber only: c*/c of Eq. 19, ≤ 0. Default 0.
+    #[serde(default)]
+    pub rubber_coefficient: f64,
+    /// Rubber only: the exponent n of Eq. 19, > 1. Default 2.
+    #[serde(default = "default_rubber_exponent")]
+    pub rubber_exponent: f64,
+    /// Elastoplastic only: the elastic limit η₀ of Eq. 20 and 27, in (0, η_c).
+    /// Default 10⁻⁴ (Han Table 1).
+    #[serde(default = "default_elastic_limit")]
+    pub elastic_limit: f64,
+    /// Elastoplastic only: the softening rate β of Eq. 20 and 27, > 0. Default 1.
+    #[serde(default = "default_softening")]
+    pub softening: f64,
+}
+
+/// The bond law of a membrane material (Han Eq. 18–20).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MembraneLaw {
+    /// Linear elastic, Eq. 18.
+    #[default]
+    Linear,
+    /// Power-law rubber, Eq. 19.
+    Rubber,
+    /// Elastoplastic with exponential softening, Eq. 20.
+    Elastoplastic,
+}
+
+fn default_rubber_exponent() -> f64 {
+    2.0
+}
+fn default_elastic_limit() -> f64 {
+    1e-4
+}
+fn default_softening() -> f64 {
+    1.0
 }
 
 impl Default for MembraneMaterialSpec {
@@ -168,6 +212,12 @@ impl Default for MembraneMaterialSpec {
             fracture_energy: None,
             diffusion_capacity: default_diffusion_capacity(),
             diffusion_conductivity: 0.0,
+            expansion: 0.0,
+            law: MembraneLaw::Linear,
+            rubber_coefficient: 0.0,
+            rubber_exponent: default_rubber_exponent(),
+            elastic_limit: default_elastic_limit(),
+            softening: default_softening(),
         }
     }
 }

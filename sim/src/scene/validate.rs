@@ -425,6 +425,43 @@ fn membrane(scene: &Scene) -> Check {
                     ),
                 ));
             }
+            if !(spec.expansion.is_finite() && spec.expansion.abs() < 1e3) {
+                return Err(issue(
+                    &p("expansion"),
+                    format!(
+                        "the expansion coefficient α must be finite, |α| < 1000 per unit, got {}",
+                        spec.expansion
+                    ),
+                ));
+            }
+            if !(spec.rubber_coefficient.is_finite() && spec.rubber_coefficient <= 0.0) {
+                return Err(issue(
+                    &p("rubber_coefficient"),
+                    format!(
+                        "c*/c of Eq. 19 must be ≤ 0, got {}",
+                        spec.rubber_coefficient
+                    ),
+                ));
+            }
+            if !(spec.rubber_exponent.is_finite() && spec.rubber_exponent > 1.0) {
+                return Err(issue(
+                    &p("rubber_exponent"),
+                    format!("n of Eq. 19 must be > 1, got {}", spec.rubber_exponent),
+                ));
+            }
+            if !(spec.elastic_limit.is_finite()
+                && spec.elastic_limit > 0.0
+                && spec.elastic_limit < 1.0)
+            {
+                return Err(issue(
+                    &p("elastic_limit"),
+                    format!(
+                        "η₀ of Eq. 20 must be in (0, 1) (a strain), got {}",
+                        spec.elastic_limit
+                    ),
+                ));
+            }
+            positive(&p("softening"), spec.softening, "β of Eq. 20")?;
         }
     }
     Ok(())
