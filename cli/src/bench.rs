@@ -4,8 +4,8 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
 
+use perifrac_cache::scene::Scene;
 use perifrac_sim::run;
-use perifrac_sim::scene::Scene;
 use perifrac_sim::step::total_time;
 
 use crate::args::BenchCommand;

@@ -4,11 +4,12 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressStyle};
+use perifrac_cache::CacheError;
+use perifrac_cache::scene::{Scene, SurfaceMethod};
 use perifrac_sim::SimError;
 use perifrac_sim::family;
 use perifrac_sim::geometry::discretize::discretize;
 use perifrac_sim::run::{self, BYTES_PER_PARTICLE, Progress, RunOptions};
-use perifrac_sim::scene::{Scene, SurfaceMethod};
 
 use crate::args::RunConfig;
 
@@ -29,13 +30,23 @@ impl Failure {
 
 impl From<SimError> for Failure {
     fn from(e: SimError) -> Failure {
-        let code = match e {
-            SimError::Scene { .. } | SimError::Refused(_) | SimError::Mesh { .. } => 2,
+        let code = match &e {
+            SimError::Cache(c) if c.is_bad_input() => 2,
+            SimError::Refused(_) | SimError::Mesh { .. } => 2,
             _ => 1,
         };
         Failure {
             error: e.into(),
             code,
+        }
+    }
+}
+
+impl From<CacheError> for Failure {
+    fn from(e: CacheError) -> Failure {
+        Failure {
+            code: if e.is_bad_input() { 2 } else { 1 },
+            error: e.into(),
         }
     }
 }

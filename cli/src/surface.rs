@@ -9,11 +9,11 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, anyhow};
 use indicatif::{ProgressBar, ProgressStyle};
+use perifrac_cache::manifest::Manifest;
+use perifrac_cache::scene::{EmbeddedSpec, Scene, VdbSpec};
+use perifrac_cache::vtu::TetFrame;
+use perifrac_cache::{Layout, write_atomic};
 use perifrac_render::gltf::{CrackSurface, animated_glb, crack_glb};
-use perifrac_sim::cache::manifest::Manifest;
-use perifrac_sim::cache::vtu::TetFrame;
-use perifrac_sim::cache::{Layout, write_atomic};
-use perifrac_sim::scene::{EmbeddedSpec, Scene, VdbSpec};
 use perifrac_surface::embedded::{EmbeddedSurface, RenderMesh, surface};
 use rayon::prelude::*;
 
@@ -226,11 +226,11 @@ mod vdb {
 
     use anyhow::{Context, anyhow};
     use indicatif::{ProgressBar, ProgressStyle};
+    use perifrac_cache::Layout;
+    use perifrac_cache::manifest::Manifest;
+    use perifrac_cache::scene::VdbSpec;
+    use perifrac_cache::write_atomic;
     use perifrac_render::gltf::{MeshData, to_glb};
-    use perifrac_sim::cache::Layout;
-    use perifrac_sim::cache::manifest::Manifest;
-    use perifrac_sim::cache::write_atomic;
-    use perifrac_sim::scene::VdbSpec;
     use perifrac_surface::SurfaceError;
     use perifrac_surface::vdb::{FrameStats, FrameSurface, StepSeconds, initialize, surface_frame};
     use rayon::prelude::*;

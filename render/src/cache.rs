@@ -6,9 +6,9 @@
 
 use std::path::{Path, PathBuf};
 
-use perifrac_sim::cache::manifest::Manifest;
-use perifrac_sim::cache::ply::ParticleFrame;
-use perifrac_sim::scene::{ColliderSpec, Scene};
+use perifrac_cache::manifest::Manifest;
+use perifrac_cache::ply::ParticleFrame;
+use perifrac_cache::scene::{ColliderSpec, Scene};
 use rayon::prelude::*;
 
 use crate::RenderError;

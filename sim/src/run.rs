@@ -6,11 +6,11 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use crate::cache::checkpoint;
 use crate::cache::manifest::{BodyInfo, Manifest, Timings};
 use crate::cache::ply::ParticleFrame;
 use crate::cache::vtu::TetFrame;
 use crate::cache::{Layout, write_atomic};
+use crate::checkpoint_state as checkpoint;
 use crate::contact::{Anchor, Collider};
 use crate::embed::{EmbeddedMesh, NO_PARENT, deformation_gradients};
 use crate::error::{Result, SimError};
@@ -457,6 +457,7 @@ pub fn snapshot(sim: &Simulation, frame: usize) -> ParticleFrame {
         plastic: m.plastic_strain().into_iter().map(|s| s as f32).collect(),
         material: m.reference.body.iter().map(|&b| b as f32).collect(),
         fragment: m.fragments().into_iter().map(|f| f as f32).collect(),
+        extra: Vec::new(),
     }
 }
 
@@ -758,7 +759,9 @@ impl Drive<'_> {
         m.timings = Timings {
             discretize: setup.discretize,
             families: setup.families,
-            stages,
+            stages: [("dilatation", stages.dilatation), ("forces", stages.forces)]
+                .map(|(name, seconds)| (name.to_string(), seconds))
+                .into(),
             integrate_contact: other,
             output,
             split: self.split_time,

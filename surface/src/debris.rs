@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use perifrac_sim::cache::write_atomic;
+use perifrac_cache::write_atomic;
 
 use crate::error::Result;
 

@@ -25,7 +25,7 @@
 //! vertices along their normals by a common offset h = ΔV / A (three Newton steps),
 //! under the same guard.
 
-use perifrac_sim::cache::vtu::TetFrame;
+use perifrac_cache::vtu::TetFrame;
 
 /// Face f (opposite local vertex f) of a positively oriented tet, wound outward.
 const OUTWARD: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];

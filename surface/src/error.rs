@@ -2,14 +2,14 @@
 
 use std::path::PathBuf;
 
-use perifrac_sim::SimError;
+use perifrac_cache::CacheError;
 
 /// Everything that can go wrong while surfacing a cache.
 #[derive(Debug, thiserror::Error)]
 pub enum SurfaceError {
     /// Reading the cache (manifest, particle frames) failed.
     #[error(transparent)]
-    Cache(#[from] SimError),
+    Cache(#[from] CacheError),
     /// Writing an output file failed.
     #[error("{path}: {source}")]
     Io {

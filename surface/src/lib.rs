@@ -1,5 +1,5 @@
-//! perifrac's surface stage: frames of particles from the cache (`perifrac-sim`'s
-//! `cache`) become surfaces.
+//! perifrac's surface stage: frames of particles from the cache (`perifrac-cache`)
+//! become surfaces.
 //!
 //! - [`particles`]: sphere radii from the bodies' mean tet edges, fragments, and the
 //!   check that refuses single layers of particles;

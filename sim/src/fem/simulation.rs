@@ -290,6 +290,7 @@ impl FemSimulation {
             plastic: vec![0.0; body.len()],
             material: body.iter().map(|&b| b as f32).collect(),
             fragment,
+            extra: Vec::new(),
         }
     }
 }

@@ -24,10 +24,10 @@ mod grid;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use perifrac_sim::cache::Layout;
-use perifrac_sim::cache::manifest::{BodyInfo, Manifest};
-use perifrac_sim::cache::ply::ParticleFrame;
-use perifrac_sim::scene::{VdbFilter, VdbSpec};
+use perifrac_cache::Layout;
+use perifrac_cache::manifest::{BodyInfo, Manifest};
+use perifrac_cache::ply::ParticleFrame;
+use perifrac_cache::scene::{VdbFilter, VdbSpec};
 
 pub use grid::{Frame, LevelSet, RasterCount, initialize};
 
