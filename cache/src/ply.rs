@@ -161,7 +161,8 @@ pub struct ParticleFrame {
     pub extra: Vec<(String, Vec<f32>)>,
 }
 
-fn split3(v: &[[f32; 3]]) -> [Vec<f32>; 3] {
+/// The x, y and z columns of 3-vectors, for [`encode_float_ply`].
+pub fn split3(v: &[[f32; 3]]) -> [Vec<f32>; 3] {
     [0, 1, 2].map(|k| v.iter().map(|p| p[k]).collect())
 }
 

@@ -4,8 +4,8 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressStyle};
-use perifrac_cache::CacheError;
 use perifrac_cache::scene::{Scene, SurfaceMethod};
+use perifrac_cache::{CacheError, Layout};
 use perifrac_sim::SimError;
 use perifrac_sim::family;
 use perifrac_sim::geometry::discretize::discretize;
@@ -109,35 +109,36 @@ pub fn demo(out: &Path, threads: Option<usize>, quiet: bool) -> Result<(), Failu
             100.0 * preview / timing.simulation.max(1e-9)
         );
     }
+    let layout = Layout::new(out);
     println!("demo outputs:");
     println!(
         "  particles (PLY, one per frame): {}",
-        out.join("particles").display()
+        layout.particles_dir().display()
     );
     println!(
         "  split tet meshes (VTU):         {}",
-        out.join("tets").display()
+        layout.tets_dir().display()
     );
     println!(
         "  crack surfaces (glTF, a frame): {}",
-        out.join("surface").display()
+        layout.surface_dir().display()
     );
     println!(
         "  animated crack surfaces (glTF): {}",
-        out.join("surface").join("animated.glb").display()
+        layout.animated_surface().display()
     );
     println!(
         "  manifest:                       {}",
-        out.join("manifest.json").display()
+        layout.manifest().display()
     );
     println!(
         "  resolved scene:                 {}",
-        out.join("scene.toml").display()
+        layout.scene().display()
     );
     if timing.preview.is_some() {
         println!(
             "  previews (PNG, contact sheet):  {}",
-            out.join("preview").display()
+            layout.preview_dir().display()
         );
     }
     Ok(())
