@@ -52,6 +52,9 @@ pub enum RenderError {
         /// What is wrong and how to fix it.
         message: String,
     },
+    /// A cache file (scene, manifest, particles) could not be read or written.
+    #[error(transparent)]
+    Cache(#[from] perifrac_cache::CacheError),
     /// Reading or writing a file failed.
     #[error("{path}: {source}")]
     Io {

@@ -9,8 +9,8 @@
 
 use std::collections::{BTreeMap, HashMap};
 
-use perifrac_sim::cache::manifest::BodyInfo;
-use perifrac_sim::cache::ply::ParticleFrame;
+use perifrac_cache::manifest::BodyInfo;
+use perifrac_cache::ply::ParticleFrame;
 
 use crate::error::{Result, SurfaceError};
 
