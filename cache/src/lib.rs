@@ -8,7 +8,7 @@
 //! | [`Layout`] | every path of an output directory (`manifest.json`, `scene.toml`, `particles/NNNN.ply`, `tets/NNNN.vtu`, `surface/NNNN.glb`, `surface/animated.glb`, `surface/NNNN_debris.ply`, `vdb/NNNN.vdb`, `preview/…`, `checkpoint/state.bin`) |
 //! | [`write_atomic`] | the one way a cache file is written (temporary name, [`temporary_path`], then rename) |
 //! | [`scene::Scene`] | the scene file format, its defaults and validation; [`scene::Scene::load`] also reads the resolved `OUT/scene.toml` |
-//! | [`ply::ParticleFrame`] | a particle frame (float PLY: standard columns, then a model's extra columns); [`ply::encode_float_ply`] / [`ply::FloatPly`] for other point files |
+//! | [`ply::ParticleFrame`] | a particle frame (float PLY: standard columns, then a model's extra columns); [`ply::encode_points`] / [`ply::FloatPly`] for other point files |
 //! | [`vtu::TetFrame`] | the split tet mesh of a frame (VTK XML) |
 //! | [`manifest::Manifest`] | `manifest.json`: what a run produced and what it cost |
 //! | [`checkpoint::Checkpoint`] | the versioned, checksummed checkpoint container; a model writes its state into the payload with [`checkpoint::Encoder`] and reads it with [`checkpoint::Decoder`] |

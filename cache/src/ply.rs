@@ -5,7 +5,7 @@
 //! `x y z vx vy vz damage plastic material fragment` ([`PROPERTIES`]), which Blender's
 //! PLY importer turns into point attributes and Houdini reads as point attributes,
 //! followed by the extra columns a model adds (e.g. `temperature`). Debris points
-//! (`surface/NNNN_debris.ply`) are written with [`encode_float_ply`] too.
+//! (`surface/NNNN_debris.ply`) are written with [`encode_points`] too.
 
 use std::path::Path;
 
@@ -16,21 +16,35 @@ pub const PROPERTIES: [&str; 10] = [
     "x", "y", "z", "vx", "vy", "vz", "damage", "plastic", "material", "fragment",
 ];
 
-/// Encodes float columns (each `count` long, named) as a binary little-endian PLY
-/// with one `comment` line.
-pub fn encode_float_ply(comment: &str, count: usize, columns: &[(&str, &[f32])]) -> Vec<u8> {
+/// The names of the position and velocity columns every point file starts with.
+pub const VECTOR_PROPERTIES: [&str; 6] = ["x", "y", "z", "vx", "vy", "vz"];
+
+/// Encodes points as a binary little-endian PLY with one `comment` line: the columns
+/// [`VECTOR_PROPERTIES`] from `position` and `velocity`, then the named `scalars`
+/// (each one value a point).
+pub fn encode_points(
+    comment: &str,
+    position: &[[f32; 3]],
+    velocity: &[[f32; 3]],
+    scalars: &[(&str, &[f32])],
+) -> Vec<u8> {
+    let count = position.len();
     let mut header = format!(
         "ply\nformat binary_little_endian 1.0\ncomment {comment}\nelement vertex {count}\n"
     );
-    for (name, _) in columns {
+    let names = VECTOR_PROPERTIES
+        .into_iter()
+        .chain(scalars.iter().map(|c| c.0));
+    for name in names {
         header.push_str(&format!("property float {name}\n"));
     }
     header.push_str("end_header\n");
-    let mut out = Vec::with_capacity(header.len() + count * 4 * columns.len());
+    let mut out = Vec::with_capacity(header.len() + count * 4 * (6 + scalars.len()));
     out.extend_from_slice(header.as_bytes());
     for i in 0..count {
-        for (_, values) in columns {
-            out.extend_from_slice(&values[i].to_le_bytes());
+        let vectors = position[i].into_iter().chain(velocity[i]);
+        for v in vectors.chain(scalars.iter().map(|c| c.1[i])) {
+            out.extend_from_slice(&v.to_le_bytes());
         }
     }
     out
@@ -161,11 +175,6 @@ pub struct ParticleFrame {
     pub extra: Vec<(String, Vec<f32>)>,
 }
 
-/// The x, y and z columns of 3-vectors, for [`encode_float_ply`].
-pub fn split3(v: &[[f32; 3]]) -> [Vec<f32>; 3] {
-    [0, 1, 2].map(|k| v.iter().map(|p| p[k]).collect())
-}
-
 fn zip3([a, b, c]: [Vec<f32>; 3]) -> Vec<[f32; 3]> {
     a.into_iter()
         .zip(b)
@@ -195,22 +204,10 @@ impl ParticleFrame {
 
     /// Encodes the frame as PLY bytes.
     pub fn to_bytes(&self) -> Vec<u8> {
-        let [x, y, z] = split3(&self.position);
-        let [vx, vy, vz] = split3(&self.velocity);
-        let standard: [&[f32]; 10] = [
-            &x,
-            &y,
-            &z,
-            &vx,
-            &vy,
-            &vz,
-            &self.damage,
-            &self.plastic,
-            &self.material,
-            &self.fragment,
-        ];
-        let columns: Vec<(&str, &[f32])> = PROPERTIES
-            .into_iter()
+        let standard: [&[f32]; 4] = [&self.damage, &self.plastic, &self.material, &self.fragment];
+        let scalars: Vec<(&str, &[f32])> = PROPERTIES[6..]
+            .iter()
+            .copied()
             .zip(standard)
             .chain(self.extra.iter().map(|(n, v)| (n.as_str(), v.as_slice())))
             .collect();
@@ -218,7 +215,7 @@ impl ParticleFrame {
             "perifrac particles frame {} time {:e}",
             self.frame, self.time
         );
-        encode_float_ply(&comment, self.len(), &columns)
+        encode_points(&comment, &self.position, &self.velocity, &scalars)
     }
 
     /// Writes the frame atomically; refuses columns of the wrong length.

@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use perifrac_cache::ply::{encode_float_ply, split3};
+use perifrac_cache::ply::encode_points;
 use perifrac_cache::write_atomic;
 
 use crate::error::Result;
@@ -44,24 +44,13 @@ impl Debris {
 
     /// Encodes the points as PLY bytes (a file with zero points is valid).
     pub fn to_bytes(&self, frame: usize) -> Vec<u8> {
-        let [x, y, z] = split3(&self.position);
-        let [vx, vy, vz] = split3(&self.velocity);
-        let values: [&[f32]; 9] = [
-            &x,
-            &y,
-            &z,
-            &vx,
-            &vy,
-            &vz,
-            &self.radius,
-            &self.fragment,
-            &self.material,
-        ];
-        let columns: Vec<(&str, &[f32])> = PROPERTIES.into_iter().zip(values).collect();
-        encode_float_ply(
+        let values: [&[f32]; 3] = [&self.radius, &self.fragment, &self.material];
+        let scalars: Vec<(&str, &[f32])> = PROPERTIES[6..].iter().copied().zip(values).collect();
+        encode_points(
             &format!("perifrac debris frame {frame}"),
-            self.len(),
-            &columns,
+            &self.position,
+            &self.velocity,
+            &scalars,
         )
     }
 

@@ -8,6 +8,8 @@
 mod locate;
 mod validate;
 
+pub use validate::SPHERE_RADIUS_PER_SPACING;
+
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
