@@ -3,7 +3,7 @@
 //!
 //! | module | main items |
 //! |---|---|
-//! | [`gltf`] | [`gltf::to_glb`], [`gltf::animated_glb`], [`gltf::MeshData`]: glTF 2.0 binary (.glb) writing |
+//! | [`gltf`] | [`gltf::to_glb`], [`gltf::crack_glb`], [`gltf::animated_glb`], [`gltf::Glb`]: glTF 2.0 binary (.glb) writing of the cache's `SurfaceMesh` |
 //! | [`cache`] | [`cache::Cache`]: an output directory read for previews (frames, colliders, surfaces, particles) |
 //! | [`geometry`] | [`geometry::FrameGeometry`]: what a preview draws, as flat arrays, and the colour maps |
 //! | [`camera`] | [`camera::Camera`], [`camera::Bounds`], [`camera::Lights`]: automatic framing, turntables, the studio lights |
@@ -52,6 +52,9 @@ pub enum RenderError {
         /// What is wrong and how to fix it.
         message: String,
     },
+    /// A cache file (scene, manifest, particles) could not be read or written.
+    #[error(transparent)]
+    Cache(#[from] perifrac_cache::CacheError),
     /// Reading or writing a file failed.
     #[error("{path}: {source}")]
     Io {

@@ -24,7 +24,6 @@
 
 pub mod accuracy;
 pub mod analytic;
-pub mod cache;
 pub mod contact;
 pub mod embed;
 pub mod error;
@@ -37,7 +36,8 @@ pub mod memory;
 pub mod model;
 pub mod pd;
 pub mod run;
-pub mod scene;
 pub mod world;
 
 pub use error::SimError;
+pub use perifrac_cache as cache;
+pub use perifrac_cache::scene;

@@ -139,15 +139,18 @@ impl Model for Springs {
             plastic: vec![0.0; n],
             body: self.body.clone(),
             fragment: vec![0; n],
+            extra: Vec::new(),
         }
     }
     fn save(&self, out: &mut Encoder) {
-        out.put_f64x3s(&self.position);
-        out.put_f64x3s(&self.velocity);
+        out.put_f64x3_slice(&self.position);
+        out.put_f64x3_slice(&self.velocity);
     }
     fn restore(&mut self, input: &mut Decoder<'_>) -> Result<()> {
-        input.take_f64x3s_into(&mut self.position, "positions")?;
-        input.take_f64x3s_into(&mut self.velocity, "velocities")
+        let n = self.mass.len();
+        self.position = input.take_f64x3_slice("positions", n)?;
+        self.velocity = input.take_f64x3_slice("velocities", n)?;
+        Ok(())
     }
     fn stage_times(&self) -> Vec<(&'static str, f64)> {
         vec![("springs", self.force_time)]

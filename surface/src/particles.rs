@@ -9,17 +9,16 @@
 
 use std::collections::{BTreeMap, HashMap};
 
-use perifrac_sim::cache::manifest::BodyInfo;
-use perifrac_sim::cache::ply::ParticleFrame;
+use perifrac_cache::manifest::BodyInfo;
+use perifrac_cache::ply::ParticleFrame;
+use perifrac_math::{dot, sub};
 
 use crate::error::{Result, SurfaceError};
 
 /// Tets (particles) the BCC mesher makes per λ³, λ the mean tet edge.
 pub const TETS_PER_LAMBDA3: f64 = 9.1;
 
-/// Radius of a sphere whose volume is that of a cube of side 1, (3/(4π))^(1/3): a
-/// particle's volume-equivalent sphere radius in particle spacings.
-pub const SPHERE_RADIUS_PER_SPACING: f64 = 0.620_350_490_899_400_1;
+pub use perifrac_cache::scene::SPHERE_RADIUS_PER_SPACING;
 
 /// A body whose particles' neighbourhoods are thinner than this (median, in particle
 /// spacings) is taken for a single layer.
@@ -160,8 +159,8 @@ pub fn local_thickness(positions: &[[f32; 3]], indices: &[u32], spacing: f64) ->
                     };
                     for &j in list {
                         let q = positions[j as usize].map(f64::from);
-                        let d = [q[0] - p[0], q[1] - p[1], q[2] - p[2]];
-                        if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] <= radius * radius {
+                        let d = sub(q, p);
+                        if dot(d, d) <= radius * radius {
                             neighbours.push(q);
                         }
                     }

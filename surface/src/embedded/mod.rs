@@ -16,7 +16,7 @@
 //! the volume correction below undoes, so no Taubin inflation step is needed (with
 //! the guard below, Taubin's λ/μ pairs were measured to diverge: inflation steps
 //! were cut less often than shrink steps). After each pass every tet touching a
-//! moved vertex must keep at least [`MIN_VOLUME_FRACTION`] of its signed volume: a
+//! moved vertex must keep at least `MIN_VOLUME_FRACTION` (2%) of its signed volume: a
 //! tet mesh whose tets stay positively oriented maps each vertex's neighbourhood
 //! one-to-one, so a fragment's surface cannot fold over itself locally; where a tet
 //! would fall below, the moves of its vertices are halved (four times, then
@@ -25,8 +25,13 @@
 //! vertices along their normals by a common offset h = ΔV / A (three Newton steps),
 //! under the same guard.
 
+mod stage;
+
+use perifrac_cache::mesh::SurfaceMesh;
+use perifrac_cache::vtu::TetFrame;
 use perifrac_math::{TET_FACES, UnionFind, cross, dot, norm, signed_volume, sub};
-use perifrac_sim::cache::vtu::TetFrame;
+
+pub use stage::{EmbeddedReport, stage};
 
 /// Fraction of the way to the neighbours' mean a smoothing pass moves a vertex.
 const STEP: f64 = 0.5;
@@ -98,24 +103,18 @@ pub struct SmoothingStats {
     pub reverted: usize,
 }
 
-/// Vertices of one class (original or crack) with their own normals, ready for
-/// export: crack and original faces meeting at a vertex get a copy each.
+/// A frame's surface ready for export, with the split-mesh vertex each of its
+/// vertices stands for: one vertex per split-mesh vertex and class (original or
+/// crack), so crack and original faces meeting at a vertex get a copy each, with
+/// their own normals. The mesh's damage is the mean damage of the tets the vertex's
+/// faces bound.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct RenderMesh {
-    /// The split-mesh vertex of each render vertex.
+    /// The split-mesh vertex of each mesh vertex.
     pub vertex: Vec<u32>,
-    /// Whether each render vertex belongs to crack faces.
-    pub crack: Vec<bool>,
-    /// Positions (m).
-    pub positions: Vec<[f32; 3]>,
-    /// Area-weighted unit normals, per class.
-    pub normals: Vec<[f32; 3]>,
-    /// Mean damage of the tets the vertex's faces bound.
-    pub damage: Vec<f32>,
-    /// Triangles of the original surface (indices into the render vertices).
-    pub surface_indices: Vec<u32>,
-    /// Triangles of the crack surfaces.
-    pub crack_indices: Vec<u32>,
+    /// Positions, area-weighted unit normals per class, damage, and the original
+    /// and crack triangles.
+    pub mesh: SurfaceMesh,
 }
 
 fn tet_volume(x: &[[f64; 3]], t: [u32; 4]) -> f64 {
@@ -517,16 +516,15 @@ impl EmbeddedSurface {
         let index = |v: u32, c: bool| key.binary_search(&(v, c)).unwrap_or(0) as u32;
         let mut out = RenderMesh {
             vertex: key.iter().map(|k| k.0).collect(),
-            crack: key.iter().map(|k| k.1).collect(),
             ..RenderMesh::default()
         };
         let mut damage_sum = vec![(0.0f64, 0usize); key.len()];
         for ((f, &c), &t) in self.triangles.iter().zip(&self.crack).zip(&self.owner) {
             let ids = f.map(|v| index(v, c));
             let list = if c {
-                &mut out.crack_indices
+                &mut out.mesh.crack_indices
             } else {
-                &mut out.surface_indices
+                &mut out.mesh.surface_indices
             };
             list.extend_from_slice(&ids);
             for i in ids {
@@ -535,12 +533,12 @@ impl EmbeddedSurface {
                 d.1 += 1;
             }
         }
-        out.damage = damage_sum
+        out.mesh.damage = damage_sum
             .iter()
             .map(|(s, n)| (s / (*n).max(1) as f64) as f32)
             .collect();
-        out.positions = self.positions_of(&out, &self.points);
-        out.normals = self.normals(&out, &self.points);
+        out.mesh.positions = self.positions_of(&out, &self.points);
+        out.mesh.normals = self.normals(&out, &self.points);
         out
     }
 
@@ -555,7 +553,7 @@ impl EmbeddedSurface {
     /// Area-weighted unit normals of `mesh`'s render vertices at `points`.
     pub fn normals(&self, mesh: &RenderMesh, points: &[[f64; 3]]) -> Vec<[f32; 3]> {
         let mut n = vec![[0.0f64; 3]; mesh.vertex.len()];
-        for list in [&mesh.surface_indices, &mesh.crack_indices] {
+        for list in [&mesh.mesh.surface_indices, &mesh.mesh.crack_indices] {
             for tri in list.chunks_exact(3) {
                 let f = [0, 1, 2].map(|k| mesh.vertex[tri[k] as usize]);
                 let a = area_vector(points, f);
