@@ -1,6 +1,7 @@
 //! The membrane model behind [`Model`]: Han et al.'s sheet particles stepped by the
 //! world's velocity Verlet, the diffusion of Eq. 25 stepped by forward Euler after
-//! each step, checkpoints of the saved state (positions, velocities, broken bonds, θ).
+//! each step, checkpoints of the saved state (positions, velocities, broken bonds, θ),
+//! and θ as the particle cache's `quantity` column.
 //!
 //! Integrator: Han's Eq. 26 updates the velocity and then the position with the new
 //! velocity, which is symplectic Euler; its positions are those of velocity Verlet
@@ -127,6 +128,10 @@ impl Model for Membrane {
             plastic: vec![0.0; m.len()],
             body: m.body.clone(),
             fragment: m.fragments(),
+            extra: vec![(
+                "quantity".into(),
+                m.quantity.iter().map(|&q| q as f32).collect(),
+            )],
         }
     }
 
@@ -138,33 +143,30 @@ impl Model for Membrane {
     /// the bonds on restore.
     fn save(&self, out: &mut Encoder) {
         let m = &self.model;
-        out.put_u64(m.len() as u64);
-        out.put_f64x3s(&m.position);
-        out.put_f64x3s(&m.velocity);
-        out.put_u64(m.bonds.len() as u64);
-        out.put_u32s(&m.bonds.neighbours);
-        out.put_f64s(&m.quantity);
+        out.put_f64x3_slice(&m.position);
+        out.put_f64x3_slice(&m.velocity);
+        out.put_u32_slice(&m.bonds.neighbours);
+        out.put_f64_slice(&m.quantity);
     }
 
     fn restore(&mut self, input: &mut Decoder<'_>) -> Result<()> {
         let m = &mut self.model;
-        input.expect_count("particles", m.len())?;
-        input.take_f64x3s_into(&mut m.position, "positions")?;
-        input.take_f64x3s_into(&mut m.velocity, "velocities")?;
-        input.expect_count("bonds", m.bonds.len())?;
-        let mut neighbours = vec![0u32; m.bonds.len()];
-        input.take_u32s_into(&mut neighbours, "bonds")?;
-        if let Some(k) =
-            (0..neighbours.len()).find(|&k| neighbours[k] & INDEX != m.bonds.neighbours[k] & INDEX)
-        {
-            return Err(input.invalid(format!(
+        let n = m.len();
+        m.position = input.take_f64x3_slice("positions", n)?;
+        m.velocity = input.take_f64x3_slice("velocities", n)?;
+        // Only the broken bit may differ from the bonds this scene builds.
+        let neighbours = input.take_u32_slice("bonds", m.bonds.len())?;
+        let scene = &m.bonds.neighbours;
+        if let Some(k) = (0..scene.len()).find(|&k| neighbours[k] & INDEX != scene[k] & INDEX) {
+            let message = format!(
                 "bond {k} points at particle {} where the scene has {}",
                 neighbours[k] & INDEX,
-                m.bonds.neighbours[k] & INDEX
-            )));
+                scene[k] & INDEX
+            );
+            return Err(input.error("bonds", message).into());
         }
         m.bonds.neighbours = neighbours;
-        input.take_f64s_into(&mut m.quantity, "diffused quantity")?;
+        m.quantity = input.take_f64_slice("diffused quantity", n)?;
         m.update_damage();
         Ok(())
     }

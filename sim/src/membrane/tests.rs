@@ -360,7 +360,7 @@ fn bad_membrane_keys_name_the_key() {
         [[body]]\nmaterial = \"film\"\nmodel = \"membrane\"\nresolution = 0.02\n\
         shape = { type = \"slab\", center = [0, 0, 0], size = [1, 0.001, 1] }\n";
     let key = |text: &str| match Scene::parse(text, Path::new("bad.toml"), Path::new(".")) {
-        Err(SimError::Scene { key, .. }) => key,
+        Err(perifrac_cache::CacheError::Scene { key, .. }) => key,
         other => panic!("expected a scene error, got {other:?}"),
     };
     assert!(Scene::parse(good, Path::new("good.toml"), Path::new(".")).is_ok());
