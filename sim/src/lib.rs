@@ -29,6 +29,7 @@ pub mod geometry;
 pub mod material;
 pub mod memory;
 pub mod model;
+pub mod mpm;
 pub mod pd;
 pub mod run;
 pub mod scene;

@@ -150,6 +150,7 @@ mod tests {
             anisotropy: None,
             air_damping: 0.0,
             laplacian_damping: 0.0,
+            mpm: None,
         }
     }
 

@@ -22,6 +22,7 @@ fn material() -> Material {
         anisotropy: None,
         air_damping: 0.0,
         laplacian_damping: 0.0,
+        mpm: None,
     })
 }
 

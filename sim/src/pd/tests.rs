@@ -22,6 +22,7 @@ fn material(e: f64, nu: f64) -> MaterialSpec {
         anisotropy: None,
         air_damping: 0.0,
         laplacian_damping: 0.0,
+        mpm: None,
     }
 }
 

@@ -138,6 +138,10 @@ pub struct MaterialSpec {
     /// λl = rate·Δt). Default 0.
     #[serde(default)]
     pub laplacian_damping: f64,
+    /// Material point method settings (`[materials.NAME.mpm]`), read by bodies with
+    /// `model = "mpm"`. Default: fixed corotated elasticity.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mpm: Option<MpmSpec>,
 }
 
 /// A shape given by a signed distance function, or a CSG combination of shapes.
@@ -300,6 +304,10 @@ pub enum ModelKind {
     /// Reference solver: explicit linear-tet FEM, corotated linear (Chen et al. 2018
     /// §6, Figs. 10–13): the linear stress of each tet in its rotated frame.
     FemCorotated,
+    /// The material point method (MLS-MPM, Lyu 2021 ch. 3): particles seeded in the
+    /// shape on a sparse grid of spacing `resolution`; every body of the scene must then
+    /// use it. Material settings in `[materials.NAME.mpm]`.
+    Mpm,
 }
 
 impl ModelKind {
@@ -892,4 +900,27 @@ resolution = 0.1
         let (_, _, message) = error("");
         assert!(message.contains("scene"), "{message}");
     }
+}
+
+/// `[materials.NAME.mpm]`: how a material behaves in the material point method
+/// (Lyu 2021 ch. 3 and 7).
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MpmSpec {
+    /// Elastic energy: `"fixed-corotated"` (Eq. 3.5) or `"neo-hookean"` (Eq. 3.8).
+    /// Default `"fixed-corotated"`.
+    #[serde(default)]
+    pub elasticity: MpmElasticity,
+}
+
+/// The elastic energy density ψ(F) of an MPM material.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum MpmElasticity {
+    /// Fixed corotated, ψ = μ‖F − R‖² + λ/2 (J − 1)² (Lyu Eq. 3.5): defined when
+    /// inverted.
+    #[default]
+    FixedCorotated,
+    /// Neo-Hookean, ψ = μ/2 (tr FᵀF − 3) − μ log J + λ/2 (log J)² (Lyu Eq. 3.8).
+    NeoHookean,
 }
