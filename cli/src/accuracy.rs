@@ -8,8 +8,8 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use perifrac_cache::scene::{ModelKind, Scene};
 use perifrac_sim::accuracy::{Recording, deviation, diagonal, record};
-use perifrac_sim::scene::{ModelKind, Scene};
 
 use crate::commands::Failure;
 

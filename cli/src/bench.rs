@@ -4,10 +4,10 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
 
+use perifrac_cache::scene::Scene;
 use perifrac_sim::memory::estimate_memory;
 use perifrac_sim::pd::{PdModel, Peridynamics};
 use perifrac_sim::run;
-use perifrac_sim::scene::Scene;
 use perifrac_sim::world::World;
 
 use crate::args::BenchCommand;

@@ -100,7 +100,7 @@ pub fn run(
     );
     drop(renderer);
     if demo {
-        let scene = perifrac_sim::scene::Scene::parse(
+        let scene = perifrac_cache::scene::Scene::parse(
             crate::commands::DEMO_SCENE,
             Path::new("demo.toml (built in)"),
             Path::new("."),

@@ -4,12 +4,13 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressStyle};
+use perifrac_cache::scene::{Scene, SurfaceMethod};
+use perifrac_cache::{CacheError, Layout};
 use perifrac_sim::SimError;
 use perifrac_sim::family;
 use perifrac_sim::geometry::discretize::discretize;
 use perifrac_sim::memory::{BYTES_PER_PARTICLE, estimate_memory};
 use perifrac_sim::run::{self, Progress, RunOptions};
-use perifrac_sim::scene::{Scene, SurfaceMethod};
 
 use crate::args::RunConfig;
 
@@ -30,13 +31,23 @@ impl Failure {
 
 impl From<SimError> for Failure {
     fn from(e: SimError) -> Failure {
-        let code = match e {
-            SimError::Scene { .. } | SimError::Refused(_) | SimError::Mesh { .. } => 2,
+        let code = match &e {
+            SimError::Cache(c) if c.is_bad_input() => 2,
+            SimError::Refused(_) | SimError::Mesh { .. } => 2,
             _ => 1,
         };
         Failure {
             error: e.into(),
             code,
+        }
+    }
+}
+
+impl From<CacheError> for Failure {
+    fn from(e: CacheError) -> Failure {
+        Failure {
+            code: if e.is_bad_input() { 2 } else { 1 },
+            error: e.into(),
         }
     }
 }
@@ -117,35 +128,36 @@ pub fn demo(out: &Path, threads: Option<usize>, quiet: bool) -> Result<(), Failu
             100.0 * preview / timing.simulation.max(1e-9)
         );
     }
+    let layout = Layout::new(out);
     println!("demo outputs:");
     println!(
         "  particles (PLY, one per frame): {}",
-        out.join("particles").display()
+        layout.particles_dir().display()
     );
     println!(
         "  split tet meshes (VTU):         {}",
-        out.join("tets").display()
+        layout.tets_dir().display()
     );
     println!(
         "  crack surfaces (glTF, a frame): {}",
-        out.join("surface").display()
+        layout.surface_dir().display()
     );
     println!(
         "  animated crack surfaces (glTF): {}",
-        out.join("surface").join("animated.glb").display()
+        layout.animated_surface().display()
     );
     println!(
         "  manifest:                       {}",
-        out.join("manifest.json").display()
+        layout.manifest().display()
     );
     println!(
         "  resolved scene:                 {}",
-        out.join("scene.toml").display()
+        layout.scene().display()
     );
     if timing.preview.is_some() {
         println!(
             "  previews (PNG, contact sheet):  {}",
-            out.join("preview").display()
+            layout.preview_dir().display()
         );
     }
     Ok(())

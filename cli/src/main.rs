@@ -1,5 +1,12 @@
 //! The `perifrac` command: runs scenes through the pipeline. No physics here.
 //!
+//! | module | what it holds |
+//! |---|---|
+//! | [`args`] | the clap arguments ([`args::Cli`], [`args::Command`]) and their validated configs ([`args::RunConfig`], [`args::SurfaceConfig`], …) |
+//! | [`commands`] | `run`, `demo`, `check`; [`commands::Failure`] and its exit code |
+//! | `surface`, [`render`] | the surface and render stages as commands |
+//! | [`bench`](mod@bench), [`bench_render`], [`accuracy`], [`stability`], [`plot`] | `perifrac bench …`: throughput, accuracy against a reference, stability, plots |
+//!
 //! Exit codes: 0 success, 1 a run failed (I/O, blow-up), 2 bad input (scene, flags).
 
 mod accuracy;

@@ -6,6 +6,8 @@ use std::time::Duration;
 
 #[cfg(feature = "gl")]
 use indicatif::{ProgressBar, ProgressStyle};
+#[cfg(feature = "gl")]
+use perifrac_cache::{CacheError, Layout};
 
 use crate::args::RenderConfig;
 use crate::commands::Failure;
@@ -86,7 +88,7 @@ pub fn previews(
             1e3 * p.main / n,
             1e3 * p.readback / n,
             1e3 * report.encode / n,
-            out.join("preview").display()
+            Layout::new(out).preview_dir().display()
         );
     }
     Ok(report.seconds)
@@ -107,8 +109,10 @@ pub fn command(config: &RenderConfig, quiet: bool) -> Result<(), Failure> {
             azimuth: config.azimuth.to_radians(),
         };
         previews(&config.out, &options, quiet).map_err(|e| {
-            let code = match e {
+            let code = match &e {
                 RenderError::Input { .. } | RenderError::Size(_) => 2,
+                // A malformed scene.toml or particle frame is bad input; I/O is not.
+                RenderError::Cache(c) if !matches!(c, CacheError::Io { .. }) => 2,
                 _ => 1,
             };
             Failure {

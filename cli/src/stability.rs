@@ -6,9 +6,9 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
 
+use perifrac_cache::scene::Scene;
 use perifrac_sim::SimError;
 use perifrac_sim::run;
-use perifrac_sim::scene::Scene;
 
 use crate::commands::Failure;
 
@@ -102,7 +102,7 @@ fn run_case(name: &str, text: &str, scratch: &Path, quiet: bool) -> Result<Strin
             m,
         ),
         Err(e @ SimError::BlowUp { .. }) => {
-            let m = perifrac_sim::cache::manifest::Manifest::read(&dir.join("manifest.json"))?;
+            let m = perifrac_cache::manifest::Manifest::read(&dir.join("manifest.json"))?;
             (format!("caught: {e}"), m)
         }
         Err(e) => return Err(e.into()),
@@ -134,11 +134,7 @@ pub fn stability(out: &Path, quiet: bool) -> Result<(), Failure> {
             Path::new("stability: time step"),
             Path::new("."),
         )?;
-        let stable = if model == "peridynamics" {
-            run::prepare(&probe)?.stable_dt.0
-        } else {
-            run::prepare(&probe)?.stable_dt.0
-        };
+        let stable = run::prepare(&probe)?.stable_dt.0;
         for factor in [0.9, 2.0] {
             let name = format!("{label}, dt = {factor}× the stable bound {stable:.2e} s");
             rows.push(run_case(

@@ -90,8 +90,8 @@ fn run_writes_a_cache_that_an_independent_reader_reads() {
         );
     }
     // The same file through our own reader agrees.
-    let ours = perifrac_sim::cache::ply::ParticleFrame::read(&out.join("particles/0005.ply"))
-        .expect("reads");
+    let ours =
+        perifrac_cache::ply::ParticleFrame::read(&out.join("particles/0005.ply")).expect("reads");
     assert_eq!(ours.len(), particles);
     assert!((ours.time - 0.01).abs() < 1e-9);
 }

@@ -7,7 +7,7 @@
 use std::path::Path;
 use std::process::{Command, Output};
 
-use perifrac_sim::cache::manifest::Manifest;
+use perifrac_cache::manifest::Manifest;
 
 const SCENE: &str = r#"[scene]
 name = "embedded-test"

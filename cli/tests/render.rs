@@ -122,7 +122,7 @@ fn run_ends_with_previews_and_render_makes_turntables() {
     assert_eq!(r.status.code(), Some(2), "{}", text(&r));
 
     // A frame whose particles are all gone renders the ground and says so.
-    let empty = perifrac_sim::cache::ply::ParticleFrame {
+    let empty = perifrac_cache::ply::ParticleFrame {
         frame: 3,
         ..Default::default()
     };

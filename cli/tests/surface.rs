@@ -7,11 +7,11 @@
 use std::path::Path;
 use std::process::{Command, Output};
 
-use perifrac_sim::cache::Layout;
-use perifrac_sim::cache::manifest::{BodyInfo, Manifest};
-use perifrac_sim::cache::ply::ParticleFrame;
+use perifrac_cache::Layout;
+use perifrac_cache::manifest::{BodyInfo, Manifest};
+use perifrac_cache::ply::ParticleFrame;
+use perifrac_cache::scene::Scene;
 use perifrac_sim::geometry::discretize::discretize;
-use perifrac_sim::scene::Scene;
 
 const SCENE: &str = r#"[scene]
 name = "surface-test"

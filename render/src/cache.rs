@@ -4,11 +4,12 @@
 //! `surface/NNNN.glb` (embedded or VDB meshes, with crack faces and `_DAMAGE`), turned
 //! into [`FrameGeometry`].
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use perifrac_sim::cache::manifest::Manifest;
-use perifrac_sim::cache::ply::ParticleFrame;
-use perifrac_sim::scene::{ColliderSpec, Scene};
+use perifrac_cache::Layout;
+use perifrac_cache::manifest::Manifest;
+use perifrac_cache::ply::ParticleFrame;
+use perifrac_cache::scene::{ColliderSpec, Scene};
 use rayon::prelude::*;
 
 use crate::RenderError;
@@ -43,8 +44,8 @@ pub struct Ranges {
 /// An output directory opened for rendering.
 #[derive(Debug, Clone)]
 pub struct Cache {
-    /// The directory.
-    pub root: PathBuf,
+    /// The directory's paths.
+    pub layout: Layout,
     /// Frame numbers with particles or a surface, ascending.
     pub frames: Vec<usize>,
     manifest: Option<Manifest>,
@@ -55,36 +56,20 @@ pub struct Cache {
     fps: f64,
 }
 
-fn frame_numbers(dir: &Path, extension: &str) -> Vec<usize> {
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        return Vec::new();
-    };
-    entries
-        .filter_map(|e| {
-            let name = e.ok()?.file_name().into_string().ok()?;
-            let stem = name.strip_suffix(extension)?;
-            (stem.len() == 4).then(|| stem.parse().ok()).flatten()
-        })
-        .collect()
-}
-
 impl Cache {
     /// Opens `root`: it needs `scene.toml` and at least one particle or surface frame.
     pub fn open(root: &Path) -> Result<Cache, RenderError> {
-        let scene_path = root.join("scene.toml");
-        let text = std::fs::read_to_string(&scene_path).map_err(|e| RenderError::Input {
-            path: scene_path.clone(),
-            message: format!("{e}; is this the output directory of a `perifrac run`?"),
-        })?;
-        // The resolved scene was validated when it was run; mesh paths in it are
-        // relative to the original scene, so it is not validated again here.
-        let scene: Scene = toml::from_str(&text).map_err(|e| RenderError::Input {
-            path: scene_path.clone(),
-            message: format!("not a resolved perifrac scene: {}", e.message()),
-        })?;
-        let manifest = Manifest::read(&root.join("manifest.json")).ok();
-        let mut frames = frame_numbers(&root.join("particles"), ".ply");
-        frames.extend(frame_numbers(&root.join("surface"), ".glb"));
+        let layout = Layout::new(root);
+        if !layout.scene().is_file() {
+            return Err(RenderError::Input {
+                path: layout.scene(),
+                message: "not found; is this the output directory of a `perifrac run`?".into(),
+            });
+        }
+        let scene = Scene::load(&layout.scene())?;
+        let manifest = Manifest::read(&layout.manifest()).ok();
+        let mut frames = layout.particle_frames();
+        frames.extend(layout.surface_frames());
         frames.sort_unstable();
         frames.dedup();
         if frames.is_empty() {
@@ -99,7 +84,7 @@ impl Cache {
             _ => None,
         });
         Ok(Cache {
-            root: root.to_path_buf(),
+            layout,
             frames,
             manifest,
             radii: scene
@@ -113,17 +98,9 @@ impl Cache {
         })
     }
 
-    fn particles_path(&self, frame: usize) -> PathBuf {
-        self.root.join("particles").join(format!("{frame:04}.ply"))
-    }
-
-    fn surface_path(&self, frame: usize) -> PathBuf {
-        self.root.join("surface").join(format!("{frame:04}.glb"))
-    }
-
     /// Whether frame `frame` is drawn from its surface mesh (rather than particles).
     pub fn uses_surface(&self, frame: usize, color_by: ColorBy) -> bool {
-        matches!(color_by, ColorBy::Auto | ColorBy::Damage) && self.surface_path(frame).is_file()
+        matches!(color_by, ColorBy::Auto | ColorBy::Damage) && self.layout.surface(frame).is_file()
     }
 
     /// The ground height, if the scene has a ground collider.
@@ -198,14 +175,10 @@ impl Cache {
             ..FrameGeometry::default()
         };
         if self.uses_surface(frame, color_by) {
-            read_glb(&self.surface_path(frame), color_by, &mut g)?;
-        } else if self.particles_path(frame).is_file() {
-            let path = self.particles_path(frame);
-            let bytes = std::fs::read(&path).map_err(|e| RenderError::io(&path, e))?;
-            let p = ParticleFrame::from_bytes(&bytes).map_err(|message| RenderError::Input {
-                path: path.clone(),
-                message,
-            })?;
+            read_glb(&self.layout.surface(frame), color_by, &mut g)?;
+        } else if self.layout.particles(frame).is_file() {
+            let path = self.layout.particles(frame);
+            let p = ParticleFrame::read(&path)?;
             let colors: Vec<[f32; 3]> = match color_by {
                 ColorBy::Auto | ColorBy::Damage => p
                     .damage
@@ -225,7 +198,7 @@ impl Cache {
                         .collect()
                 }
                 ColorBy::Temperature => {
-                    let t = temperature(&bytes, &path)?;
+                    let t = temperature(&p, &path)?;
                     let (lo, hi) = ranges.temperature;
                     let span = (hi - lo).max(f32::MIN_POSITIVE);
                     t.iter()
@@ -261,17 +234,11 @@ impl Cache {
                 let mut bounds = g.bounds();
                 if self.uses_surface(frame, color_by) {
                     let mut s = FrameGeometry::default();
-                    read_glb(&self.surface_path(frame), color_by, &mut s)?;
+                    read_glb(&self.layout.surface(frame), color_by, &mut s)?;
                     bounds = bounds.union(&s.bounds());
-                } else if self.particles_path(frame).is_file() {
-                    let path = self.particles_path(frame);
-                    let bytes = std::fs::read(&path).map_err(|e| RenderError::io(&path, e))?;
-                    let p = ParticleFrame::from_bytes(&bytes).map_err(|message| {
-                        RenderError::Input {
-                            path: path.clone(),
-                            message,
-                        }
-                    })?;
+                } else if self.layout.particles(frame).is_file() {
+                    let path = self.layout.particles(frame);
+                    let p = ParticleFrame::read(&path)?;
                     bounds = bounds.union(&trimmed_bounds(&p.position, self.radius(0.0)));
                     ranges.plastic_max = p
                         .plastic
@@ -280,7 +247,7 @@ impl Cache {
                         .filter(|v| v.is_finite())
                         .fold(0.0, f32::max);
                     if color_by == ColorBy::Temperature {
-                        for v in temperature(&bytes, &path)? {
+                        for &v in temperature(&p, &path)? {
                             if v.is_finite() {
                                 ranges.temperature.0 = ranges.temperature.0.min(v);
                                 ranges.temperature.1 = ranges.temperature.1.max(v);
@@ -334,60 +301,14 @@ pub fn trimmed_bounds(points: &[[f32; 3]], radius: f32) -> Bounds {
     b
 }
 
-/// The `temperature` vertex property of a particle PLY.
-fn temperature(bytes: &[u8], path: &Path) -> Result<Vec<f32>, RenderError> {
-    float_property(bytes, "temperature")
-        .map_err(|message| RenderError::Input {
-            path: path.to_path_buf(),
-            message,
-        })?
-        .ok_or_else(|| RenderError::Input {
-            path: path.to_path_buf(),
-            message: "the particles have no 'temperature' property (only scenes with heat \
-                      diffusion write it); use --color-by damage, fragment or plastic"
-                .into(),
-        })
-}
-
-/// The float vertex property `name` of a binary little-endian PLY, `None` if absent.
-fn float_property(bytes: &[u8], name: &str) -> Result<Option<Vec<f32>>, String> {
-    let end = b"end_header\n";
-    let header_len = bytes
-        .windows(end.len())
-        .position(|w| w == end)
-        .ok_or("not a PLY file: no end_header line")?
-        + end.len();
-    let header = std::str::from_utf8(&bytes[..header_len]).map_err(|_| "PLY header is not text")?;
-    let mut count = 0usize;
-    let mut props = Vec::new();
-    for line in header.lines() {
-        match line.split_whitespace().collect::<Vec<_>>().as_slice() {
-            ["element", "vertex", n] => {
-                count = n.parse().map_err(|_| format!("bad vertex count '{n}'"))?
-            }
-            ["property", "float", p] => props.push(p.to_string()),
-            _ => {}
-        }
-    }
-    let Some(column) = props.iter().position(|p| p == name) else {
-        return Ok(None);
-    };
-    let stride = props.len() * 4;
-    let body = &bytes[header_len..];
-    if body.len() < count * stride {
-        return Err(format!(
-            "PLY body is truncated: {} bytes for {count} vertices",
-            body.len()
-        ));
-    }
-    Ok(Some(
-        (0..count)
-            .map(|i| {
-                let o = i * stride + column * 4;
-                f32::from_le_bytes([body[o], body[o + 1], body[o + 2], body[o + 3]])
-            })
-            .collect(),
-    ))
+/// The `temperature` column of a particle frame (read from `path`).
+fn temperature<'a>(p: &'a ParticleFrame, path: &Path) -> Result<&'a [f32], RenderError> {
+    p.extra("temperature").ok_or_else(|| RenderError::Input {
+        path: path.to_path_buf(),
+        message: "the particles have no 'temperature' property (only scenes with heat \
+                  diffusion write it); use --color-by damage, fragment or plastic"
+            .into(),
+    })
 }
 
 /// Appends the triangle meshes of a .glb file: primitives of the material named
@@ -466,7 +387,7 @@ mod tests {
 
     #[test]
     fn missing_temperature_is_named() {
-        let f = ParticleFrame {
+        let mut f = ParticleFrame {
             frame: 1,
             position: vec![[0.0; 3]],
             velocity: vec![[0.0; 3]],
@@ -476,19 +397,13 @@ mod tests {
             fragment: vec![0.0],
             ..ParticleFrame::default()
         };
-        let err = temperature(&f.to_bytes(), Path::new("p/0001.ply")).unwrap_err();
+        let err = temperature(&f, Path::new("p/0001.ply")).unwrap_err();
         let text = err.to_string();
         assert!(
             text.contains("p/0001.ply") && text.contains("temperature"),
             "{text}"
         );
-        let mut bytes = b"ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\nproperty float temperature\nend_header\n".to_vec();
-        for v in [1.0f32, 300.0, 2.0, 350.0] {
-            bytes.extend_from_slice(&v.to_le_bytes());
-        }
-        assert_eq!(
-            float_property(&bytes, "temperature").unwrap(),
-            Some(vec![300.0, 350.0])
-        );
+        f.extra = vec![("temperature".into(), vec![300.0])];
+        assert_eq!(temperature(&f, Path::new("p")).unwrap(), [300.0]);
     }
 }

@@ -3,6 +3,8 @@
 //! relative to the camera. Column-major 4×4 matrices, y up, right-handed, OpenGL clip
 //! space.
 
+use perifrac_math::{add, cross, dot, norm, normalize, scale, sub};
+
 /// A column-major 4×4 matrix (`m[column][row]`), as GL takes it.
 pub type Mat4 = [[f32; 4]; 4];
 
@@ -52,7 +54,7 @@ impl Bounds {
 
     /// Radius of the bounding sphere about the centre.
     pub fn radius(&self) -> f32 {
-        0.5 * length(sub(self.max, self.min))
+        0.5 * norm(sub(self.max, self.min))
     }
 }
 
@@ -222,38 +224,6 @@ pub fn mul(a: &Mat4, b: &Mat4) -> Mat4 {
 /// `m · (p, 1)`.
 pub fn transform(m: &Mat4, p: [f32; 3]) -> [f32; 4] {
     std::array::from_fn(|r| m[0][r] * p[0] + m[1][r] * p[1] + m[2][r] * p[2] + m[3][r])
-}
-
-/// Distance between two points.
-pub fn length3(a: [f32; 3], b: [f32; 3]) -> f32 {
-    length(sub(a, b))
-}
-
-pub(crate) fn add(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
-    std::array::from_fn(|k| a[k] + b[k])
-}
-pub(crate) fn sub(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
-    std::array::from_fn(|k| a[k] - b[k])
-}
-pub(crate) fn scale(a: [f32; 3], s: f32) -> [f32; 3] {
-    a.map(|v| v * s)
-}
-pub(crate) fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-pub(crate) fn cross(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-pub(crate) fn length(a: [f32; 3]) -> f32 {
-    dot(a, a).sqrt()
-}
-pub(crate) fn normalize(a: [f32; 3]) -> [f32; 3] {
-    let l = length(a);
-    if l > 0.0 { scale(a, 1.0 / l) } else { a }
 }
 
 #[cfg(test)]

@@ -3,6 +3,8 @@
 //! the ground height; and the colour maps that turn per-particle or per-vertex values
 //! into colours.
 
+use perifrac_math::{add, cross, normalize, scale, sub};
+
 use crate::camera::{self, Bounds, Mat4};
 
 /// Floats a mesh vertex: position (3), normal (3), linear colour (3), material (1).
@@ -107,7 +109,7 @@ impl FrameGeometry {
                     theta.cos(),
                     theta.sin() * phi.sin(),
                 ];
-                positions.push(camera::add(center, camera::scale(n, radius)));
+                positions.push(add(center, scale(n, radius)));
                 normals.push(n);
             }
         }
@@ -218,15 +220,15 @@ pub fn face_normals(positions: &[[f32; 3]], indices: &[u32]) -> Vec<[f32; 3]> {
         if a.max(b).max(c) >= positions.len() {
             continue;
         }
-        let n = camera::cross(
-            camera::sub(positions[b], positions[a]),
-            camera::sub(positions[c], positions[a]),
+        let n = cross(
+            sub(positions[b], positions[a]),
+            sub(positions[c], positions[a]),
         );
         for i in [a, b, c] {
-            normals[i] = camera::add(normals[i], n);
+            normals[i] = add(normals[i], n);
         }
     }
-    normals.into_iter().map(camera::normalize).collect()
+    normals.into_iter().map(normalize).collect()
 }
 
 /// sRGB-encoded component → linear.

@@ -1,5 +1,8 @@
 //! A glTF 2.0 binary (.glb) writer for triangle meshes, on `gltf-json`'s types.
 //!
+//! Every function takes the cache's one surface type, [`SurfaceMesh`], and [`Glb`]
+//! offers them to the surface stage as its [`SurfaceEncoder`].
+//!
 //! [`to_glb`] writes plain meshes (the `vdb` method); [`crack_glb`] and
 //! [`animated_glb`] write the `embedded` method's fractured surfaces: one mesh with a
 //! "surface" and a "crack" primitive (the inside of the object, its own material)
@@ -16,20 +19,31 @@
 
 use gltf_json as json;
 use json::validation::{Checked, USize64};
+use perifrac_cache::mesh::{EncodeError, SurfaceEncoder, SurfaceMesh};
 
 use crate::RenderError;
 
-/// One triangle mesh to write.
-#[derive(Debug, Clone, Copy)]
-pub struct MeshData<'a> {
-    /// Name of the mesh and its node (for example `fragment 12`).
-    pub name: &'a str,
-    /// Vertex positions (m).
-    pub positions: &'a [[f32; 3]],
-    /// Unit vertex normals, one per position.
-    pub normals: &'a [[f32; 3]],
-    /// Three indices into `positions` a triangle, counter-clockwise from outside.
-    pub indices: &'a [u32],
+/// The glTF binary writer as the surface stage's [`SurfaceEncoder`].
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Glb;
+
+impl SurfaceEncoder for Glb {
+    fn fractured(&self, mesh: &SurfaceMesh) -> Result<Vec<u8>, EncodeError> {
+        Ok(crack_glb(mesh)?)
+    }
+
+    fn animated(
+        &self,
+        mesh: &SurfaceMesh,
+        times: &[f32],
+        frames: &[Vec<[f32; 3]>],
+    ) -> Result<Vec<u8>, EncodeError> {
+        Ok(animated_glb(mesh, times, frames)?)
+    }
+
+    fn meshes(&self, meshes: &[SurfaceMesh]) -> Result<Vec<u8>, EncodeError> {
+        Ok(to_glb(meshes)?)
+    }
 }
 
 const GLB_MAGIC: &[u8; 4] = b"glTF";
@@ -41,7 +55,15 @@ fn invalid(message: impl Into<String>) -> RenderError {
     RenderError::Gltf(message.into())
 }
 
-fn check(mesh: &MeshData<'_>) -> Result<(), RenderError> {
+/// The vertex arrays and one index list of a mesh, checked together.
+struct Triangles<'a> {
+    name: &'a str,
+    positions: &'a [[f32; 3]],
+    normals: &'a [[f32; 3]],
+    indices: &'a [u32],
+}
+
+fn check(mesh: &Triangles<'_>) -> Result<(), RenderError> {
     let name = mesh.name;
     if mesh.positions.is_empty() || mesh.indices.is_empty() {
         return Err(invalid(format!("mesh '{name}' is empty")));
@@ -128,24 +150,6 @@ fn accessor(
     }
 }
 
-/// A fractured surface: one mesh whose original-surface and crack triangles share
-/// the vertex arrays.
-#[derive(Debug, Clone, Copy)]
-pub struct CrackSurface<'a> {
-    /// Name of the mesh and its node.
-    pub name: &'a str,
-    /// Vertex positions (m); for [`animated_glb`], the first frame's.
-    pub positions: &'a [[f32; 3]],
-    /// Unit vertex normals.
-    pub normals: &'a [[f32; 3]],
-    /// Damage φ in [0, 1] per vertex.
-    pub damage: &'a [f32],
-    /// Triangles of the original surface (material "surface").
-    pub surface_indices: &'a [u32],
-    /// Triangles of the crack surfaces (material "crack").
-    pub crack_indices: &'a [u32],
-}
-
 /// Vertex colour of damage φ: white when intact, towards red when broken (it
 /// multiplies the material's base colour).
 pub fn damage_colour(phi: f32) -> [f32; 3] {
@@ -169,7 +173,7 @@ fn vec3_bytes(v: &[[f32; 3]]) -> impl Iterator<Item = [u8; 4]> + '_ {
     v.iter().flat_map(|p| p.map(f32::to_le_bytes))
 }
 
-fn check_crack(s: &CrackSurface<'_>) -> Result<(), RenderError> {
+fn check_crack(s: &SurfaceMesh) -> Result<(), RenderError> {
     let n = s.positions.len();
     for (what, len) in [
         ("normals", s.normals.len()),
@@ -182,11 +186,14 @@ fn check_crack(s: &CrackSurface<'_>) -> Result<(), RenderError> {
             )));
         }
     }
-    for (what, list) in [("surface", s.surface_indices), ("crack", s.crack_indices)] {
-        check(&MeshData {
+    for (what, list) in [
+        ("surface", s.surface_indices.as_slice()),
+        ("crack", s.crack_indices.as_slice()),
+    ] {
+        check(&Triangles {
             name: &format!("{} ({what})", s.name),
-            positions: s.positions,
-            normals: s.normals,
+            positions: &s.positions,
+            normals: &s.normals,
             indices: if list.is_empty() { &[0, 0, 0] } else { list },
         })
         .map_err(|e| match n {
@@ -218,7 +225,7 @@ fn material(name: &str, colour: [f32; 4], roughness: f32) -> json::Material {
 fn push_crack_surface(
     root: &mut json::Root,
     bin: &mut Vec<u8>,
-    s: &CrackSurface<'_>,
+    s: &SurfaceMesh,
     targets: &[Vec<[f32; 3]>],
 ) -> json::Index<json::Node> {
     use json::accessor::{ComponentType, Type};
@@ -226,15 +233,15 @@ fn push_crack_surface(
     use json::mesh::Semantic;
 
     let count = s.positions.len();
-    let view = push_view(root, bin, vec3_bytes(s.positions), Target::ArrayBuffer);
+    let view = push_view(root, bin, vec3_bytes(&s.positions), Target::ArrayBuffer);
     let positions = root.push(accessor(
         view,
         count,
         ComponentType::F32,
         Type::Vec3,
-        Some(bounds(s.positions)),
+        Some(bounds(&s.positions)),
     ));
-    let view = push_view(root, bin, vec3_bytes(s.normals), Target::ArrayBuffer);
+    let view = push_view(root, bin, vec3_bytes(&s.normals), Target::ArrayBuffer);
     let normals = root.push(accessor(view, count, ComponentType::F32, Type::Vec3, None));
     let colours: Vec<[f32; 3]> = s.damage.iter().map(|&d| damage_colour(d)).collect();
     let view = push_view(root, bin, vec3_bytes(&colours), Target::ArrayBuffer);
@@ -273,8 +280,8 @@ fn push_crack_surface(
     let crack_material = root.push(material("crack", [0.85, 0.45, 0.3, 1.0], 0.9));
     let mut primitives = Vec::new();
     for (list, mat) in [
-        (s.surface_indices, surface_material),
-        (s.crack_indices, crack_material),
+        (&s.surface_indices, surface_material),
+        (&s.crack_indices, crack_material),
     ] {
         if list.is_empty() {
             continue;
@@ -332,7 +339,7 @@ fn push_crack_surface(
 }
 
 /// Encodes a fractured surface as a .glb file (one mesh, two materials).
-pub fn crack_glb(surface: &CrackSurface<'_>) -> Result<Vec<u8>, RenderError> {
+pub fn crack_glb(surface: &SurfaceMesh) -> Result<Vec<u8>, RenderError> {
     check_crack(surface)?;
     let mut root = new_root();
     let mut bin = Vec::new();
@@ -345,7 +352,7 @@ pub fn crack_glb(surface: &CrackSurface<'_>) -> Result<Vec<u8>, RenderError> {
 /// `surface.positions`), and a step-interpolated weights animation that shows
 /// target k alone from `times[k]` on.
 pub fn animated_glb(
-    surface: &CrackSurface<'_>,
+    surface: &SurfaceMesh,
     times: &[f32],
     frames: &[Vec<[f32; 3]>],
 ) -> Result<Vec<u8>, RenderError> {
@@ -367,7 +374,7 @@ pub fn animated_glb(
             surface.name
         )));
     }
-    let base = surface.positions;
+    let base = &surface.positions;
     let mut targets = Vec::with_capacity(n);
     for (k, frame) in frames.iter().enumerate() {
         if frame.len() != base.len() || !frame.iter().flatten().all(|x| x.is_finite()) {
@@ -493,16 +500,31 @@ fn finish(mut root: json::Root, mut bin: Vec<u8>) -> Result<Vec<u8>, RenderError
     Ok(out)
 }
 
-/// Encodes meshes as a .glb file (an asset with no scene when `meshes` is empty).
-pub fn to_glb(meshes: &[MeshData<'_>]) -> Result<Vec<u8>, RenderError> {
+/// Encodes meshes as a .glb file (an asset with no scene when `meshes` is empty):
+/// one primitive a mesh, of its original-surface then its crack triangles, without
+/// materials or damage.
+pub fn to_glb(meshes: &[SurfaceMesh]) -> Result<Vec<u8>, RenderError> {
     use json::accessor::{ComponentType, Type};
     use json::buffer::Target;
 
     let mut root = new_root();
     let mut bin: Vec<u8> = Vec::new();
     let mut nodes = Vec::with_capacity(meshes.len());
-    for mesh in meshes {
-        check(mesh)?;
+    for surface in meshes {
+        let all: Vec<u32>;
+        let indices = if surface.crack_indices.is_empty() {
+            &surface.surface_indices
+        } else {
+            all = [surface.surface_indices.as_slice(), &surface.crack_indices].concat();
+            &all
+        };
+        let mesh = Triangles {
+            name: &surface.name,
+            positions: &surface.positions,
+            normals: &surface.normals,
+            indices,
+        };
+        check(&mesh)?;
         let mut lo = [f32::INFINITY; 3];
         let mut hi = [f32::NEG_INFINITY; 3];
         for p in mesh.positions {
@@ -637,13 +659,7 @@ mod tests {
     #[test]
     fn layout_of_the_binary() {
         let (p, n, i) = tetrahedron();
-        let glb = to_glb(&[MeshData {
-            name: "tet",
-            positions: &p,
-            normals: &n,
-            indices: &i,
-        }])
-        .expect("valid mesh");
+        let glb = to_glb(&[plain("tet", &p, &n, &i)]).expect("valid mesh");
         assert_eq!(&glb[..4], b"glTF");
         assert_eq!(
             u32::from_le_bytes(glb[8..12].try_into().unwrap()) as usize,
@@ -672,21 +688,9 @@ mod tests {
     fn bad_input_is_an_error() {
         let (p, n, mut i) = tetrahedron();
         i[0] = 9;
-        let err = to_glb(&[MeshData {
-            name: "bad",
-            positions: &p,
-            normals: &n,
-            indices: &i,
-        }])
-        .unwrap_err();
+        let err = to_glb(&[plain("bad", &p, &n, &i)]).unwrap_err();
         assert!(err.to_string().contains("index 9"), "{err}");
-        let err = to_glb(&[MeshData {
-            name: "short",
-            positions: &p,
-            normals: &n[..2],
-            indices: &i,
-        }])
-        .unwrap_err();
+        let err = to_glb(&[plain("short", &p, &n[..2], &i)]).unwrap_err();
         assert!(err.to_string().contains("normals"), "{err}");
     }
 
@@ -696,18 +700,8 @@ mod tests {
         let (p, n, i) = tetrahedron();
         // Two meshes, so that the second's views start after the first's.
         let glb = to_glb(&[
-            MeshData {
-                name: "one triangle",
-                positions: &p[..3],
-                normals: &n[..3],
-                indices: &i[..3],
-            },
-            MeshData {
-                name: "tet",
-                positions: &p,
-                normals: &n,
-                indices: &i,
-            },
+            plain("one triangle", &p[..3], &n[..3], &i[..3]),
+            plain("tet", &p, &n, &i),
         ])
         .unwrap();
         let file = dir.path().join("tet.glb");
@@ -720,19 +714,25 @@ mod tests {
         assert_eq!(report["numErrors"], 0, "{report:#}");
     }
 
-    fn crack_tet<'a>(
-        p: &'a [[f32; 3]],
-        n: &'a [[f32; 3]],
-        d: &'a [f32],
-        i: &'a [u32],
-    ) -> CrackSurface<'a> {
-        CrackSurface {
-            name: "tet",
-            positions: p,
-            normals: n,
-            damage: d,
-            surface_indices: &i[..9],
-            crack_indices: &i[9..],
+    /// A mesh of original-surface triangles only.
+    fn plain(name: &str, p: &[[f32; 3]], n: &[[f32; 3]], i: &[u32]) -> SurfaceMesh {
+        SurfaceMesh {
+            name: name.into(),
+            positions: p.to_vec(),
+            normals: n.to_vec(),
+            surface_indices: i.to_vec(),
+            ..SurfaceMesh::default()
+        }
+    }
+
+    fn crack_tet(p: &[[f32; 3]], n: &[[f32; 3]], d: &[f32], i: &[u32]) -> SurfaceMesh {
+        SurfaceMesh {
+            name: "tet".into(),
+            positions: p.to_vec(),
+            normals: n.to_vec(),
+            damage: d.to_vec(),
+            surface_indices: i[..9].to_vec(),
+            crack_indices: i[9..].to_vec(),
         }
     }
 
@@ -765,8 +765,8 @@ mod tests {
         assert!(err.to_string().contains("frame 2 has 3 positions"), "{err}");
         let err = animated_glb(&s, &[0.1, 0.1], &[p.clone(), p.clone()]).unwrap_err();
         assert!(err.to_string().contains("increasing"), "{err}");
-        let err = crack_glb(&CrackSurface {
-            damage: &d[..2],
+        let err = crack_glb(&SurfaceMesh {
+            damage: d[..2].to_vec(),
             ..s
         })
         .unwrap_err();

@@ -1,14 +1,17 @@
 //! perifrac's render stage: surfaces and particles from the cache become files a DCC
 //! or a viewer opens, and preview images.
 //!
-//! - [`gltf`]: a glTF 2.0 binary (.glb) writer for triangle meshes.
-//! - [`cache`]: an output directory read for previews (frames, colliders, surfaces,
-//!   particles) as [`geometry::FrameGeometry`].
-//! - [`camera`]: automatic framing, turntables, the studio lights.
-//! - [`gl`] (feature `gl`): the offscreen OpenGL renderer on Mesa (EGL surfaceless, or
-//!   OSMesa).
-//! - [`preview`] (feature `gl`): `preview/NNNN.png`, turntables, the contact sheet.
-//! - [`sheet`]: PNG writing, contact sheets, a built-in bitmap font for frame numbers.
+//! | module | main items |
+//! |---|---|
+//! | [`gltf`] | [`gltf::to_glb`], [`gltf::animated_glb`], [`gltf::MeshData`]: glTF 2.0 binary (.glb) writing |
+//! | [`cache`] | [`cache::Cache`]: an output directory read for previews (frames, colliders, surfaces, particles) |
+//! | [`geometry`] | [`geometry::FrameGeometry`]: what a preview draws, as flat arrays, and the colour maps |
+//! | [`camera`] | [`camera::Camera`], [`camera::Bounds`], [`camera::Lights`]: automatic framing, turntables, the studio lights |
+//! | `gl` (feature `gl`) | the offscreen OpenGL renderer on Mesa (EGL surfaceless, or OSMesa) |
+//! | `preview` (feature `gl`) | `PreviewOptions`: `preview/NNNN.png`, turntables, the contact sheet |
+//! | [`sheet`] | PNG writing, contact sheets, a built-in bitmap font for frame numbers |
+//!
+//! [`RenderError`] is the crate's one error type.
 #![warn(missing_docs)]
 
 pub mod cache;
@@ -49,6 +52,9 @@ pub enum RenderError {
         /// What is wrong and how to fix it.
         message: String,
     },
+    /// A cache file (scene, manifest, particles) could not be read or written.
+    #[error(transparent)]
+    Cache(#[from] perifrac_cache::CacheError),
     /// Reading or writing a file failed.
     #[error("{path}: {source}")]
     Io {

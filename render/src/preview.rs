@@ -101,7 +101,8 @@ pub fn render_cache(
     let (bounds, ranges) = cache.sequence_bounds(options.color_by)?;
     let aspect = options.width as f32 / options.height as f32;
     let camera = Camera::framing(&bounds, aspect, options.azimuth);
-    let dir = out.join("preview");
+    let layout = &cache.layout;
+    let dir = layout.preview_dir();
     std::fs::create_dir_all(&dir).map_err(|e| RenderError::io(&dir, e))?;
     let frames: Vec<usize> = match options.frame {
         Some(k) => vec![k],
@@ -112,7 +113,7 @@ pub fn render_cache(
         .map(|&frame| Job {
             frame,
             camera,
-            path: dir.join(format!("{frame:04}.png")),
+            path: layout.preview(frame),
             thumbnail: options.frame.is_none(),
         })
         .collect();
@@ -126,7 +127,7 @@ pub fn render_cache(
         jobs.push(Job {
             frame: turntable_frame,
             camera,
-            path: dir.join(format!("turntable_{:03}.png", i + 1)),
+            path: layout.turntable(i + 1),
             thumbnail: false,
         });
     }
@@ -138,7 +139,7 @@ pub fn render_cache(
     let mut report = run_jobs(&cache, &jobs, options, &ranges, &bounds, ground, progress)?;
     if options.frame.is_none() && report.thumbnails.len() > 1 {
         report.thumbnails.sort_by_key(|(frame, _)| *frame);
-        let path = dir.join("contact_sheet.png");
+        let path = layout.contact_sheet();
         sheet::write_png(&path, &sheet::contact_sheet(&report.thumbnails))?;
         report.preview.files.push(path);
     }

@@ -23,10 +23,7 @@ pub fn write_png(path: &Path, image: &RgbImage) -> Result<(), RenderError> {
             path: path.to_path_buf(),
             message: format!("PNG encoding failed: {e}"),
         })?;
-    perifrac_sim::cache::write_atomic(path, &bytes).map_err(|e| RenderError::Input {
-        path: path.to_path_buf(),
-        message: e.to_string(),
-    })
+    Ok(perifrac_cache::write_atomic(path, &bytes)?)
 }
 
 /// 5×7 glyphs of the digits 0–9, one byte a row, bit 4 leftmost.

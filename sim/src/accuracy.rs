@@ -14,6 +14,7 @@
 use std::collections::HashMap;
 use std::time::Instant;
 
+use perifrac_math::{cross, dist, dot, sub};
 use rayon::prelude::*;
 
 use crate::error::Result;
@@ -80,13 +81,7 @@ pub fn deviation(run: &Trajectory, reference: &Trajectory, d: f64) -> Deviation 
         .zip(&reference.frames)
         .map(|(a, b)| {
             let n = a.len().min(b.len()).max(1);
-            a.iter()
-                .zip(b)
-                .map(|(x, y)| {
-                    ((x[0] - y[0]).powi(2) + (x[1] - y[1]).powi(2) + (x[2] - y[2]).powi(2)).sqrt()
-                })
-                .sum::<f64>()
-                / (n as f64 * d)
+            a.iter().zip(b).map(|(x, y)| dist(*x, *y)).sum::<f64>() / (n as f64 * d)
         })
         .collect();
     let max = per_frame.iter().copied().fold(0.0, f64::max);
@@ -209,10 +204,7 @@ fn mean_edge(x: &[[f64; 3]], tets: &[[u32; 4]]) -> f64 {
     if tets.is_empty() {
         return 0.0;
     }
-    let d = |a: u32, b: u32| {
-        let (p, q) = (x[a as usize], x[b as usize]);
-        ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
-    };
+    let d = |a: u32, b: u32| dist(x[a as usize], x[b as usize]);
     tets.iter()
         .map(|t| {
             d(t[0], t[1])
@@ -229,16 +221,10 @@ fn mean_edge(x: &[[f64; 3]], tets: &[[u32; 4]]) -> f64 {
 /// Barycentric coordinates of `p` in tet `t` (negative outside).
 fn barycentric(x: &[[f64; 3]], t: &[u32; 4], p: [f64; 3]) -> [f64; 4] {
     let x0 = x[t[0] as usize];
-    let e = |a: usize| {
-        let v = x[t[a] as usize];
-        [v[0] - x0[0], v[1] - x0[1], v[2] - x0[2]]
-    };
+    let e = |a: usize| sub(x[t[a] as usize], x0);
     let (a, b, c) = (e(1), e(2), e(3));
-    let r = [p[0] - x0[0], p[1] - x0[1], p[2] - x0[2]];
-    let det = |u: [f64; 3], v: [f64; 3], w: [f64; 3]| {
-        u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0])
-            + u[2] * (v[0] * w[1] - v[1] * w[0])
-    };
+    let r = sub(p, x0);
+    let det = |u: [f64; 3], v: [f64; 3], w: [f64; 3]| dot(u, cross(v, w));
     let d = det(a, b, c);
     let w1 = det(r, b, c) / d;
     let w2 = det(a, r, c) / d;

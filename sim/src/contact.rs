@@ -9,6 +9,7 @@
 //! Anchors hold the points inside a region of the scene at a prescribed rigid motion
 //! until their release time.
 
+use perifrac_math::dot;
 use rayon::prelude::*;
 
 use crate::error::{Result, SimError};
@@ -287,11 +288,6 @@ pub fn rotate(omega: [f64; 3], t: f64, v: [f64; 3]) -> [f64; 3] {
         v[1] * c + kxv[1] * s + k[1] * kv * (1.0 - c),
         v[2] * c + kxv[2] * s + k[2] * kv * (1.0 - c),
     ]
-}
-
-#[inline]
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 /// Holds the anchored particles (or mesh vertices) at their prescribed motion at time

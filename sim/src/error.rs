@@ -5,20 +5,6 @@ use std::path::PathBuf;
 /// Everything that can go wrong in the simulator, with enough context to fix it.
 #[derive(Debug, thiserror::Error)]
 pub enum SimError {
-    /// A scene file is malformed or has a value out of range.
-    #[error("{file}:{line}:{column}: {key}: {message}")]
-    Scene {
-        /// The scene file.
-        file: PathBuf,
-        /// 1-based line of the offending key or value.
-        line: usize,
-        /// 1-based column.
-        column: usize,
-        /// The dotted key, e.g. `materials.glass.density`.
-        key: String,
-        /// What is wrong and how to fix it.
-        message: String,
-    },
     /// Reading or writing a file failed.
     #[error("{path}: {source}")]
     Io {
@@ -27,14 +13,10 @@ pub enum SimError {
         /// The underlying error.
         source: std::io::Error,
     },
-    /// A cache file does not have the expected layout.
-    #[error("{path}: {message}")]
-    Cache {
-        /// The file.
-        path: PathBuf,
-        /// What is wrong with it.
-        message: String,
-    },
+    /// A scene file is bad, or a cache file (frames, manifest, checkpoint) could not
+    /// be read or written.
+    #[error(transparent)]
+    Cache(#[from] perifrac_cache::CacheError),
     /// A body could not be discretized.
     #[error("body '{body}': {message}")]
     Mesh {

@@ -14,6 +14,7 @@
 //! homogeneous deformation wherever positive weights can do it.
 
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
+use perifrac_math::{dist, sub};
 use rayon::prelude::*;
 
 use crate::error::{Result, SimError};
@@ -86,12 +87,13 @@ impl Bonds {
 /// coefficients of [`crate::pd::Coefficients`]).
 pub const BYTES_PER_BOND: usize = 4 + 8 + 4 * 4;
 
-/// Counts bonds without storing them (for `perifrac check`).
-pub fn count_bonds(positions: &[[f64; 3]], body: &[u32], horizon: &[f64]) -> Result<usize> {
+/// Counts bonds within `delta[i]` (δ in metres) without storing them (for `perifrac
+/// check`).
+pub fn count_bonds(positions: &[[f64; 3]], body: &[u32], delta: &[f64]) -> Result<usize> {
     let tree = build_tree(positions)?;
     Ok((0..positions.len())
         .into_par_iter()
-        .map(|i| neighbours_of(&tree, positions, body, horizon, i).len())
+        .map(|i| neighbours_of(&tree, positions, body, delta, i).len())
         .sum())
 }
 
@@ -104,10 +106,10 @@ fn neighbours_of(
     tree: &ImmutableKdTree<f64, 3>,
     positions: &[[f64; 3]],
     body: &[u32],
-    horizon: &[f64],
+    delta: &[f64],
     i: usize,
 ) -> Vec<u32> {
-    let d = horizon[i];
+    let d = delta[i];
     let found = tree
         .query(&positions[i])
         .within::<SquaredEuclidean<f64>>(d * d)
@@ -128,14 +130,14 @@ fn neighbours_of(
     family
 }
 
-/// Builds every family within `horizon[i]` (δ of i's body), among particles of the
+/// Builds every family within `delta[i]` (δ in metres of i's body), among particles of the
 /// same body, and the surface corrections q_ij and p_ij (all 1 when
 /// `surface_correction` is off, which is Chen Eq. 6 and 8 as printed).
 pub fn build(
     positions: &[[f64; 3]],
     volumes: &[f64],
     body: &[u32],
-    horizon: &[f64],
+    delta: &[f64],
     surface_correction: bool,
 ) -> Result<(Bonds, Corrections)> {
     let n = positions.len();
@@ -147,7 +149,7 @@ pub fn build(
     let tree = build_tree(positions)?;
     let families: Vec<Vec<u32>> = (0..n)
         .into_par_iter()
-        .map(|i| neighbours_of(&tree, positions, body, horizon, i))
+        .map(|i| neighbours_of(&tree, positions, body, delta, i))
         .collect();
     let mut offsets = Vec::with_capacity(n + 1);
     offsets.push(0usize);
@@ -160,7 +162,7 @@ pub fn build(
         .map(|(i, family)| {
             let lengths: Vec<f64> = family
                 .iter()
-                .map(|&j| distance(positions[i], positions[j as usize]))
+                .map(|&j| dist(positions[i], positions[j as usize]))
                 .collect();
             if !surface_correction {
                 return (lengths, vec![1.0; family.len()], vec![1.0; family.len()]);
@@ -170,8 +172,8 @@ pub fn build(
                 .map(|&j| unit(positions[i], positions[j as usize]))
                 .collect();
             let vols: Vec<f64> = family.iter().map(|&j| volumes[j as usize]).collect();
-            let q = dilatation_weights(&dirs, &vols, horizon[i]);
-            let p = deviatoric_weights(&dirs, &vols, &lengths, horizon[i]);
+            let q = dilatation_weights(&dirs, &vols, delta[i]);
+            let p = deviatoric_weights(&dirs, &vols, &lengths, delta[i]);
             (lengths, q, p)
         })
         .collect();
@@ -197,14 +199,10 @@ pub fn build(
     ))
 }
 
-fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
-    ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2) + (b[2] - a[2]).powi(2)).sqrt()
-}
-
+/// (b − a) / |b − a|.
 fn unit(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-    let l = distance(a, b);
-    [d[0] / l, d[1] / l, d[2] / l]
+    let l = dist(a, b);
+    sub(b, a).map(|x| x / l)
 }
 
 /// Exponents (a, b, c) of the monomials n_x^a n_y^b n_z^c of degree `degree`.

@@ -1,4 +1,5 @@
-//! perifrac's simulator: a scene file goes in, frames of particles go out.
+//! perifrac's simulator: a scene file goes in, frames of particles and split tet
+//! meshes go out, into the cache on disk that the surface and render stages read.
 //!
 //! Main types, by module:
 //! - [`model::Model`]: the interface every solver implements (points, forces or an
@@ -15,11 +16,13 @@
 //!   [`memory::MemoryEstimate`]; [`SimError`].
 //! - [`cache`] and [`scene`]: the cache layout and the scene format (re-exported from
 //!   the ground crate the other stages read).
+//!
+//! Shared vector arithmetic, the tet face table, the union-find and the deterministic
+//! sum come from `perifrac-math`.
 #![warn(missing_docs)]
 
 pub mod accuracy;
 pub mod analytic;
-pub mod cache;
 pub mod contact;
 pub mod embed;
 pub mod error;
@@ -32,7 +35,8 @@ pub mod model;
 pub mod mpm;
 pub mod pd;
 pub mod run;
-pub mod scene;
 pub mod world;
 
 pub use error::SimError;
+pub use perifrac_cache as cache;
+pub use perifrac_cache::scene;

@@ -60,6 +60,9 @@ pub struct ParticleColumns {
     pub body: Vec<u32>,
     /// Fragment id, numbered from 0 within the model.
     pub fragment: Vec<u32>,
+    /// Further columns the model adds (name, one value a particle), written after the
+    /// standard ones.
+    pub extra: Vec<(String, Vec<f32>)>,
 }
 
 /// How a model's points are advanced in time.

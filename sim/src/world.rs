@@ -9,6 +9,7 @@
 use std::any::Any;
 use std::time::Instant;
 
+use perifrac_math::dot;
 use rayon::prelude::*;
 
 use crate::cache::checkpoint::{Decoder, Encoder};
@@ -305,36 +306,34 @@ impl World {
         }
         let kinetic = self.kinetic_energy();
         let budget = self.energy_budget + self.anchor_work;
-        if kinetic > self.energy_growth * budget {
-            let speed2 = |v: [f64; 3]| v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-            let (part, fastest, speed) = self
-                .parts
-                .iter()
-                .flat_map(|part| {
-                    let v = part.model.points().velocity;
-                    (0..v.len()).map(move |i| (part, i, speed2(v[i])))
-                })
-                .fold(None, |best: Option<(&Part, usize, f64)>, c| match best {
-                    Some(b) if b.2 >= c.2 => Some(b),
-                    _ => Some(c),
-                })
-                .ok_or_else(|| SimError::Refused("a world without points cannot blow up".into()))?;
-            let who = match part.model.point_kind() {
-                "particle" => "particle".to_string(),
-                kind => format!("{kind} {fastest}"),
-            };
-            return Err(self.blowup(
-                part,
-                format!(
-                    "kinetic energy {kinetic:.3e} J exceeds {}× the energy the scene can supply ({budget:.3e} J); \
-                     fastest {who} moves at {:.3e} m/s",
-                    self.energy_growth,
-                    speed.sqrt()
-                ),
-                fastest,
-            ));
+        if kinetic <= self.energy_growth * budget {
+            return Ok(());
         }
-        Ok(())
+        let fastest = self
+            .parts
+            .iter()
+            .flat_map(|part| {
+                let v = part.model.points().velocity;
+                (0..v.len()).map(move |i| (part, i, dot(v[i], v[i])))
+            })
+            .max_by(|a, b| a.2.total_cmp(&b.2));
+        let Some((part, point, speed)) = fastest else {
+            return Ok(());
+        };
+        let who = match part.model.point_kind() {
+            "particle" => "particle".to_string(),
+            kind => format!("{kind} {point}"),
+        };
+        Err(self.blowup(
+            part,
+            format!(
+                "kinetic energy {kinetic:.3e} J exceeds {}× the energy the scene can supply ({budget:.3e} J); \
+                 fastest {who} moves at {:.3e} m/s",
+                self.energy_growth,
+                speed.sqrt()
+            ),
+            point,
+        ))
     }
 
     fn blowup(&self, part: &Part, what: String, point: usize) -> SimError {
@@ -355,20 +354,37 @@ impl World {
     }
 
     /// The particles of every model, in part order, with fragment ids made unique
-    /// across models.
+    /// across models; a model's extra column is 0 on the other models' particles.
     pub fn particles(&self) -> ParticleColumns {
-        let mut all = ParticleColumns::default();
+        let columns: Vec<ParticleColumns> =
+            self.parts.iter().map(|p| p.model.particles()).collect();
+        let mut names: Vec<&str> = Vec::new();
+        for (name, _) in columns.iter().flat_map(|c| &c.extra) {
+            if !names.contains(&name.as_str()) {
+                names.push(name);
+            }
+        }
+        let mut all = ParticleColumns {
+            extra: names.iter().map(|n| (n.to_string(), Vec::new())).collect(),
+            ..ParticleColumns::default()
+        };
         let mut fragment_base = 0u32;
-        for part in &self.parts {
-            let c = part.model.particles();
+        for c in &columns {
+            let n = c.position.len();
+            for (name, values) in &mut all.extra {
+                match c.extra.iter().find(|(own, _)| own == name) {
+                    Some((_, own)) => values.extend(own),
+                    None => values.extend(std::iter::repeat_n(0.0, n)),
+                }
+            }
             let next = c.fragment.iter().map(|&f| f + 1).max().unwrap_or(0);
-            all.position.extend(c.position);
-            all.velocity.extend(c.velocity);
-            all.damage.extend(c.damage);
-            all.plastic.extend(c.plastic);
-            all.body.extend(c.body);
+            all.position.extend(&c.position);
+            all.velocity.extend(&c.velocity);
+            all.damage.extend(&c.damage);
+            all.plastic.extend(&c.plastic);
+            all.body.extend(&c.body);
             all.fragment
-                .extend(c.fragment.into_iter().map(|f| f + fragment_base));
+                .extend(c.fragment.iter().map(|f| f + fragment_base));
             fragment_base += next;
         }
         all
@@ -414,33 +430,38 @@ impl World {
     pub fn save(&self, out: &mut Encoder) {
         out.put_u64(self.parts.len() as u64);
         for part in &self.parts {
-            out.put_u64(part.acceleration.len() as u64);
-            out.put_f64x3s(&part.acceleration);
+            out.put_f64x3_slice(&part.acceleration);
             part.model.save(out);
         }
         out.put_f64(self.anchor_work);
-        out.put_u64(self.colliders.len() as u64);
-        for c in &self.colliders {
-            out.put_f64x3s(&[c.center, c.velocity]);
-        }
+        let colliders: Vec<[f64; 3]> = self
+            .colliders
+            .iter()
+            .flat_map(|c| [c.center, c.velocity])
+            .collect();
+        out.put_f64x3_slice(&colliders);
     }
 
     /// Restores what [`World::save`] wrote, at `time` after `steps` steps.
     pub fn restore(&mut self, input: &mut Decoder<'_>, time: f64, steps: u64) -> Result<()> {
-        input.expect_count("models", self.parts.len())?;
+        let models = input.take_u64("models")?;
+        if models != self.parts.len() as u64 {
+            return Err(input
+                .error(
+                    "models",
+                    format!("{models} where the scene has {}", self.parts.len()),
+                )
+                .into());
+        }
         for part in &mut self.parts {
-            input.expect_count("points", part.acceleration.len())?;
-            input.take_f64x3s_into(&mut part.acceleration, "acceleration")?;
+            part.acceleration = input.take_f64x3_slice("acceleration", part.acceleration.len())?;
             part.model.restore(input)?;
         }
         self.anchor_work = input.take_f64("anchor work")?;
-        input.expect_count("colliders", self.colliders.len())?;
-        for c in &mut self.colliders {
-            let mut cv = [[0.0; 3]; 2];
-            input.take_f64x3s_into(&mut cv, "collider")?;
-            [c.center, c.velocity] = cv;
+        let colliders = input.take_f64x3_slice("colliders", 2 * self.colliders.len())?;
+        for (c, cv) in self.colliders.iter_mut().zip(colliders.chunks_exact(2)) {
+            (c.center, c.velocity) = (cv[0], cv[1]);
         }
-        input.finish()?;
         self.time = time;
         self.steps = steps;
         for part in &mut self.parts {

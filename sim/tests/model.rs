@@ -6,6 +6,7 @@
 use std::path::Path;
 use std::time::Instant;
 
+use perifrac_math::{norm, sub};
 use perifrac_sim::cache::Layout;
 use perifrac_sim::cache::checkpoint::{Decoder, Encoder};
 use perifrac_sim::cache::manifest::{Manifest, Timings};
@@ -31,14 +32,6 @@ struct Springs {
     k: f64,
     force: Vec<[f64; 3]>,
     force_time: f64,
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn norm(a: [f64; 3]) -> f64 {
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
 }
 
 impl Springs {
@@ -96,9 +89,9 @@ impl Model for Springs {
             let d = sub(self.position[j], self.position[i]);
             let len = norm(d);
             let s = self.k * (len - l) / len;
-            for a in 0..3 {
-                self.force[i][a] += s * d[a];
-                self.force[j][a] -= s * d[a];
+            for (a, d) in d.iter().enumerate() {
+                self.force[i][a] += s * d;
+                self.force[j][a] -= s * d;
             }
         }
         self.force_time += t.elapsed().as_secs_f64();
@@ -146,15 +139,18 @@ impl Model for Springs {
             plastic: vec![0.0; n],
             body: self.body.clone(),
             fragment: vec![0; n],
+            extra: Vec::new(),
         }
     }
     fn save(&self, out: &mut Encoder) {
-        out.put_f64x3s(&self.position);
-        out.put_f64x3s(&self.velocity);
+        out.put_f64x3_slice(&self.position);
+        out.put_f64x3_slice(&self.velocity);
     }
     fn restore(&mut self, input: &mut Decoder<'_>) -> Result<()> {
-        input.take_f64x3s_into(&mut self.position, "positions")?;
-        input.take_f64x3s_into(&mut self.velocity, "velocities")
+        let n = self.mass.len();
+        self.position = input.take_f64x3_slice("positions", n)?;
+        self.velocity = input.take_f64x3_slice("velocities", n)?;
+        Ok(())
     }
     fn stage_times(&self) -> Vec<(&'static str, f64)> {
         vec![("springs", self.force_time)]

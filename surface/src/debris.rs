@@ -5,7 +5,8 @@
 
 use std::path::Path;
 
-use perifrac_sim::cache::write_atomic;
+use perifrac_cache::ply::encode_points;
+use perifrac_cache::write_atomic;
 
 use crate::error::Result;
 
@@ -43,34 +44,14 @@ impl Debris {
 
     /// Encodes the points as PLY bytes (a file with zero points is valid).
     pub fn to_bytes(&self, frame: usize) -> Vec<u8> {
-        let n = self.len();
-        let mut out = format!(
-            "ply\nformat binary_little_endian 1.0\ncomment perifrac debris frame {frame}\nelement vertex {n}\n"
-        );
-        for p in PROPERTIES {
-            out.push_str(&format!("property float {p}\n"));
-        }
-        out.push_str("end_header\n");
-        let mut bytes = out.into_bytes();
-        bytes.reserve(n * 4 * PROPERTIES.len());
-        for i in 0..n {
-            let [x, y, z] = self.position[i];
-            let [vx, vy, vz] = self.velocity[i];
-            for v in [
-                x,
-                y,
-                z,
-                vx,
-                vy,
-                vz,
-                self.radius[i],
-                self.fragment[i],
-                self.material[i],
-            ] {
-                bytes.extend_from_slice(&v.to_le_bytes());
-            }
-        }
-        bytes
+        let values: [&[f32]; 3] = [&self.radius, &self.fragment, &self.material];
+        let scalars: Vec<(&str, &[f32])> = PROPERTIES[6..].iter().copied().zip(values).collect();
+        encode_points(
+            &format!("perifrac debris frame {frame}"),
+            &self.position,
+            &self.velocity,
+            &scalars,
+        )
     }
 
     /// Writes the points atomically.

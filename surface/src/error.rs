@@ -2,14 +2,14 @@
 
 use std::path::PathBuf;
 
-use perifrac_sim::SimError;
+use perifrac_cache::CacheError;
 
 /// Everything that can go wrong while surfacing a cache.
 #[derive(Debug, thiserror::Error)]
 pub enum SurfaceError {
-    /// Reading the cache (manifest, particle frames) failed.
+    /// Reading or writing the cache (manifest, frames, surfaces) failed.
     #[error(transparent)]
-    Cache(#[from] SimError),
+    Cache(#[from] CacheError),
     /// Writing an output file failed.
     #[error("{path}: {source}")]
     Io {
@@ -17,6 +17,18 @@ pub enum SurfaceError {
         path: PathBuf,
         /// The underlying error.
         source: std::io::Error,
+    },
+    /// The cache cannot be surfaced as asked (no frames, a missing input); the
+    /// message names the file.
+    #[error("{0}")]
+    Input(String),
+    /// A surface could not be encoded for its file.
+    #[error("{what}: {message}")]
+    Encode {
+        /// What was being written (`frame 12`, `surface/animated.glb`).
+        what: String,
+        /// The encoder's error.
+        message: String,
     },
     /// A frame's particles cannot be surfaced (none, NaN positions, unknown body).
     #[error("frame {frame}: {message}")]

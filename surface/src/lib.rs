@@ -1,17 +1,27 @@
-//! perifrac's surface stage: frames of particles from the cache (`perifrac-sim`'s
-//! `cache`) become surfaces.
+//! perifrac's surface stage: frames from the cache (`perifrac-cache`) become
+//! surfaces. Two stages, each a function over a whole cache, which the CLI only
+//! dispatches to:
 //!
+//! - [`embedded::stage`]: the `embedded` method, the boundary of the split tet mesh
+//!   (`tets/NNNN.vtu`, Chen §5.2) with smoothed crack faces (Chen §7), as
+//!   `surface/NNNN.glb` and `surface/animated.glb`; per frame [`embedded::surface`]
+//!   and [`embedded::RenderMesh`];
+//! - [`vdb::stage`] (feature `openvdb`): the `vdb` method, level sets through the
+//!   system OpenVDB (`tools::ParticlesToLevelSet`, `tools::LevelSetTracker`,
+//!   `tools::LevelSetFilter`, `tools::volumeToMesh`, `tools::csgUnion`), written as
+//!   `vdb/NNNN.vdb`, debris and `surface/NNNN.glb`; per frame [`vdb::surface_frame`];
 //! - [`particles`]: sphere radii from the bodies' mean tet edges, fragments, and the
 //!   check that refuses single layers of particles;
-//! - [`vdb`] (feature `openvdb`): the `vdb` method, level sets through the system
-//!   OpenVDB (`tools::ParticlesToLevelSet`, `tools::LevelSetTracker`,
-//!   `tools::LevelSetFilter`, `tools::volumeToMesh`, `tools::csgUnion`), written as
-//!   `vdb/NNNN.vdb`;
-//! - [`mesh`]: the triangle meshes it returns (the CLI writes them as
-//!   `surface/NNNN.glb` with `perifrac-render`);
-//! - [`embedded`]: the `embedded` method, the boundary of the split tet mesh
-//!   (`tets/NNNN.vtu`, Chen §5.2) with smoothed crack faces (Chen §7);
+//! - [`mesh`]: [`mesh::TriangleMesh`], the mesher's triangles with their measures
+//!   (volume, open edges, parts, normals);
 //! - [`debris`]: fragments too small to surface, as `surface/NNNN_debris.ply` points.
+//!
+//! Surfaces leave the crate as the cache's one surface type,
+//! [`perifrac_cache::mesh::SurfaceMesh`]. The stages write their `.glb` files through a
+//! [`perifrac_cache::mesh::SurfaceEncoder`] their caller passes in (the CLI passes
+//! `perifrac_render::gltf::Glb`): the stage keeps its frames-in-parallel loop, writes
+//! each file as soon as it is made, and still does not depend on the render crate.
+//! Errors are [`SurfaceError`].
 #![warn(missing_docs)]
 
 pub mod debris;
@@ -23,3 +33,21 @@ pub mod particles;
 pub mod vdb;
 
 pub use error::SurfaceError;
+
+use std::path::Path;
+
+use perifrac_cache::mesh::EncodeError;
+
+/// Writes what a [`perifrac_cache::mesh::SurfaceEncoder`] made, atomically; `what`
+/// names the file in errors.
+fn write_encoded(
+    path: &Path,
+    what: String,
+    bytes: std::result::Result<Vec<u8>, EncodeError>,
+) -> error::Result<()> {
+    let bytes = bytes.map_err(|e| SurfaceError::Encode {
+        what,
+        message: e.to_string(),
+    })?;
+    Ok(perifrac_cache::write_atomic(path, &bytes)?)
+}

@@ -5,6 +5,8 @@
 
 use std::collections::HashMap;
 
+use perifrac_math::{UnionFind, cross, dot, norm, sub};
+
 /// An indexed triangle mesh, counter-clockwise seen from outside.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct TriangleMesh {
@@ -14,24 +16,9 @@ pub struct TriangleMesh {
     pub indices: Vec<u32>,
 }
 
-fn sub(a: [f32; 3], b: [f32; 3]) -> [f64; 3] {
-    [
-        f64::from(a[0]) - f64::from(b[0]),
-        f64::from(a[1]) - f64::from(b[1]),
-        f64::from(a[2]) - f64::from(b[2]),
-    ]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn norm2(a: [f64; 3]) -> f64 {
-    a[0] * a[0] + a[1] * a[1] + a[2] * a[2]
+/// a − b in f64 (the coordinates are stored as f32).
+fn sub64(a: [f32; 3], b: [f32; 3]) -> [f64; 3] {
+    sub(a.map(f64::from), b.map(f64::from))
 }
 
 impl TriangleMesh {
@@ -47,8 +34,11 @@ impl TriangleMesh {
             indices.extend_from_slice(t);
         }
         for &[a, b, c, d] in quads {
-            let p = |i: u32| positions[i as usize];
-            if norm2(sub(p(a), p(c))) <= norm2(sub(p(b), p(d))) {
+            let squared = |i: u32, j: u32| {
+                let e = sub64(positions[i as usize], positions[j as usize]);
+                dot(e, e)
+            };
+            if squared(a, c) <= squared(b, d) {
                 indices.extend_from_slice(&[a, b, c, a, c, d]);
             } else {
                 indices.extend_from_slice(&[a, b, d, b, c, d]);
@@ -84,11 +74,11 @@ impl TriangleMesh {
         let origin = self.positions.first().copied().unwrap_or_default();
         self.triangles()
             .map(|[a, b, c]| {
-                let pa = sub(self.positions[a as usize], origin);
-                let pb = sub(self.positions[b as usize], origin);
-                let pc = sub(self.positions[c as usize], origin);
+                let pa = sub64(self.positions[a as usize], origin);
+                let pb = sub64(self.positions[b as usize], origin);
+                let pc = sub64(self.positions[c as usize], origin);
                 let n = cross(pb, pc);
-                (pa[0] * n[0] + pa[1] * n[1] + pa[2] * n[2]) / 6.0
+                dot(pa, n) / 6.0
             })
             .sum()
     }
@@ -111,26 +101,17 @@ impl TriangleMesh {
 
     /// Number of connected parts (triangles sharing vertices are connected).
     pub fn components(&self) -> usize {
-        let mut parent: Vec<u32> = (0..self.positions.len() as u32).collect();
-        fn root(parent: &mut [u32], mut i: u32) -> u32 {
-            while parent[i as usize] != i {
-                parent[i as usize] = parent[parent[i as usize] as usize];
-                i = parent[i as usize];
-            }
-            i
-        }
+        let mut sets = UnionFind::new(self.positions.len());
         let mut used = vec![false; self.positions.len()];
         for [a, b, c] in self.triangles() {
-            for (u, v) in [(a, b), (b, c)] {
-                let (ru, rv) = (root(&mut parent, u), root(&mut parent, v));
-                parent[ru.max(rv) as usize] = ru.min(rv);
-            }
+            sets.union(a as usize, b as usize);
+            sets.union(b as usize, c as usize);
             for i in [a, b, c] {
                 used[i as usize] = true;
             }
         }
-        (0..self.positions.len() as u32)
-            .filter(|&i| used[i as usize] && root(&mut parent, i) == i)
+        (0..self.positions.len())
+            .filter(|&i| used[i] && sets.find(i) == i)
             .count()
     }
 
@@ -140,8 +121,8 @@ impl TriangleMesh {
         for [a, b, c] in self.triangles() {
             let pa = self.positions[a as usize];
             let n = cross(
-                sub(self.positions[b as usize], pa),
-                sub(self.positions[c as usize], pa),
+                sub64(self.positions[b as usize], pa),
+                sub64(self.positions[c as usize], pa),
             );
             for i in [a, b, c] {
                 for k in 0..3 {
@@ -151,7 +132,7 @@ impl TriangleMesh {
         }
         sum.into_iter()
             .map(|n| {
-                let len = norm2(n).sqrt();
+                let len = norm(n);
                 if len > 0.0 {
                     [
                         (n[0] / len) as f32,

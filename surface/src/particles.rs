@@ -9,17 +9,15 @@
 
 use std::collections::{BTreeMap, HashMap};
 
-use perifrac_sim::cache::manifest::BodyInfo;
-use perifrac_sim::cache::ply::ParticleFrame;
+use perifrac_cache::manifest::BodyInfo;
+use perifrac_cache::ply::ParticleFrame;
 
 use crate::error::{Result, SurfaceError};
 
 /// Tets (particles) the BCC mesher makes per λ³, λ the mean tet edge.
 pub const TETS_PER_LAMBDA3: f64 = 9.1;
 
-/// Radius of a sphere whose volume is that of a cube of side 1, (3/(4π))^(1/3): a
-/// particle's volume-equivalent sphere radius in particle spacings.
-pub const SPHERE_RADIUS_PER_SPACING: f64 = 0.620_350_490_899_400_1;
+pub use perifrac_cache::scene::SPHERE_RADIUS_PER_SPACING;
 
 /// A body whose particles' neighbourhoods are thinner than this (median, in particle
 /// spacings) is taken for a single layer.

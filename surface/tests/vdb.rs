@@ -32,6 +32,7 @@ fn particles_of(shape: &str, lambda: f64) -> (ParticleFrame, Vec<BodyInfo>) {
         plastic: vec![0.0; n],
         material: vec![0.0; n],
         fragment: vec![0.0; n],
+        extra: Vec::new(),
     };
     let body = BodyInfo {
         name: "body0".into(),

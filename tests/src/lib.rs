@@ -6,6 +6,10 @@
 //! all channels exceeds [`Tolerance::max_mean`]. `UPDATE_SNAPSHOTS=1` rewrites the
 //! references instead; a failure writes `NAME.actual.png` and `NAME.diff.png` next to
 //! the reference.
+//!
+//! Main items: [`check_snapshot`] and [`difference`] against [`TOLERANCE`] (a
+//! [`Tolerance`]); the scenes [`torus`], [`particles`], [`cracked_block`], [`empty`],
+//! framed by [`camera`] at [`SIZE`].
 #![warn(missing_docs)]
 
 use std::path::{Path, PathBuf};

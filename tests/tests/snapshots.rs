@@ -76,7 +76,7 @@ fn empty_frame_renders_the_ground_and_says_so() {
 /// World-space shift that moves the torus by `pixels` pixels to the right of the image.
 fn shift_by_pixels(pixels: f32) -> [f32; 3] {
     let cam = camera();
-    let distance = perifrac_render::camera::length3(cam.eye, cam.target);
+    let distance = perifrac_math::dist(cam.eye, cam.target);
     let metres_per_pixel = 2.0 * distance * (0.5 * cam.fov_y).tan() / SIZE.1 as f32;
     cam.right().map(|v| v * pixels * metres_per_pixel)
 }

@@ -69,7 +69,7 @@ void main() {
 }
 "#;
 
-/// Mesh fragment shader (header; [`LIGHTING`] and the body follow).
+/// Mesh fragment shader (header; `LIGHTING` and the body follow).
 pub fn mesh_fragment() -> String {
     format!(
         "#version 330 core\n{LIGHTING}{}",

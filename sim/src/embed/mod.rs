@@ -34,6 +34,7 @@
 //! rotations of fragments included) and needs no per-step work; see the test
 //! `affine_motion_is_exact`.
 
+use perifrac_math::{TET_FACES, UnionFind, cross, det3, dot, inverse3, mat_mul, sub};
 use rayon::prelude::*;
 
 use crate::error::{Result, SimError};
@@ -44,9 +45,6 @@ use crate::geometry::discretize::Discretization;
 pub const NONE: u32 = u32::MAX;
 /// Parent of an original vertex.
 pub const NO_PARENT: u32 = u32::MAX;
-
-/// Local vertex indices of face f of a tet: the face opposite vertex f.
-const FACE: [[usize; 3]; 4] = [[1, 2, 3], [0, 2, 3], [0, 1, 3], [0, 1, 2]];
 
 /// The embedded mesh of all bodies: tet p belongs to particle p.
 #[derive(Debug, Clone)]
@@ -116,7 +114,7 @@ impl EmbeddedMesh {
                 disc.meshes[b].tets[disc.tet[p] as usize].map(|v| v + first[b])
             })
             .collect();
-        // Positively oriented tets, so that faces wound by `OUTWARD` face out.
+        // Positively oriented tets, so that faces wound by `TET_FACES` face out.
         let tets: Vec<[u32; 4]> = tets
             .into_iter()
             .map(|mut t| {
@@ -134,7 +132,7 @@ impl EmbeddedMesh {
             .flat_map_iter(|p| {
                 let t = tets[p];
                 (0..4).map(move |f| {
-                    let mut k = FACE[f].map(|i| t[i]);
+                    let mut k = TET_FACES[f].map(|i| t[i]);
                     k.sort_unstable();
                     (k, (4 * p + f) as u32)
                 })
@@ -247,7 +245,7 @@ impl EmbeddedMesh {
 
     fn face_vertices(&self, p: u32, f: usize) -> [u32; 3] {
         let t = self.tets[p as usize];
-        FACE[f].map(|i| t[i])
+        TET_FACES[f].map(|i| t[i])
     }
 
     /// Adds the faces whose bonds broke to the crack-face set, splits the vertices
@@ -300,7 +298,9 @@ impl EmbeddedMesh {
         self.active.retain(|&(p, f)| {
             let q = adjacent[p as usize][f as usize] as usize;
             let t = tets[p as usize];
-            FACE[f as usize].iter().any(|&i| tets[q].contains(&t[i]))
+            TET_FACES[f as usize]
+                .iter()
+                .any(|&i| tets[q].contains(&t[i]))
         });
         stats.retired = before - self.active.len();
         self.retired += stats.retired;
@@ -325,14 +325,7 @@ impl EmbeddedMesh {
             .filter(|&t| self.tets[t as usize].contains(&v))
             .collect();
         // Union-find over the star, through uncracked faces that contain v.
-        let mut group: Vec<usize> = (0..star.len()).collect();
-        fn find(g: &mut [usize], mut i: usize) -> usize {
-            while g[i] != i {
-                g[i] = g[g[i]];
-                i = g[i];
-            }
-            i
-        }
+        let mut group = UnionFind::new(star.len());
         for (a, &t) in star.iter().enumerate() {
             let tv = self.tets[t as usize];
             for (f, &w) in tv.iter().enumerate() {
@@ -344,10 +337,7 @@ impl EmbeddedMesh {
                     continue;
                 }
                 if let Some(b) = star.iter().position(|&x| x == s) {
-                    let (ra, rb) = (find(&mut group, a), find(&mut group, b));
-                    if ra != rb {
-                        group[ra.max(rb)] = ra.min(rb);
-                    }
+                    group.union(a, b);
                 }
             }
         }
@@ -356,7 +346,7 @@ impl EmbeddedMesh {
         let mut copy_of_root: Vec<(usize, u32)> = Vec::new();
         let mut added = 0;
         for (a, &t) in star.iter().enumerate() {
-            let r = find(&mut group, a);
+            let r = group.find(a);
             let id = match copy_of_root.iter().find(|c| c.0 == r) {
                 Some(c) => c.1,
                 None => {
@@ -433,7 +423,7 @@ impl EmbeddedMesh {
                     self.cracked[p] |= 1 << f;
                     let open = {
                         let t = self.tets[p];
-                        !FACE[f]
+                        !TET_FACES[f]
                             .iter()
                             .any(|&i| self.tets[q as usize].contains(&t[i]))
                     };
@@ -520,31 +510,12 @@ impl EmbeddedMesh {
                         self.face_vertices(q, self.back_face(p as u32, f as u8)),
                     );
                 if open {
-                    out.push((OUTWARD[f].map(|i| t[i]), p as u32, q != NONE));
+                    out.push((TET_FACES[f].map(|i| t[i]), p as u32, q != NONE));
                 }
             }
         }
         out
     }
-}
-
-/// Face f (opposite local vertex f) of a positively oriented tet, wound outward.
-const OUTWARD: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }
 
 /// Each particle's deformation gradient from its intact bonds:
@@ -579,15 +550,7 @@ pub fn deformation_gradients(
                 }
             }
             match inverse(k) {
-                Some(ki) => {
-                    let mut f = [[0.0; 3]; 3];
-                    for r in 0..3 {
-                        for c in 0..3 {
-                            f[r][c] = (0..3).map(|s| m[r][s] * ki[s][c]).sum();
-                        }
-                    }
-                    f
-                }
+                Some(ki) => mat_mul(&m, &ki),
                 None => [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
             }
         })
@@ -597,17 +560,12 @@ pub fn deformation_gradients(
 /// Inverse of a symmetric positive semi-definite 3×3 matrix, `None` when it is
 /// nearly singular (det < 10⁻⁶ (tr/3)³: the bonds lie nearly in a plane).
 fn inverse(a: [[f64; 3]; 3]) -> Option<[[f64; 3]; 3]> {
-    let c = |r: usize, s: usize| {
-        let (r1, r2) = ((r + 1) % 3, (r + 2) % 3);
-        let (s1, s2) = ((s + 1) % 3, (s + 2) % 3);
-        a[r1][s1] * a[r2][s2] - a[r1][s2] * a[r2][s1]
-    };
-    let det = a[0][0] * c(0, 0) + a[0][1] * c(0, 1) + a[0][2] * c(0, 2);
+    let det = det3(&a);
     let tr = (a[0][0] + a[1][1] + a[2][2]) / 3.0;
     if det.is_nan() || det <= 1e-6 * tr * tr * tr {
         return None;
     }
-    Some([0, 1, 2].map(|r| [0, 1, 2].map(|s| c(s, r) / det)))
+    Some(inverse3(&a, det))
 }
 
 #[cfg(test)]

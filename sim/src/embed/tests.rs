@@ -53,34 +53,15 @@ fn cut(bonds: &mut Bonds, cut: impl Fn(usize, usize) -> bool) {
 
 /// Connected components of a triangle set (through shared vertices).
 fn components(faces: &[[u32; 3]]) -> Vec<Vec<[u32; 3]>> {
-    let mut label: HashMap<u32, usize> = HashMap::new();
-    let mut parent: Vec<usize> = Vec::new();
-    fn find(p: &mut [usize], mut i: usize) -> usize {
-        while p[i] != i {
-            p[i] = p[p[i]];
-            i = p[i];
-        }
-        i
-    }
+    let n = faces.iter().flatten().max().map_or(0, |&v| v as usize + 1);
+    let mut sets = UnionFind::new(n);
     for f in faces {
-        let ids: Vec<usize> = f
-            .iter()
-            .map(|v| {
-                *label.entry(*v).or_insert_with(|| {
-                    parent.push(parent.len());
-                    parent.len() - 1
-                })
-            })
-            .collect();
-        for w in &ids[1..] {
-            let (a, b) = (find(&mut parent, ids[0]), find(&mut parent, *w));
-            parent[a.max(b)] = a.min(b);
-        }
+        sets.union(f[0] as usize, f[1] as usize);
+        sets.union(f[0] as usize, f[2] as usize);
     }
     let mut out: HashMap<usize, Vec<[u32; 3]>> = HashMap::new();
     for f in faces {
-        let r = find(&mut parent, label[&f[0]]);
-        out.entry(r).or_default().push(*f);
+        out.entry(sets.find(f[0] as usize)).or_default().push(*f);
     }
     let mut v: Vec<_> = out.into_values().collect();
     v.sort_by_key(|c| c.len());

@@ -26,6 +26,7 @@ mod solver;
 
 pub use solver::Fem;
 
+use perifrac_math::{det_sum, det3, dot, inverse3, mat_mul, sub};
 use rayon::prelude::*;
 
 use crate::error::{Result, SimError};
@@ -271,7 +272,7 @@ impl FemModel {
                 let (eps, r) = strain(position, rest, &tets[e], b, body.corotated.then_some(q));
                 let stress = body.hooke(&eps);
                 let p = match r {
-                    Some(r) => mul(&r, &stress),
+                    Some(r) => mat_mul(&r, &stress),
                     None => stress,
                 };
                 // H = −V P Bᵀ: column a is the force on vertex a + 1.
@@ -315,7 +316,7 @@ impl FemModel {
     /// Kinetic energy ½ Σ m v².
     pub fn kinetic_energy(&self) -> f64 {
         det_sum(self.len(), |i| {
-            0.5 * self.mass[i] * dot3(self.velocity[i], self.velocity[i])
+            0.5 * self.mass[i] * dot(self.velocity[i], self.velocity[i])
         })
     }
 
@@ -387,7 +388,7 @@ impl FemModel {
                     du[k][a] = u[a + 1][k] - u[0][k];
                 }
             }
-            let stress = body.hooke(&sym(&mul(&du, b)));
+            let stress = body.hooke(&sym(&mat_mul(&du, b)));
             let mut f = [[0.0; 3]; 4];
             for a in 0..3 {
                 for k in 0..3 {
@@ -408,10 +409,10 @@ impl FemModel {
         let mut lambda = 0.0;
         for _ in 0..60 {
             let w = apply(&u);
-            let uu: f64 = u.iter().map(|r| dot3(*r, *r)).sum();
-            let uw: f64 = u.iter().zip(&w).map(|(a, b)| dot3(*a, *b)).sum();
+            let uu: f64 = u.iter().map(|r| dot(*r, *r)).sum();
+            let uw: f64 = u.iter().zip(&w).map(|(a, b)| dot(*a, *b)).sum();
             lambda = uw / uu;
-            let ww: f64 = w.iter().map(|r| dot3(*r, *r)).sum::<f64>().sqrt();
+            let ww: f64 = w.iter().map(|r| dot(*r, *r)).sum::<f64>().sqrt();
             if ww == 0.0 {
                 return 0.0;
             }
@@ -419,17 +420,6 @@ impl FemModel {
         }
         lambda
     }
-}
-
-/// Σ f(i) for i in 0..n in fixed chunks, then in chunk order: the same bits with any
-/// thread count.
-fn det_sum(n: usize, f: impl Fn(usize) -> f64 + Sync) -> f64 {
-    const CHUNK: usize = 4096;
-    let partial: Vec<f64> = (0..n.div_ceil(CHUNK))
-        .into_par_iter()
-        .map(|c| (c * CHUNK..((c + 1) * CHUNK).min(n)).map(&f).sum())
-        .collect();
-    partial.into_iter().sum()
 }
 
 /// The strain of a tet with corners `t` and B = `b`: ½(∇u + ∇uᵀ) (linear), or with a
@@ -451,7 +441,7 @@ fn strain(
             du[k][a] = ua[k] - u0[k];
         }
     }
-    let grad = mul(&du, b);
+    let grad = mat_mul(&du, b);
     let Some(q) = q else {
         return (sym(&grad), None);
     };
@@ -483,44 +473,6 @@ fn edge_matrix(x: &[[f64; 3]], t: &[u32; 4]) -> M3 {
     d
 }
 
-fn det3(m: &M3) -> f64 {
-    m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
-        - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-        + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
-}
-
-fn inverse3(m: &M3, det: f64) -> M3 {
-    let c =
-        |i0: usize, j0: usize, i1: usize, j1: usize| m[i0][j0] * m[i1][j1] - m[i0][j1] * m[i1][j0];
-    [
-        [
-            c(1, 1, 2, 2) / det,
-            -c(0, 1, 2, 2) / det,
-            c(0, 1, 1, 2) / det,
-        ],
-        [
-            -c(1, 0, 2, 2) / det,
-            c(0, 0, 2, 2) / det,
-            -c(0, 0, 1, 2) / det,
-        ],
-        [
-            c(1, 0, 2, 1) / det,
-            -c(0, 0, 2, 1) / det,
-            c(0, 0, 1, 1) / det,
-        ],
-    ]
-}
-
-fn mul(a: &M3, b: &M3) -> M3 {
-    let mut c = [[0.0; 3]; 3];
-    for i in 0..3 {
-        for j in 0..3 {
-            c[i][j] = a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j];
-        }
-    }
-    c
-}
-
 fn sym(a: &M3) -> M3 {
     let mut s = [[0.0; 3]; 3];
     for i in 0..3 {
@@ -533,14 +485,6 @@ fn sym(a: &M3) -> M3 {
 
 fn col(m: &M3, j: usize) -> [f64; 3] {
     [m[0][j], m[1][j], m[2][j]]
-}
-
-fn dot3(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
 #[cfg(test)]

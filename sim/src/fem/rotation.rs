@@ -14,7 +14,9 @@
 //! Method to Extract the Rotational Part of Deformations", Eq. 4–5), ω = (…)/|tr G|.
 //! Either way R stays a rotation (det R = +1), also for inverted tets.
 
-use super::{M3, col, dot3};
+use perifrac_math::dot;
+
+use super::{M3, col};
 
 /// A unit quaternion [w, x, y, z].
 pub type Quaternion = [f64; 4];
@@ -91,7 +93,7 @@ pub fn extract(f: &M3, q: &mut Quaternion) -> M3 {
         } else {
             v.map(|x| x / (tr.abs() + 1e-9))
         };
-        let angle = dot3(omega, omega).sqrt();
+        let angle = dot(omega, omega).sqrt();
         if angle.is_nan() || angle < TOLERANCE {
             break;
         }
@@ -123,17 +125,9 @@ fn solve(m: &M3, v: [f64; 3], det: f64) -> [f64; 3] {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use perifrac_math::mat_mul;
 
-    fn mul(a: &M3, b: &M3) -> M3 {
-        let mut c = [[0.0; 3]; 3];
-        for i in 0..3 {
-            for j in 0..3 {
-                c[i][j] = (0..3).map(|k| a[i][k] * b[k][j]).sum();
-            }
-        }
-        c
-    }
+    use super::*;
 
     #[test]
     fn recovers_the_rotation_of_a_stretched_rotation() {
@@ -143,7 +137,7 @@ mod tests {
         let q = [c, s * axis[0], s * axis[1], s * axis[2]];
         let rot = matrix(q);
         let stretch = [[1.2, 0.1, 0.0], [0.1, 0.9, 0.05], [0.0, 0.05, 1.05]];
-        let f = mul(&rot, &stretch);
+        let f = mat_mul(&rot, &stretch);
         let mut guess = IDENTITY;
         let r = extract(&f, &mut guess);
         for i in 0..3 {
@@ -161,7 +155,7 @@ mod tests {
         let f = [[-0.5, 0.1, 0.0], [0.0, 1.0, 0.2], [0.1, 0.0, 1.0]];
         let mut q = IDENTITY;
         let r = extract(&f, &mut q);
-        let rtr = mul(
+        let rtr = mat_mul(
             &r,
             &[
                 [r[0][0], r[1][0], r[2][0]],

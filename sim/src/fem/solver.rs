@@ -155,6 +155,7 @@ impl Model for Fem {
             plastic: vec![0.0; body.len()],
             body,
             fragment,
+            extra: Vec::new(),
         }
     }
 
@@ -166,23 +167,19 @@ impl Model for Fem {
     /// start of the polar decomposition, which the next forces depend on).
     fn save(&self, out: &mut Encoder) {
         let m = &self.model;
-        out.put_u64(m.len() as u64);
-        out.put_f64x3s(&m.position);
-        out.put_f64x3s(&m.velocity);
-        out.put_u64(m.rotation.len() as u64);
-        for q in &m.rotation {
-            out.put_f64s(q);
-        }
+        out.put_f64x3_slice(&m.position);
+        out.put_f64x3_slice(&m.velocity);
+        let rotation: Vec<f64> = m.rotation.iter().flatten().copied().collect();
+        out.put_f64_slice(&rotation);
     }
 
     fn restore(&mut self, input: &mut Decoder<'_>) -> Result<()> {
         let m = &mut self.model;
-        input.expect_count("mesh vertices", m.len())?;
-        input.take_f64x3s_into(&mut m.position, "positions")?;
-        input.take_f64x3s_into(&mut m.velocity, "velocities")?;
-        input.expect_count("tets", m.rotation.len())?;
-        for q in m.rotation.iter_mut() {
-            input.take_f64s_into(q, "rotations")?;
+        m.position = input.take_f64x3_slice("positions", m.len())?;
+        m.velocity = input.take_f64x3_slice("velocities", m.len())?;
+        let rotation = input.take_f64_slice("rotations", 4 * m.rotation.len())?;
+        for (q, r) in m.rotation.iter_mut().zip(rotation.chunks_exact(4)) {
+            q.copy_from_slice(r);
         }
         Ok(())
     }

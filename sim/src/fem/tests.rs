@@ -54,7 +54,7 @@ fn relative_force(m: &FemModel) -> f64 {
     let scale = m.bodies[0].mu * 0.01 * 0.025 * 0.025;
     m.force
         .iter()
-        .map(|f| dot3(*f, *f).sqrt())
+        .map(|f| dot(*f, *f).sqrt())
         .fold(0.0, f64::max)
         / scale
 }
@@ -103,13 +103,13 @@ fn uniform_stretch_gives_uniaxial_stress_free_of_interior_forces() {
             }
         }
         let scale = m.bodies[0].mu * 0.001 * 0.025 * 0.025;
-        assert!(dot3(net, net).sqrt() < 1e-9 * scale * m.len() as f64);
+        assert!(dot(net, net).sqrt() < 1e-9 * scale * m.len() as f64);
         let interior = m
             .rest
             .iter()
             .zip(&m.force)
             .filter(|(x, _)| x[0].abs() < 0.17 && x[1].abs() < 0.03 && x[2].abs() < 0.03)
-            .map(|(_, f)| dot3(*f, *f).sqrt())
+            .map(|(_, f)| dot(*f, *f).sqrt())
             .fold(0.0, f64::max);
         assert!(interior < 1e-9 * scale, "interior force {interior}");
     }

@@ -10,6 +10,8 @@ pub mod stuffing;
 
 use std::fmt;
 
+use perifrac_math::{TET_FACES, cross, dist, dot, norm, signed_volume, sub};
+
 pub use self::sdf::{Ball, Cuboid, Cylinder, Difference, Sdf, Union};
 pub use self::stuffing::stuff;
 
@@ -126,11 +128,6 @@ pub struct MeshQuality {
     pub tets: usize,
 }
 
-/// Local vertex indices of the four faces of a tetrahedron `[a, b, c, d]`,
-/// each wound so that its right-hand normal points away from the opposite
-/// vertex when the tetrahedron is positively oriented.
-const OUTWARD_FACES: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
-
 /// Pairs of local vertex indices forming the six edges of a tetrahedron.
 const EDGES: [[usize; 2]; 6] = [[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]];
 
@@ -234,7 +231,7 @@ impl TetMesh {
         let n = self.vertices.len();
         let mut start = vec![0usize; n + 1];
         for tet in &self.tets {
-            for face in OUTWARD_FACES {
+            for face in TET_FACES {
                 let m = face.iter().map(|&i| tet[i]).min().unwrap_or(0);
                 start[m as usize + 1] += 1;
             }
@@ -245,7 +242,7 @@ impl TetMesh {
         let mut fill = start.clone();
         let mut entries = vec![(0u32, 0u32, 0usize); 4 * self.tets.len()];
         for (t, tet) in self.tets.iter().enumerate() {
-            for (f, face) in OUTWARD_FACES.iter().enumerate() {
+            for (f, face) in TET_FACES.iter().enumerate() {
                 let mut key = face.map(|i| tet[i]);
                 key.sort_unstable();
                 let slot = &mut fill[key[0] as usize];
@@ -266,7 +263,7 @@ impl TetMesh {
                 if j == i + 1 {
                     let (t, f) = (bucket[i].2 / 4, bucket[i].2 % 4);
                     let tet = self.tets[t];
-                    let [a, b, c] = OUTWARD_FACES[f].map(|k| tet[k]);
+                    let [a, b, c] = TET_FACES[f].map(|k| tet[k]);
                     faces.push(if self.volume(t) < 0.0 {
                         [a, c, b]
                     } else {
@@ -284,7 +281,7 @@ impl TetMesh {
 pub(crate) fn dihedral_range(p: [[f64; 3]; 4]) -> (f64, f64) {
     // Unit normals of the faces opposite each vertex, pointing away from it.
     let normals = [0, 1, 2, 3].map(|v| {
-        let [a, b, c] = OUTWARD_FACES[v].map(|k| p[k]);
+        let [a, b, c] = TET_FACES[v].map(|k| p[k]);
         let n = cross(sub(b, a), sub(c, a));
         let s = if dot(n, sub(p[v], a)) > 0.0 {
             -1.0
@@ -308,36 +305,6 @@ pub(crate) fn dihedral_range(p: [[f64; 3]; 4]) -> (f64, f64) {
         }
     }
     (lo, hi)
-}
-
-/// Signed volume of the tetrahedron `abcd`: positive when `d` lies on the
-/// side of triangle `abc` that its right-hand normal points to.
-pub(crate) fn signed_volume(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> f64 {
-    dot(sub(b, a), cross(sub(c, a), sub(d, a))) / 6.0
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn norm(a: [f64; 3]) -> f64 {
-    dot(a, a).sqrt()
-}
-
-fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
-    norm(sub(a, b))
 }
 
 #[cfg(test)]

@@ -19,8 +19,10 @@
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 
+use perifrac_math::{dist, lerp, signed_volume};
+
 use super::sdf::Sdf;
-use super::{MeshError, TetMesh, signed_volume};
+use super::{MeshError, TetMesh};
 
 /// Mean edge length of a BCC tetrahedron over its lattice spacing:
 /// two edges of `h` and four of `h·√3/2` give `(1 + √3) / 3`.
@@ -407,14 +409,6 @@ impl CutTable {
     }
 }
 
-fn lerp(a: [f64; 3], b: [f64; 3], t: f64) -> [f64; 3] {
-    [
-        a[0] + t * (b[0] - a[0]),
-        a[1] + t * (b[1] - a[1]),
-        a[2] + t * (b[2] - a[2]),
-    ]
-}
-
 /// Fraction `t` along `a`–`b` where the SDF vanishes, given its values `fa`
 /// and `fb` of opposite signs at the ends: regula falsi with the Illinois
 /// modification (bisecting where values are infinite), stopping when the
@@ -427,7 +421,7 @@ fn find_zero(
     fb: f64,
     tol: f64,
 ) -> Result<f64, MeshError> {
-    let len = super::dist(a, b);
+    let len = dist(a, b);
     let (mut t0, mut f0, mut t1, mut f1) = (0.0, fa, 1.0, fb);
     let mut t = 0.5;
     let mut last_side = 0;
@@ -1295,8 +1289,8 @@ mod tests {
                 }
                 let p = coords.map(|c| lattice.position(c));
                 assert!((signed_volume(p[0], p[1], p[2], p[3]).abs() - 1.0 / 12.0).abs() < 1e-12);
-                assert!((super::super::dist(p[0], p[1]) - 1.0).abs() < 1e-12);
-                assert!((super::super::dist(p[2], p[3]) - 1.0).abs() < 1e-12);
+                assert!((dist(p[0], p[1]) - 1.0).abs() < 1e-12);
+                assert!((dist(p[2], p[3]) - 1.0).abs() < 1e-12);
                 count += 1;
                 Ok(())
             })

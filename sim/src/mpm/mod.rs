@@ -364,30 +364,36 @@ impl Model for Mpm {
             plastic: p.plastic.iter().map(|&e| e as f32).collect(),
             body: p.body.clone(),
             fragment: p.body.clone(),
+            extra: vec![(
+                "J".to_string(),
+                p.deformation
+                    .iter()
+                    .map(|f| constitutive::determinant(f) as f32)
+                    .collect(),
+            )],
         }
     }
 
     fn save(&self, out: &mut Encoder) {
         let p = &self.particles;
-        out.put_u64(p.len() as u64);
-        out.put_f64x3s(&p.position);
-        out.put_f64x3s(&p.velocity);
-        out.put_f64s(&flatten(&p.deformation));
-        out.put_f64s(&flatten(&p.affine));
-        out.put_f64s(&p.plastic);
+        out.put_f64x3_slice(&p.position);
+        out.put_f64x3_slice(&p.velocity);
+        out.put_f64_slice(&flatten(&p.deformation));
+        out.put_f64_slice(&flatten(&p.affine));
+        out.put_f64_slice(&p.plastic);
     }
 
     fn restore(&mut self, input: &mut Decoder<'_>) -> Result<()> {
         let p = &mut self.particles;
-        input.expect_count("MPM particles", p.len())?;
-        input.take_f64x3s_into(&mut p.position, "MPM positions")?;
-        input.take_f64x3s_into(&mut p.velocity, "MPM velocities")?;
-        let mut values = vec![0.0; 9 * p.len()];
-        input.take_f64s_into(&mut values, "MPM deformation gradients")?;
-        unflatten(&values, &mut p.deformation);
-        input.take_f64s_into(&mut values, "MPM affine matrices")?;
-        unflatten(&values, &mut p.affine);
-        input.take_f64s_into(&mut p.plastic, "MPM plastic strains")
+        let n = p.len();
+        p.position = input.take_f64x3_slice("MPM positions", n)?;
+        p.velocity = input.take_f64x3_slice("MPM velocities", n)?;
+        let f = input.take_f64_slice("MPM deformation gradients", 9 * n)?;
+        unflatten(&f, &mut p.deformation);
+        let c = input.take_f64_slice("MPM affine matrices", 9 * n)?;
+        unflatten(&c, &mut p.affine);
+        p.plastic = input.take_f64_slice("MPM plastic strains", n)?;
+        Ok(())
     }
 
     fn stage_times(&self) -> Vec<(&'static str, f64)> {

@@ -1,6 +1,8 @@
 //! Initial cracks (`[[body.crack]]`): bonds of a body that cross the crack plane inside
 //! the crack's region are cut before the run starts.
 
+use perifrac_math::{add, dot, scale, sub};
+
 use super::PdModel;
 use crate::error::{Result, SimError};
 use crate::geometry::shape::to_sdf;
@@ -18,17 +20,12 @@ pub fn cut_initial_cracks(model: &mut PdModel, scene: &Scene) -> Result<()> {
                     message: format!("crack {} region: {message}", k + 1),
                 })?;
             let (p, n) = (crack.point, crack.normal);
-            let side =
-                |x: [f64; 3]| (x[0] - p[0]) * n[0] + (x[1] - p[1]) * n[1] + (x[2] - p[2]) * n[2];
+            let side = |x: [f64; 3]| dot(sub(x, p), n);
             let body = model.reference.body.clone();
             let x = model.reference.position.clone();
             model.cut_bonds(|i, j| {
                 let (xi, xj) = (x[i], x[j]);
-                let mid = [
-                    (xi[0] + xj[0]) / 2.0,
-                    (xi[1] + xj[1]) / 2.0,
-                    (xi[2] + xj[2]) / 2.0,
-                ];
+                let mid = scale(add(xi, xj), 0.5);
                 body[i] == b as u32 && side(xi) * side(xj) < 0.0 && region.distance(mid) <= 0.0
             });
         }

@@ -4,6 +4,7 @@
 
 use std::time::Instant;
 
+use perifrac_math::det_sum;
 use rayon::prelude::*;
 
 use super::{PdModel, family_volume};
@@ -18,24 +19,6 @@ pub struct StageTimes {
     /// Force densities (Eq. 2–4, 8, 12), with bond breaking and damage
     /// (Eq. 18–19) in the same pass when the scene can fracture.
     pub forces: f64,
-}
-
-/// Chunk size for deterministic parallel reductions (independent of thread count).
-const REDUCE_CHUNK: usize = 4096;
-
-/// Σ f(i) for i in 0..n, summed in fixed chunks and then in chunk order, so the
-/// result is the same whatever the number of threads.
-pub(crate) fn det_sum(n: usize, f: impl Fn(usize) -> f64 + Sync) -> f64 {
-    let chunks = n.div_ceil(REDUCE_CHUNK);
-    let partial: Vec<f64> = (0..chunks)
-        .into_par_iter()
-        .map(|c| {
-            (c * REDUCE_CHUNK..((c + 1) * REDUCE_CHUNK).min(n))
-                .map(&f)
-                .sum()
-        })
-        .collect();
-    partial.into_iter().sum()
 }
 
 /// Splits `data` into the CSR rows given by `offsets`.

@@ -27,6 +27,7 @@ mod kernel;
 mod solver;
 mod stable;
 
+use perifrac_math::{UnionFind, det_sum, mat_vec, norm, sub};
 use rayon::prelude::*;
 
 use crate::family::{BROKEN, Bonds, Corrections, INDEX};
@@ -345,7 +346,7 @@ impl PdModel {
 
     /// Kinetic energy ½ Σ m v².
     pub fn kinetic_energy(&self) -> f64 {
-        kernel::det_sum(self.len(), |i| {
+        det_sum(self.len(), |i| {
             let v = self.particles.velocity[i];
             0.5 * self.mass(i) * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
         })
@@ -354,41 +355,16 @@ impl PdModel {
     /// Connected components of intact bonds, numbered by their smallest particle
     /// index in increasing order (deterministic).
     pub fn fragments(&self) -> Vec<u32> {
-        let n = self.len();
-        let mut parent: Vec<u32> = (0..n as u32).collect();
-        fn find(parent: &mut [u32], mut i: u32) -> u32 {
-            while parent[i as usize] != i {
-                let p = parent[parent[i as usize] as usize];
-                parent[i as usize] = p;
-                i = p;
-            }
-            i
-        }
-        for i in 0..n {
+        let mut sets = UnionFind::new(self.len());
+        for i in 0..self.len() {
             for k in self.bonds.range(i) {
                 let nb = self.bonds.neighbours[k];
-                if nb & BROKEN != 0 {
-                    continue;
-                }
-                let (a, b) = (find(&mut parent, i as u32), find(&mut parent, nb & INDEX));
-                if a != b {
-                    let (lo, hi) = (a.min(b), a.max(b));
-                    parent[hi as usize] = lo;
+                if nb & BROKEN == 0 {
+                    sets.union(i, (nb & INDEX) as usize);
                 }
             }
         }
-        let mut label = vec![u32::MAX; n];
-        let mut next = 0u32;
-        (0..n as u32)
-            .map(|i| {
-                let root = find(&mut parent, i) as usize;
-                if label[root] == u32::MAX {
-                    label[root] = next;
-                    next += 1;
-                }
-                label[root]
-            })
-            .collect()
+        sets.labels()
     }
 
     /// Plastic strain measure per particle: mean |e^p|/|ξ| over its bonds (0 without
@@ -424,25 +400,6 @@ impl PdModel {
         }
         bytes
     }
-}
-
-#[inline]
-pub(crate) fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-#[inline]
-pub(crate) fn norm(a: [f64; 3]) -> f64 {
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
-}
-
-#[inline]
-pub(crate) fn mat_vec(m: [[f64; 3]; 3], v: [f64; 3]) -> [f64; 3] {
-    [
-        m[0][0] * v[0] + m[0][1] * v[1] + m[0][2] * v[2],
-        m[1][0] * v[0] + m[1][1] * v[1] + m[1][2] * v[2],
-        m[2][0] * v[0] + m[2][1] * v[1] + m[2][2] * v[2],
-    ]
 }
 
 #[cfg(test)]

@@ -163,6 +163,7 @@ impl Model for Peridynamics {
             plastic: m.plastic_strain().into_iter().map(|s| s as f32).collect(),
             body: m.reference.body.clone(),
             fragment: m.fragments(),
+            extra: Vec::new(),
         }
     }
 
@@ -174,37 +175,33 @@ impl Model for Peridynamics {
     /// damage and the `yielded` flags are derived from them on restore.
     fn save(&self, out: &mut Encoder) {
         let m = &self.model;
-        out.put_u64(m.len() as u64);
-        out.put_f64x3s(&m.particles.position);
-        out.put_f64x3s(&m.particles.velocity);
-        out.put_u64(m.bonds.len() as u64);
-        out.put_u32s(&m.bonds.neighbours);
+        out.put_f64x3_slice(&m.particles.position);
+        out.put_f64x3_slice(&m.particles.velocity);
+        out.put_u32_slice(&m.bonds.neighbours);
         if let Some(p) = &m.plastic {
-            out.put_f64s(&p.extension);
+            out.put_f64_slice(&p.extension);
         }
     }
 
     fn restore(&mut self, input: &mut Decoder<'_>) -> Result<()> {
         let m = &mut self.model;
-        input.expect_count("particles", m.len())?;
-        input.take_f64x3s_into(&mut m.particles.position, "positions")?;
-        input.take_f64x3s_into(&mut m.particles.velocity, "velocities")?;
-        input.expect_count("bonds", m.bonds.len())?;
-        let mut neighbours = vec![0u32; m.bonds.len()];
-        input.take_u32s_into(&mut neighbours, "bonds")?;
+        let n = m.len();
+        m.particles.position = input.take_f64x3_slice("positions", n)?;
+        m.particles.velocity = input.take_f64x3_slice("velocities", n)?;
         // Only the broken bit may differ from the bonds this scene builds.
-        if let Some(k) =
-            (0..neighbours.len()).find(|&k| neighbours[k] & INDEX != m.bonds.neighbours[k] & INDEX)
-        {
-            return Err(input.invalid(format!(
+        let neighbours = input.take_u32_slice("bonds", m.bonds.len())?;
+        let scene = &m.bonds.neighbours;
+        if let Some(k) = (0..scene.len()).find(|&k| neighbours[k] & INDEX != scene[k] & INDEX) {
+            let message = format!(
                 "bond {k} points at particle {} where the scene has {}",
                 neighbours[k] & INDEX,
-                m.bonds.neighbours[k] & INDEX
-            )));
+                scene[k] & INDEX
+            );
+            return Err(input.error("bonds", message).into());
         }
         m.bonds.neighbours = neighbours;
         if let Some(p) = &mut m.plastic {
-            input.take_f64s_into(&mut p.extension, "plastic extensions")?;
+            p.extension = input.take_f64_slice("plastic extensions", p.extension.len())?;
         }
         m.update_damage();
         m.update_yielded();

@@ -6,12 +6,11 @@ use std::time::Instant;
 
 use super::resume::Resumed;
 use super::{Prepared, Progress, RunOptions, scene_hash};
+use crate::cache::Layout;
 use crate::cache::checkpoint::{Checkpoint, Encoder};
 use crate::cache::manifest::{BodyInfo, Manifest, Timings};
 use crate::cache::ply::ParticleFrame;
-use crate::cache::{Layout, write_atomic};
 use crate::error::{Result, SimError};
-use crate::pd::StageTimes;
 use crate::scene::Scene;
 use crate::world::World;
 
@@ -115,7 +114,7 @@ impl<'a> Frames<'a> {
             self.manifest.write(&layout.manifest())?;
             let every = scene.output.checkpoint_every;
             if every > 0 && frame % every == 0 && frame <= frames {
-                let mut payload = Encoder::default();
+                let mut payload = Encoder::new();
                 world.save(&mut payload);
                 let checkpoint = Checkpoint {
                     scene_hash: hash,
@@ -123,9 +122,9 @@ impl<'a> Frames<'a> {
                     steps: world.steps,
                     broken_bonds: self.broken_total,
                     time: world.time,
-                    payload: payload.bytes,
+                    payload: payload.finish(),
                 };
-                write_atomic(&layout.checkpoint(), &checkpoint.encode())?;
+                checkpoint.write(&layout.checkpoint())?;
             }
             output_time += t.elapsed().as_secs_f64() - frame_split;
             (self.progress)(Progress {
@@ -168,23 +167,17 @@ impl<'a> Frames<'a> {
     }
 
     fn finish(&mut self, world: &World, output: f64, setup: &Timings) {
-        let stage = |name: &str| {
-            world
-                .stage_times()
-                .iter()
-                .find(|(n, _)| *n == name)
-                .map_or(0.0, |s| s.1)
-        };
         let m = &mut self.manifest;
         m.steps = world.steps;
         m.broken_bonds = self.broken_total;
         m.timings = Timings {
             discretize: setup.discretize,
             families: setup.families,
-            stages: StageTimes {
-                dilatation: stage("dilatation"),
-                forces: stage("forces"),
-            },
+            stages: world
+                .stage_times()
+                .into_iter()
+                .map(|(name, t)| (name.to_string(), t))
+                .collect(),
             integrate_contact: world.other_time,
             output,
             split: self.split_time,
@@ -206,6 +199,7 @@ pub fn particle_frame(world: &World, frame: usize) -> ParticleFrame {
         plastic: c.plastic,
         material: c.body.iter().map(|&b| b as f32).collect(),
         fragment: c.fragment.iter().map(|&f| f as f32).collect(),
+        extra: c.extra,
     }
 }
 

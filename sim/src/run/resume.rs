@@ -1,11 +1,12 @@
 //! Continuing an interrupted run: the checkpoint restores the world, the manifest the
 //! frame times already on disk, and the last split tet mesh the vertex numbering.
 
+use crate::cache::CacheError;
 use crate::cache::Layout;
 use crate::cache::checkpoint::{Checkpoint, Decoder};
 use crate::cache::manifest::Manifest;
 use crate::cache::vtu::TetFrame;
-use crate::error::{Result, SimError};
+use crate::error::Result;
 use crate::world::World;
 
 /// Where a restored run continues.
@@ -28,11 +29,14 @@ pub fn restore(layout: &Layout, world: &mut World, scene_hash: u64, tets: bool) 
     let checkpoint = Checkpoint::read(&path)?;
     let mut input = Decoder::new(&checkpoint.payload, &path);
     if checkpoint.scene_hash != scene_hash {
-        return Err(input.invalid(
-            "the checkpoint was written for a different scene (or different settings); run without --resume".into(),
-        ));
+        return Err(CacheError::format(
+            &path,
+            "the checkpoint was written for a different scene (or different settings); run without --resume",
+        )
+        .into());
     }
     world.restore(&mut input, checkpoint.time, checkpoint.steps)?;
+    input.finish()?;
     let frame = checkpoint.frame as usize;
     if tets {
         // The topology written at the checkpoint's frame keeps the vertex numbering
@@ -50,13 +54,14 @@ pub fn restore(layout: &Layout, world: &mut World, scene_hash: u64, tets: bool) 
         Err(_) => (Vec::new(), Vec::new()),
     };
     if frame_times.len() != frame {
-        return Err(SimError::Cache {
-            path: layout.manifest(),
-            message: format!(
+        return Err(CacheError::format(
+            layout.manifest(),
+            format!(
                 "the manifest records {} frames but the checkpoint is at frame {frame}; rerun without --resume",
                 frame_times.len()
             ),
-        });
+        )
+        .into());
     }
     Ok(Resumed {
         frame,

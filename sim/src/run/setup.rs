@@ -4,6 +4,8 @@
 
 use std::time::Instant;
 
+use perifrac_math::sub;
+
 use crate::cache::manifest::Timings;
 use crate::contact::{self, Collider, centroid};
 use crate::embed::EmbeddedMesh;
@@ -232,8 +234,8 @@ fn set_initial_velocities(
         let c = centroid(position, weight, &members);
         let w = spec.angular_velocity;
         for &i in &members {
-            let r = position[i];
-            let r = [r[0] - c[0], r[1] - c[1], r[2] - c[2]];
+            let r = sub(position[i], c);
+            // v + ω × r, summed left to right as before the restructure (pinned bytes).
             velocity[i] = [
                 spec.velocity[0] + w[1] * r[2] - w[2] * r[1],
                 spec.velocity[1] + w[2] * r[0] - w[0] * r[2],

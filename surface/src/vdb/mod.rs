@@ -20,16 +20,19 @@
 //! points. A body whose particles form a single layer is refused.
 
 mod grid;
+mod stage;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
-use perifrac_sim::cache::Layout;
-use perifrac_sim::cache::manifest::{BodyInfo, Manifest};
-use perifrac_sim::cache::ply::ParticleFrame;
-use perifrac_sim::scene::{VdbFilter, VdbSpec};
+use perifrac_cache::manifest::{BodyInfo, Manifest};
+use perifrac_cache::mesh::SurfaceMesh;
+use perifrac_cache::ply::ParticleFrame;
+use perifrac_cache::scene::{VdbFilter, VdbSpec};
+use perifrac_cache::{Layout, temporary_path};
 
 pub use grid::{Frame, LevelSet, RasterCount, initialize};
+pub use stage::stage;
 
 use crate::debris::Debris;
 use crate::error::{Result, SurfaceError};
@@ -48,6 +51,20 @@ pub struct FragmentMesh {
     pub particles: usize,
     /// Its triangles.
     pub mesh: TriangleMesh,
+}
+
+impl FragmentMesh {
+    /// The mesh as the cache's surface type, named `fragment N`, with area-weighted
+    /// vertex normals.
+    pub fn surface_mesh(&self) -> SurfaceMesh {
+        SurfaceMesh {
+            name: format!("fragment {}", self.fragment),
+            positions: self.mesh.positions.clone(),
+            normals: self.mesh.vertex_normals(),
+            surface_indices: self.mesh.indices.clone(),
+            ..SurfaceMesh::default()
+        }
+    }
 }
 
 /// Wall-clock seconds spent in each step of a frame.
@@ -99,19 +116,6 @@ pub struct FrameSurface {
     pub stats: FrameStats,
 }
 
-/// `vdb/NNNN.vdb` of a cache.
-pub fn vdb_path(layout: &Layout, frame: usize) -> PathBuf {
-    layout.root.join("vdb").join(format!("{frame:04}.vdb"))
-}
-
-/// `surface/NNNN_debris.ply` of a cache.
-pub fn debris_path(layout: &Layout, frame: usize) -> PathBuf {
-    layout
-        .root
-        .join("surface")
-        .join(format!("{frame:04}_debris.ply"))
-}
-
 /// Surfaces frame `frame` of the cache at `layout`: reads `particles/NNNN.ply`,
 /// writes `vdb/NNNN.vdb` and `surface/NNNN_debris.ply`, and returns the meshes.
 pub fn surface_frame(
@@ -123,8 +127,8 @@ pub fn surface_frame(
     let start = Instant::now();
     let particles = ParticleFrame::read(&layout.particles(frame))?;
     let read = start.elapsed().as_secs_f64();
-    let vdb = vdb_path(layout, frame);
-    let debris = debris_path(layout, frame);
+    let vdb = layout.vdb(frame);
+    let debris = layout.debris(frame);
     for path in [&vdb, &debris] {
         if let Some(dir) = path.parent() {
             std::fs::create_dir_all(dir).map_err(|e| SurfaceError::io(dir, e))?;
@@ -242,7 +246,7 @@ pub fn surface_particles(
     }
     let t = Instant::now();
     stats.active_voxels = grids.active_voxels();
-    let tmp = temporary(vdb_path);
+    let tmp = temporary_path(vdb_path);
     grids.write(&tmp)?;
     std::fs::rename(&tmp, vdb_path).map_err(|e| SurfaceError::io(vdb_path, e))?;
     debris.write(debris_path, frame)?;
@@ -253,13 +257,4 @@ pub fn surface_particles(
         meshes,
         stats,
     })
-}
-
-/// A temporary name beside `path`, renamed into place once written.
-fn temporary(path: &Path) -> PathBuf {
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    path.with_file_name(format!(".{name}.tmp-{}", std::process::id()))
 }

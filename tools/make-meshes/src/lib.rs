@@ -18,6 +18,7 @@ use std::collections::HashMap;
 
 use gltf_json as json;
 use json::validation::{Checked, USize64};
+use perifrac_math::{dot, norm, scale, sub};
 use perifrac_sim::geometry::mesh::TriMesh;
 
 /// An asset: its file name in `assets/meshes/` and its bytes.
@@ -247,8 +248,8 @@ pub fn jello() -> TriMesh {
     mesh.weld();
     for p in &mut mesh.vertices {
         let c = [0, 1, 2].map(|k| p[k].clamp(-(JELLO_HALF[k] - r), JELLO_HALF[k] - r));
-        let d = [0, 1, 2].map(|k| p[k] - c[k]);
-        let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        let d = sub(*p, c);
+        let l = norm(d);
         *p = [0, 1, 2].map(|k| c[k] + r * d[k] / l);
     }
     outward(mesh)
@@ -259,24 +260,17 @@ const FIGURE_CELL: f64 = 0.008;
 /// Fillet size of the smooth union joining the figure's parts, in m.
 const FIGURE_BLEND: f64 = 0.035;
 
-fn length(p: [f64; 3]) -> f64 {
-    (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt()
-}
-
 fn capsule(p: [f64; 3], a: [f64; 3], b: [f64; 3], r: f64) -> f64 {
-    let pa = [0, 1, 2].map(|k| p[k] - a[k]);
-    let ba = [0, 1, 2].map(|k| b[k] - a[k]);
-    let h = ((0..3).map(|k| pa[k] * ba[k]).sum::<f64>()
-        / (0..3).map(|k| ba[k] * ba[k]).sum::<f64>())
-    .clamp(0.0, 1.0);
-    length([0, 1, 2].map(|k| pa[k] - ba[k] * h)) - r
+    let (pa, ba) = (sub(p, a), sub(b, a));
+    let h = (dot(pa, ba) / dot(ba, ba)).clamp(0.0, 1.0);
+    norm(sub(pa, scale(ba, h))) - r
 }
 
 /// Approximate ellipsoid distance (exact zero set): `k0 (k0 − 1) / k1`.
 fn ellipsoid(p: [f64; 3], c: [f64; 3], r: [f64; 3]) -> f64 {
-    let q = [0, 1, 2].map(|k| p[k] - c[k]);
-    let k0 = length([0, 1, 2].map(|k| q[k] / r[k]));
-    let k1 = length([0, 1, 2].map(|k| q[k] / (r[k] * r[k])));
+    let q = sub(p, c);
+    let k0 = norm([0, 1, 2].map(|k| q[k] / r[k]));
+    let k1 = norm([0, 1, 2].map(|k| q[k] / (r[k] * r[k])));
     k0 * (k0 - 1.0) / k1
 }
 
@@ -291,7 +285,7 @@ fn smooth_min(a: f64, b: f64, k: f64) -> f64 {
 pub fn figure_field(p: [f64; 3]) -> f64 {
     let parts = [
         ellipsoid(p, [0.0, 0.16, 0.0], [0.055, 0.07, 0.04]),
-        length([p[0], p[1] - 0.27, p[2]]) - 0.045,
+        norm([p[0], p[1] - 0.27, p[2]]) - 0.045,
         capsule(p, [0.03, 0.195, 0.0], [0.155, 0.2, 0.0], 0.027),
         capsule(p, [-0.03, 0.195, 0.0], [-0.155, 0.2, 0.0], 0.027),
         capsule(p, [0.03, 0.12, 0.0], [0.045, 0.029, 0.0], 0.028),

@@ -2,7 +2,7 @@
 //! signed distance and the conformity measure) and box-overlap queries (for the
 //! self-intersection check).
 
-use super::{add, dot, scale, sub};
+use perifrac_math::{add, dot, scale, sub};
 
 /// Most triangles in a leaf.
 const LEAF_SIZE: usize = 4;

@@ -3,10 +3,11 @@
 
 use std::path::Path;
 
+use perifrac_math::{cross, dot, norm, sub};
 use rayon::prelude::*;
 
 use super::bvh::Bvh;
-use super::{MeshFileError, TriMesh, cross, dot, norm, sub};
+use super::{MeshFileError, TriMesh};
 
 /// A face is of zero area when its area is below this times the squared
 /// bounding-box diagonal.

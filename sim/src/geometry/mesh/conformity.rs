@@ -14,11 +14,12 @@
 //! otherwise the vertex goes back. It then measures the two-sided Hausdorff
 //! distance between the boundary and the surface.
 
+use perifrac_math::{cross, dist, dot, normalize, signed_volume, sub};
 use rayon::prelude::*;
 
 use super::bvh::Bvh;
-use super::{MeshSdf, TriMesh, dist};
-use crate::geometry::{TetMesh, dihedral_range, signed_volume};
+use super::{MeshSdf, TriMesh};
+use crate::geometry::{TetMesh, dihedral_range};
 
 /// Surface vertices farther than this (in λ) from the tet boundary pull the
 /// nearest boundary vertex onto them.
@@ -174,7 +175,7 @@ fn feature_points(surface: &TriMesh, lambda: f64) -> Vec<FeaturePoint> {
     let normals: Vec<[f64; 3]> = (0..surface.triangles.len())
         .map(|t| {
             let [a, b, c] = surface.corners(t);
-            super::normalize(super::cross(super::sub(b, a), super::sub(c, a)))
+            normalize(cross(sub(b, a), sub(c, a)))
         })
         .collect();
     let mut edges: Vec<(u32, u32, usize)> = surface
@@ -190,7 +191,7 @@ fn feature_points(surface: &TriMesh, lambda: f64) -> Vec<FeaturePoint> {
     let cos_crease = CREASE_ANGLE_DEG.to_radians().cos();
     for pair in edges.chunks_exact(2) {
         let ((a, b, f), (_, _, g)) = (pair[0], pair[1]);
-        if super::dot(normals[f], normals[g]) >= cos_crease {
+        if dot(normals[f], normals[g]) >= cos_crease {
             continue;
         }
         let (pa, pb) = (surface.vertices[a as usize], surface.vertices[b as usize]);
@@ -207,7 +208,7 @@ fn feature_points(surface: &TriMesh, lambda: f64) -> Vec<FeaturePoint> {
 }
 
 /// Two-sided Hausdorff distance and mean distance (in λ) between the boundary
-/// faces of `tets` and `surface`, sampled at [`SAMPLE_SPACING`]·λ, and the
+/// faces of `tets` and `surface`, sampled at `SAMPLE_SPACING` = 0.1 λ, and the
 /// sample point where the largest distance was found.
 pub fn hausdorff(
     tets: &TetMesh,

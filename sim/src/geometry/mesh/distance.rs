@@ -11,8 +11,10 @@
 
 use std::collections::HashMap;
 
+use perifrac_math::{add, cross, dot, normalize, scale, sub};
+
+use super::TriMesh;
 use super::bvh::{Bvh, Feature};
-use super::{TriMesh, add, cross, dot, normalize, scale, sub};
 use crate::geometry::Sdf;
 
 /// The signed distance function of a closed, consistently oriented mesh

@@ -1,9 +1,9 @@
 //! Closed triangle meshes as body shapes (issue 3, item 1).
 //!
-//! A mesh file (OBJ, PLY or glTF/GLB, [`read`]) is read into a [`TriMesh`], its
+//! A mesh file (OBJ, PLY or glTF/GLB, module `read`) is read into a [`TriMesh`], its
 //! duplicate vertices welded, placed in the scene by a [`Placement`]
 //! (scale, rotation, translation), checked to be a closed, consistently oriented,
-//! non-degenerate, non-self-intersecting surface ([`check`]) and turned into an
+//! non-degenerate, non-self-intersecting surface (module `check`) and turned into an
 //! exact signed distance function ([`MeshSdf`], BVH + angle-weighted
 //! pseudonormals, Bærentzen & Aanæs 2005) that the isosurface-stuffing mesher
 //! fills with tetrahedra; [`conformity`] measures how closely the tet mesh's
@@ -16,6 +16,8 @@ mod distance;
 mod read;
 
 use std::path::{Path, PathBuf};
+
+use perifrac_math::{cross, dist, dot, norm, sub};
 
 pub use self::bvh::Bvh;
 pub use self::conformity::{Conformity, conform};
@@ -235,7 +237,7 @@ impl TriMesh {
         Ok(mesh)
     }
 
-    /// Merges vertices that coincide (to [`WELD_TOLERANCE`] of the bounding-box
+    /// Merges vertices that coincide (to `WELD_TOLERANCE` = 10⁻⁹ of the bounding-box
     /// diagonal) and drops unused ones; the first occurrence's position is kept.
     pub fn weld(&mut self) {
         let (lo, hi) = self.bounds();
@@ -316,43 +318,6 @@ impl TriMesh {
             })
             .sum()
     }
-}
-
-pub(crate) fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-pub(crate) fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-
-pub(crate) fn scale(a: [f64; 3], s: f64) -> [f64; 3] {
-    [a[0] * s, a[1] * s, a[2] * s]
-}
-
-pub(crate) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-pub(crate) fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-pub(crate) fn norm(a: [f64; 3]) -> f64 {
-    dot(a, a).sqrt()
-}
-
-pub(crate) fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
-    norm(sub(a, b))
-}
-
-pub(crate) fn normalize(a: [f64; 3]) -> [f64; 3] {
-    let n = norm(a);
-    if n > 0.0 { scale(a, 1.0 / n) } else { [0.0; 3] }
 }
 
 #[cfg(test)]

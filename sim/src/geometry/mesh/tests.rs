@@ -3,6 +3,8 @@
 
 use std::path::{Path, PathBuf};
 
+use perifrac_math::{add, normalize, scale};
+
 use super::*;
 use crate::geometry::sdf::{Cuboid, Sdf};
 use crate::geometry::stuff;

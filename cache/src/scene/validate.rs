@@ -91,9 +91,10 @@ pub(super) fn validate(scene: &Scene) -> Check {
     Ok(())
 }
 
-/// Radius of a sphere with the volume of a cube of side 1: (3/(4π))^(1/3). A
-/// particle's sphere radius in particle spacings is `radius_scale` times this.
-const SPHERE_RADIUS_PER_SPACING: f64 = 0.620_350_490_899_400_1;
+/// Radius of a sphere with the volume of a cube of side 1: (3/(4π))^(1/3), a
+/// particle's volume-equivalent sphere radius in particle spacings. The `vdb`
+/// method's sphere radius is `radius_scale` times this.
+pub const SPHERE_RADIUS_PER_SPACING: f64 = 0.620_350_490_899_400_1;
 
 /// The smallest sphere radius, in voxels, that OpenVDB's `ParticlesToLevelSet`
 /// rasterizes (smaller particles are dropped).

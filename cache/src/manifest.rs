@@ -1,11 +1,11 @@
 //! `manifest.json`: what a run produced and what it cost.
 
+use std::collections::BTreeMap;
 use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use crate::error::{Result, SimError};
-use crate::pd::StageTimes;
+use crate::error::{CacheError, Result};
 
 /// The manifest of an output directory.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
@@ -71,8 +71,9 @@ pub struct Timings {
     pub discretize: f64,
     /// Neighbour search and bond setup.
     pub families: f64,
-    /// The model's stages.
-    pub stages: StageTimes,
+    /// The model's stages by name (for the peridynamic model `dilatation` and
+    /// `forces`), filled in by the simulator.
+    pub stages: BTreeMap<String, f64>,
     /// Integration, anchors, damping, contact.
     pub integrate_contact: f64,
     /// Writing frames.
@@ -104,15 +105,68 @@ impl Manifest {
 
     /// Writes it atomically.
     pub fn write(&self, path: &Path) -> Result<()> {
-        super::write_atomic(path, self.to_json().as_bytes())
+        crate::write_atomic(path, self.to_json().as_bytes())
     }
 
     /// Reads a manifest.
     pub fn read(path: &Path) -> Result<Manifest> {
-        let text = std::fs::read_to_string(path).map_err(|e| SimError::io(path, e))?;
-        serde_json::from_str(&text).map_err(|e| SimError::Cache {
+        let text = std::fs::read_to_string(path).map_err(|e| CacheError::io(path, e))?;
+        serde_json::from_str(&text).map_err(|e| CacheError::Format {
             path: path.to_path_buf(),
             message: format!("not a perifrac manifest: {e}"),
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn awkward_floats_read_back_to_the_same_bits() {
+        let awkward = [
+            0.1 + 0.2,
+            1.0 / 3.0,
+            7.3e-5 * 3.0,
+            2.0f64.sqrt() * 1e-300,
+            1e308,
+        ];
+        let manifest = Manifest {
+            scene: "floats".into(),
+            dt: awkward[2],
+            stable_dt: awkward[3],
+            fps: 24.0,
+            frame_times: awkward.to_vec(),
+            collider_centers: vec![vec![[awkward[0], awkward[1], awkward[4]]]],
+            timings: Timings {
+                stages: [
+                    ("dilatation".to_string(), awkward[1]),
+                    ("forces".into(), 0.7),
+                ]
+                .into_iter()
+                .collect(),
+                total: awkward[0],
+                ..Timings::default()
+            },
+            ..Manifest::default()
+        };
+        let dir = tempfile::tempdir().expect("tempdir");
+        let path = dir.path().join("manifest.json");
+        manifest.write(&path).expect("write");
+        let back = Manifest::read(&path).expect("read");
+        let bits = |m: &Manifest| -> Vec<u64> {
+            let mut v: Vec<f64> = vec![m.dt, m.stable_dt, m.timings.total];
+            v.extend(&m.frame_times);
+            v.extend(m.collider_centers.iter().flatten().flatten());
+            v.extend(m.timings.stages.values());
+            v.into_iter().map(f64::to_bits).collect()
+        };
+        assert_eq!(bits(&back), bits(&manifest));
+        assert_eq!(back, manifest);
+        let json = manifest.to_json();
+        assert!(
+            json.contains("\"stages\": {\n      \"dilatation\": 0.3333333333333333,\n      \"forces\": 0.7\n    }"),
+            "{json}"
+        );
     }
 }

@@ -11,7 +11,7 @@
 
 use std::path::Path;
 
-use crate::error::{Result, SimError};
+use crate::error::{CacheError, Result};
 
 /// VTK's cell type of a linear tetrahedron.
 pub const VTK_TETRA: u8 = 10;
@@ -165,21 +165,21 @@ impl TetFrame {
 
     /// Writes the frame atomically; refuses inconsistent data.
     pub fn write(&self, path: &Path) -> Result<()> {
-        self.check().map_err(|message| SimError::Cache {
+        self.check().map_err(|message| CacheError::Format {
             path: path.to_path_buf(),
             message,
         })?;
-        super::write_atomic(path, &self.to_bytes())
+        crate::write_atomic(path, &self.to_bytes())
     }
 
     /// Reads a frame written by [`TetFrame::write`].
     pub fn read(path: &Path) -> Result<TetFrame> {
-        let bytes = std::fs::read(path).map_err(|e| SimError::io(path, e))?;
-        let frame = Self::parse(&bytes).map_err(|message| SimError::Cache {
+        let bytes = std::fs::read(path).map_err(|e| CacheError::io(path, e))?;
+        let frame = Self::parse(&bytes).map_err(|message| CacheError::Format {
             path: path.to_path_buf(),
             message,
         })?;
-        frame.check().map_err(|message| SimError::Cache {
+        frame.check().map_err(|message| CacheError::Format {
             path: path.to_path_buf(),
             message,
         })?;

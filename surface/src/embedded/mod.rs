@@ -25,10 +25,13 @@
 //! vertices along their normals by a common offset h = ΔV / A (three Newton steps),
 //! under the same guard.
 
-use perifrac_sim::cache::vtu::TetFrame;
+mod stage;
 
-/// Face f (opposite local vertex f) of a positively oriented tet, wound outward.
-const OUTWARD: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
+use perifrac_cache::mesh::SurfaceMesh;
+use perifrac_cache::vtu::TetFrame;
+use perifrac_math::{TET_FACES, UnionFind, cross, dot, norm, signed_volume, sub};
+
+pub use stage::{EmbeddedReport, stage};
 
 /// Fraction of the way to the neighbours' mean a smoothing pass moves a vertex.
 const STEP: f64 = 0.5;
@@ -100,45 +103,23 @@ pub struct SmoothingStats {
     pub reverted: usize,
 }
 
-/// Vertices of one class (original or crack) with their own normals, ready for
-/// export: crack and original faces meeting at a vertex get a copy each.
+/// A frame's surface ready for export, with the split-mesh vertex each of its
+/// vertices stands for: one vertex per split-mesh vertex and class (original or
+/// crack), so crack and original faces meeting at a vertex get a copy each, with
+/// their own normals. The mesh's damage is the mean damage of the tets the vertex's
+/// faces bound.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct RenderMesh {
-    /// The split-mesh vertex of each render vertex.
+    /// The split-mesh vertex of each mesh vertex.
     pub vertex: Vec<u32>,
-    /// Whether each render vertex belongs to crack faces.
-    pub crack: Vec<bool>,
-    /// Positions (m).
-    pub positions: Vec<[f32; 3]>,
-    /// Area-weighted unit normals, per class.
-    pub normals: Vec<[f32; 3]>,
-    /// Mean damage of the tets the vertex's faces bound.
-    pub damage: Vec<f32>,
-    /// Triangles of the original surface (indices into the render vertices).
-    pub surface_indices: Vec<u32>,
-    /// Triangles of the crack surfaces.
-    pub crack_indices: Vec<u32>,
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+    /// Positions, area-weighted unit normals per class, damage, and the original
+    /// and crack triangles.
+    pub mesh: SurfaceMesh,
 }
 
 fn tet_volume(x: &[[f64; 3]], t: [u32; 4]) -> f64 {
     let [a, b, c, d] = t.map(|v| x[v as usize]);
-    dot(sub(b, a), cross(sub(c, a), sub(d, a))) / 6.0
+    signed_volume(a, b, c, d)
 }
 
 /// Area vector (twice the area, along the normal) of a triangle.
@@ -183,7 +164,7 @@ pub fn boundary(frame: &TetFrame) -> (Vec<[u32; 3]>, Vec<bool>, Vec<u32>) {
     let faces: Vec<[u32; 3]> = frame
         .tets
         .iter()
-        .flat_map(|t| OUTWARD.map(|f| sorted3(f.map(|i| t[i]))))
+        .flat_map(|t| TET_FACES.map(|f| sorted3(f.map(|i| t[i]))))
         .collect();
     let roots: Vec<[u32; 3]> = faces
         .iter()
@@ -195,7 +176,7 @@ pub fn boundary(frame: &TetFrame) -> (Vec<[u32; 3]>, Vec<bool>, Vec<u32>) {
     let mut crack = Vec::new();
     let mut owner = Vec::new();
     for (t, tet) in frame.tets.iter().enumerate() {
-        for (f, local) in OUTWARD.iter().enumerate() {
+        for (f, local) in TET_FACES.iter().enumerate() {
             if count_of(&face_counts, faces[4 * t + f]) == 1 {
                 triangles.push(local.map(|i| tet[i]));
                 crack.push(count_of(&root_counts, roots[4 * t + f]) == 2);
@@ -210,34 +191,13 @@ pub fn boundary(frame: &TetFrame) -> (Vec<[u32; 3]>, Vec<bool>, Vec<u32>) {
 /// lowest tet.
 pub fn fragments(frame: &TetFrame) -> Vec<u32> {
     let nv = frame.points.len();
-    let mut parent: Vec<u32> = (0..(nv + frame.tets.len()) as u32).collect();
-    fn find(p: &mut [u32], mut i: u32) -> u32 {
-        while p[i as usize] != i {
-            p[i as usize] = p[p[i as usize] as usize];
-            i = p[i as usize];
-        }
-        i
-    }
+    let mut sets = UnionFind::new(nv + frame.tets.len());
     for (t, tet) in frame.tets.iter().enumerate() {
         for &v in tet {
-            let (a, b) = (find(&mut parent, (nv + t) as u32), find(&mut parent, v));
-            if a != b {
-                parent[a.max(b) as usize] = a.min(b);
-            }
+            sets.union(nv + t, v as usize);
         }
     }
-    let mut label = vec![u32::MAX; nv + frame.tets.len()];
-    let mut next = 0;
-    (0..frame.tets.len())
-        .map(|t| {
-            let r = find(&mut parent, (nv + t) as u32) as usize;
-            if label[r] == u32::MAX {
-                label[r] = next;
-                next += 1;
-            }
-            label[r]
-        })
-        .collect()
+    sets.labels_of(nv..nv + frame.tets.len())
 }
 
 /// Extracts the surface of a frame and smooths its cracks with `passes` passes.
@@ -291,7 +251,7 @@ pub fn surface(frame: &TetFrame, passes: usize) -> EmbeddedSurface {
     let mut planes: Vec<Vec<[f64; 3]>> = vec![Vec::new(); nv];
     for (f, _) in triangles.iter().zip(&crack).filter(|(_, c)| !**c) {
         let n = area_vector(&points, *f);
-        let l = dot(n, n).sqrt();
+        let l = norm(n);
         if l <= 0.0 {
             continue;
         }
@@ -315,7 +275,7 @@ pub fn surface(frame: &TetFrame, passes: usize) -> EmbeddedSurface {
                 [n] => Some(Constraint::Plane(*n)),
                 [n, m] => {
                     let d = cross(*n, *m);
-                    let l = dot(d, d).sqrt();
+                    let l = norm(d);
                     (l > 0.0).then(|| Constraint::Line(d.map(|c| c / l)))
                 }
                 _ => None,
@@ -445,14 +405,14 @@ pub fn surface(frame: &TetFrame, passes: usize) -> EmbeddedSurface {
         // dV/dh of fragment k = Σ over its vertices of |area vector|/3 along n̂.
         let mut rate = vec![0.0; now.len()];
         for (i, n) in normal.iter().enumerate() {
-            rate[frag_of[i]] += dot(*n, *n).sqrt();
+            rate[frag_of[i]] += norm(*n);
         }
         let moves: Vec<[f64; 3]> = normal
             .iter()
             .enumerate()
             .map(|(i, n)| {
                 let k = frag_of[i];
-                let len = dot(*n, *n).sqrt();
+                let len = norm(*n);
                 if rate[k] <= 0.0 || len <= 0.0 {
                     return [0.0; 3];
                 }
@@ -556,16 +516,15 @@ impl EmbeddedSurface {
         let index = |v: u32, c: bool| key.binary_search(&(v, c)).unwrap_or(0) as u32;
         let mut out = RenderMesh {
             vertex: key.iter().map(|k| k.0).collect(),
-            crack: key.iter().map(|k| k.1).collect(),
             ..RenderMesh::default()
         };
         let mut damage_sum = vec![(0.0f64, 0usize); key.len()];
         for ((f, &c), &t) in self.triangles.iter().zip(&self.crack).zip(&self.owner) {
             let ids = f.map(|v| index(v, c));
             let list = if c {
-                &mut out.crack_indices
+                &mut out.mesh.crack_indices
             } else {
-                &mut out.surface_indices
+                &mut out.mesh.surface_indices
             };
             list.extend_from_slice(&ids);
             for i in ids {
@@ -574,12 +533,12 @@ impl EmbeddedSurface {
                 d.1 += 1;
             }
         }
-        out.damage = damage_sum
+        out.mesh.damage = damage_sum
             .iter()
             .map(|(s, n)| (s / (*n).max(1) as f64) as f32)
             .collect();
-        out.positions = self.positions_of(&out, &self.points);
-        out.normals = self.normals(&out, &self.points);
+        out.mesh.positions = self.positions_of(&out, &self.points);
+        out.mesh.normals = self.normals(&out, &self.points);
         out
     }
 
@@ -594,7 +553,7 @@ impl EmbeddedSurface {
     /// Area-weighted unit normals of `mesh`'s render vertices at `points`.
     pub fn normals(&self, mesh: &RenderMesh, points: &[[f64; 3]]) -> Vec<[f32; 3]> {
         let mut n = vec![[0.0f64; 3]; mesh.vertex.len()];
-        for list in [&mesh.surface_indices, &mesh.crack_indices] {
+        for list in [&mesh.mesh.surface_indices, &mesh.mesh.crack_indices] {
             for tri in list.chunks_exact(3) {
                 let f = [0, 1, 2].map(|k| mesh.vertex[tri[k] as usize]);
                 let a = area_vector(points, f);
@@ -607,7 +566,7 @@ impl EmbeddedSurface {
         }
         n.iter()
             .map(|v| {
-                let l = dot(*v, *v).sqrt();
+                let l = norm(*v);
                 if l > 0.0 {
                     v.map(|c| (c / l) as f32)
                 } else {

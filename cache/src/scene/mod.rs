@@ -1,19 +1,21 @@
 //! The scene file: TOML in SI units (m, kg, s, Pa), y up.
 //!
 //! [`Scene::load`] reads a file, fills in defaults, checks every value and returns
-//! a [`Scene`]; any problem is a [`SimError::Scene`] naming the file, the line and
+//! a [`Scene`]; any problem is a [`CacheError::Scene`] naming the file, the line and
 //! the dotted key. Unknown keys are errors. The resolved scene (defaults filled in)
 //! is written next to the cache by [`Scene::to_toml`].
 
 mod locate;
 mod validate;
 
+pub use validate::SPHERE_RADIUS_PER_SPACING;
+
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use crate::error::{Result, SimError};
+use crate::error::{CacheError, Result};
 
 /// A whole scene: global settings, materials, bodies, colliders and outputs.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -672,7 +674,7 @@ fn default_vdb_min_fragment_particles() -> usize {
 impl Scene {
     /// Reads, resolves and validates a scene file.
     pub fn load(path: &Path) -> Result<Scene> {
-        let text = std::fs::read_to_string(path).map_err(|e| SimError::io(path, e))?;
+        let text = std::fs::read_to_string(path).map_err(|e| CacheError::io(path, e))?;
         let base_dir = path
             .parent()
             .map(Path::to_path_buf)
@@ -689,7 +691,7 @@ impl Scene {
                 .map(|s| locate::line_column(text, s.start))
                 .unwrap_or((1, 1));
             let key = locate::key_at(text, e.span().map_or(0, |s| s.start));
-            SimError::Scene {
+            CacheError::Scene {
                 file: file.to_path_buf(),
                 line,
                 column,
@@ -706,7 +708,7 @@ impl Scene {
         validate::validate(&scene).map_err(|issue| {
             let span = locate::span_of(text, &issue.path);
             let (line, column) = locate::line_column(text, span.map_or(0, |s| s.start));
-            SimError::Scene {
+            CacheError::Scene {
                 file: file.to_path_buf(),
                 line,
                 column,
@@ -769,7 +771,7 @@ resolution = 0.1
     /// Parses `text`, expecting an error; returns (line, key, message).
     fn error(text: &str) -> (usize, String, String) {
         match Scene::parse(text, Path::new("bad.toml"), Path::new("/nonexistent-dir")) {
-            Err(SimError::Scene {
+            Err(CacheError::Scene {
                 file,
                 line,
                 key,

@@ -1,0 +1,29 @@
+//! perifrac's cache on disk, the contract between the stages (ARCHITECTURE.md, "The
+//! cache on disk"). It depends on nothing of the solver: the simulator writes it, the
+//! surface and render stages read it, and each reads and writes it only through the
+//! types here.
+//!
+//! | type | what it is |
+//! |---|---|
+//! | [`Layout`] | every path of an output directory (`manifest.json`, `scene.toml`, `particles/NNNN.ply`, `tets/NNNN.vtu`, `surface/NNNN.glb`, `surface/animated.glb`, `surface/NNNN_debris.ply`, `vdb/NNNN.vdb`, `preview/…`, `checkpoint/state.bin`) |
+//! | [`write_atomic`] | the one way a cache file is written (temporary name, [`temporary_path`], then rename) |
+//! | [`scene::Scene`] | the scene file format, its defaults and validation; [`scene::Scene::load`] also reads the resolved `OUT/scene.toml` |
+//! | [`ply::ParticleFrame`] | a particle frame (float PLY: standard columns, then a model's extra columns); [`ply::encode_points`] / [`ply::FloatPly`] for other point files |
+//! | [`vtu::TetFrame`] | the split tet mesh of a frame (VTK XML) |
+//! | [`manifest::Manifest`] | `manifest.json`: what a run produced and what it cost |
+//! | [`checkpoint::Checkpoint`] | the versioned, checksummed checkpoint container; a model writes its state into the payload with [`checkpoint::Encoder`] and reads it with [`checkpoint::Decoder`] |
+//! | [`mesh::SurfaceMesh`] | a surface as the surface stage makes it and the glTF writer writes it; [`mesh::SurfaceEncoder`] is how the surface stage has it encoded |
+//! | [`CacheError`] | every failure, naming the file (and, for scenes, line, column and key) |
+#![warn(missing_docs)]
+
+pub mod checkpoint;
+pub mod error;
+mod layout;
+pub mod manifest;
+pub mod mesh;
+pub mod ply;
+pub mod scene;
+pub mod vtu;
+
+pub use error::{CacheError, Result};
+pub use layout::{Layout, temporary_path, write_atomic};

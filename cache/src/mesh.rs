@@ -1,0 +1,54 @@
+//! Surfaces as the surface stage makes them and the render stage writes them
+//! (`surface/NNNN.glb`, `surface/animated.glb`): one type on both sides, and the
+//! interface through which the surface stage has its files encoded without
+//! depending on the glTF writer.
+
+/// A triangle surface: shared vertex arrays, the original surface's triangles and the
+/// crack faces' triangles (counter-clockwise seen from outside).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SurfaceMesh {
+    /// Name of the mesh (and its node) in the files that carry one; may be empty.
+    pub name: String,
+    /// Vertex positions (m).
+    pub positions: Vec<[f32; 3]>,
+    /// Unit vertex normals, one per position.
+    pub normals: Vec<[f32; 3]>,
+    /// Damage φ in [0, 1] per vertex; empty when the surface carries none (the `vdb`
+    /// method's meshes).
+    pub damage: Vec<f32>,
+    /// Three vertex indices a triangle of the original surface.
+    pub surface_indices: Vec<u32>,
+    /// Three vertex indices a triangle of the crack surfaces (the inside of the
+    /// object).
+    pub crack_indices: Vec<u32>,
+}
+
+impl SurfaceMesh {
+    /// Number of triangles, original and crack.
+    pub fn triangle_count(&self) -> usize {
+        (self.surface_indices.len() + self.crack_indices.len()) / 3
+    }
+}
+
+/// An error of a [`SurfaceEncoder`].
+pub type EncodeError = Box<dyn std::error::Error + Send + Sync>;
+
+/// Turns surfaces into the bytes of a surface file. perifrac-render's glTF writer
+/// implements it; the surface stage receives it from its caller, so the surface crate
+/// does not depend on the render crate.
+pub trait SurfaceEncoder: Sync {
+    /// A fractured surface of one frame (original and crack triangles apart).
+    fn fractured(&self, mesh: &SurfaceMesh) -> Result<Vec<u8>, EncodeError>;
+
+    /// A fractured surface animated over frames: `frames[k]` are the positions of
+    /// `mesh`'s vertices at time `times[k]` (s).
+    fn animated(
+        &self,
+        mesh: &SurfaceMesh,
+        times: &[f32],
+        frames: &[Vec<[f32; 3]>],
+    ) -> Result<Vec<u8>, EncodeError>;
+
+    /// Plain meshes of one frame (e.g. one a fragment), each with its own name.
+    fn meshes(&self, meshes: &[SurfaceMesh]) -> Result<Vec<u8>, EncodeError>;
+}

@@ -1,0 +1,33 @@
+//! perifrac's shared maths, the ground under `perifrac-sim`, `perifrac-surface` and
+//! `perifrac-render`: each helper here is written once, and the crates call it instead
+//! of keeping their own copy.
+//!
+//! | item | what it is |
+//! |---|---|
+//! | [`Vector3`], [`Matrix3`], [`RealField`], … | nalgebra, the project's named maths crate (re-exported), for 3×3 SVD, polar and symmetric eigen decompositions |
+//! | [`to_vector`], [`from_vector`], [`to_matrix`], [`from_matrix`] | between the arrays kept in structure-of-arrays storage and nalgebra |
+//! | [`add`], [`sub`], [`scale`], [`dot`], [`cross`], [`norm`], [`dist`], [`normalize`], [`lerp`] | `[T; 3]` arithmetic for `f32` and `f64`, in the plain order of operations (same bits as the written-out expressions) |
+//! | [`signed_volume`] | a tet's volume, signed by its orientation |
+//! | [`mat_vec`], [`mat_mul`], [`det3`], [`inverse3`] | 3×3 arithmetic on row-major `[[f64; 3]; 3]` |
+//! | [`TET_FACES`] | the tet face table: face `f` lies opposite corner `f`, wound outward |
+//! | [`UnionFind`] | disjoint sets with path compression and deterministic labels |
+//! | [`det_sum`] | a parallel sum with the same bits for any thread count |
+//!
+//! The PD force kernels (`perifrac-sim`'s `pd::kernel`) keep their hand-written
+//! arithmetic: this crate is for everything outside them.
+
+#![warn(missing_docs)]
+
+mod sum;
+mod tet;
+mod union_find;
+mod vector;
+
+pub use nalgebra::{Matrix3, RealField, Rotation3, SVD, SymmetricEigen, UnitQuaternion, Vector3};
+pub use sum::det_sum;
+pub use tet::TET_FACES;
+pub use union_find::UnionFind;
+pub use vector::{
+    add, cross, det3, dist, dot, from_matrix, from_vector, inverse3, lerp, mat_mul, mat_vec, norm,
+    normalize, scale, signed_volume, sub, to_matrix, to_vector,
+};

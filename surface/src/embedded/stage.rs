@@ -1,0 +1,167 @@
+//! The `embedded` surface stage over a whole cache: every frame's split tet mesh
+//! (`tets/NNNN.vtu`) becomes `surface/NNNN.glb`, and the frames together
+//! `surface/animated.glb` (the last frame's topology, one morph target a frame);
+//! the extraction time goes into the manifest (`timings.surface`).
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
+
+use perifrac_cache::Layout;
+use perifrac_cache::manifest::Manifest;
+use perifrac_cache::mesh::SurfaceEncoder;
+use perifrac_cache::scene::EmbeddedSpec;
+use perifrac_cache::vtu::TetFrame;
+use rayon::prelude::*;
+
+use super::{EmbeddedSurface, RenderMesh, SmoothingStats, surface};
+use crate::error::{Result, SurfaceError};
+use crate::write_encoded as write;
+
+/// What an `embedded` stage did, for its summary line.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct EmbeddedReport {
+    /// Frames surfaced.
+    pub frames: usize,
+    /// Wall-clock seconds of the whole stage.
+    pub seconds: f64,
+    /// Seconds of surface extraction over all frames (not the writing of files).
+    pub extraction: f64,
+    /// Triangles of the last frame.
+    pub triangles: usize,
+    /// Crack triangles of the last frame.
+    pub crack_triangles: usize,
+    /// Most crack vertices smoothed in a frame.
+    pub crack_vertices: usize,
+    /// Smoothing moves backed off, over all frames.
+    pub backed_off: usize,
+    /// Vertices of fragments whose volume could not be kept, put back, over all frames.
+    pub reverted: usize,
+    /// Largest relative volume change of a smoothed fragment.
+    pub volume_error: f64,
+}
+
+impl EmbeddedReport {
+    /// Adds one frame's smoothing figures.
+    fn add(mut self, s: &SmoothingStats) -> Self {
+        self.crack_vertices = self.crack_vertices.max(s.crack_vertices);
+        self.backed_off += s.backed_off;
+        self.reverted += s.reverted;
+        self.volume_error = self.volume_error.max(s.volume_error);
+        self
+    }
+}
+
+/// Positions, in a frame, of the vertices of the final topology: a copy that does
+/// not exist yet sits where the vertex it will be split from is (`parent` from the
+/// last frame; a frame's vertices are a prefix of the last frame's).
+fn follow(final_mesh: &RenderMesh, parent: &[i32], points: &[[f64; 3]]) -> Vec<[f32; 3]> {
+    final_mesh
+        .vertex
+        .iter()
+        .map(|&v| {
+            let mut v = v as usize;
+            while v >= points.len() && parent[v] >= 0 {
+                v = parent[v] as usize;
+            }
+            points[v].map(|c| c as f32)
+        })
+        .collect()
+}
+
+/// Normals of the mesh vertices at positions given per mesh vertex.
+fn normals_at(mesh: &RenderMesh, positions: &[[f64; 3]]) -> Vec<[f32; 3]> {
+    let local = RenderMesh {
+        vertex: (0..mesh.vertex.len() as u32).collect(),
+        ..mesh.clone()
+    };
+    EmbeddedSurface::default().normals(&local, positions)
+}
+
+/// Runs the `embedded` method over every frame of the cache at `layout`, frames in
+/// parallel (rayon): reads `tets/NNNN.vtu`, writes `surface/NNNN.glb` and
+/// `surface/animated.glb` through `encoder`, records the extraction time in the
+/// manifest, and calls `progress(done, total)` after each frame.
+pub fn stage(
+    layout: &Layout,
+    spec: &EmbeddedSpec,
+    encoder: &dyn SurfaceEncoder,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<EmbeddedReport> {
+    let mut manifest = Manifest::read(&layout.manifest())?;
+    let frames = manifest.frame_times.len();
+    if frames == 0 {
+        return Err(SurfaceError::Input(format!(
+            "{}: the cache has no frames to surface",
+            layout.manifest().display()
+        )));
+    }
+    if !layout.tets(1).is_file() {
+        return Err(SurfaceError::Input(format!(
+            "{} is missing: the embedded method reads the split tet meshes; run the scene with \
+             [output] tets = true (or surface = \"embedded\")",
+            layout.tets(1).display()
+        )));
+    }
+    let dir = layout.surface_dir();
+    std::fs::create_dir_all(&dir).map_err(|e| SurfaceError::io(&dir, e))?;
+    let start = Instant::now();
+    // The last frame first: its topology is the animation's.
+    let last = TetFrame::read(&layout.tets(frames))?;
+    let t = Instant::now();
+    let final_surface = surface(&last, spec.smoothing_passes);
+    let mut final_mesh = final_surface.render_mesh(&last.damage);
+    final_mesh.mesh.name = manifest.scene.clone();
+    let mut extraction = t.elapsed().as_secs_f64();
+    let done = AtomicUsize::new(0);
+    let per_frame: Vec<(Vec<[f32; 3]>, f64, SmoothingStats)> = (1..=frames)
+        .into_par_iter()
+        .map(|frame| -> Result<_> {
+            let tets = if frame == frames {
+                last.clone()
+            } else {
+                TetFrame::read(&layout.tets(frame))?
+            };
+            let t = Instant::now();
+            let surf = surface(&tets, spec.smoothing_passes);
+            let mut mesh = surf.render_mesh(&tets.damage);
+            let seconds = t.elapsed().as_secs_f64();
+            mesh.mesh.name = manifest.scene.clone();
+            write(
+                &layout.surface(frame),
+                format!("frame {frame}"),
+                encoder.fractured(&mesh.mesh),
+            )?;
+            progress(done.fetch_add(1, Ordering::Relaxed) + 1, frames);
+            Ok((
+                follow(&final_mesh, &last.parent, &surf.points),
+                seconds,
+                surf.stats,
+            ))
+        })
+        .collect::<Result<_>>()?;
+    extraction += per_frame.iter().map(|f| f.1).sum::<f64>();
+    let times: Vec<f32> = manifest.frame_times.iter().map(|&t| t as f32).collect();
+    let positions: Vec<Vec<[f32; 3]>> = per_frame.iter().map(|f| f.0.clone()).collect();
+    let base_points: Vec<[f64; 3]> = positions[0].iter().map(|p| p.map(f64::from)).collect();
+    let mut base = final_mesh.clone();
+    base.mesh.positions = positions[0].clone();
+    base.mesh.normals = normals_at(&final_mesh, &base_points);
+    write(
+        &layout.animated_surface(),
+        "surface/animated.glb".into(),
+        encoder.animated(&base.mesh, &times, &positions),
+    )?;
+    manifest.timings.surface = extraction;
+    manifest.write(&layout.manifest())?;
+    let report = per_frame
+        .iter()
+        .fold(EmbeddedReport::default(), |r, f| r.add(&f.2));
+    Ok(EmbeddedReport {
+        frames,
+        seconds: start.elapsed().as_secs_f64(),
+        extraction,
+        triangles: final_surface.triangles.len(),
+        crack_triangles: final_surface.crack.iter().filter(|&&c| c).count(),
+        ..report
+    })
+}
