@@ -71,3 +71,39 @@ fn bad_mpm_scene_input_names_the_key() {
     let e = Scene::parse(&unknown, Path::new("mpm.toml"), Path::new(".")).expect_err("refused");
     assert!(e.to_string().contains("elasticity"), "{e}");
 }
+
+/// Throughput of MLS-MPM with fixed corotated elasticity at ≈10⁵ particles (a
+/// benchmark, not a check: run by `scripts/mpm-bench.sh`).
+#[test]
+#[ignore = "benchmark: scripts/mpm-bench.sh"]
+fn throughput_at_1e5_particles() {
+    let text = "\
+[scene]\nduration = 1\nfps = 100\ngravity = [0, -9.81, 0]\n\
+[materials.m]\ndensity = 1000\nyoungs_modulus = 1e5\npoisson_ratio = 0.3\n\
+[[body]]\nmodel = \"mpm\"\nmaterial = \"m\"\nresolution = 0.01\n\
+shape = { type = \"box\", center = [0, 0.1, 0], size = [0.4, 0.2, 0.16] }\n\
+[[collider]]\ntype = \"ground\"\n\
+[output]\ntets = false\nsurface = \"none\"\npreview = false\n";
+    let scene = Scene::parse(text, Path::new("bench.toml"), Path::new(".")).expect("scene");
+    let mut p = run::prepare(&scene).expect("prepares");
+    let n = p.world.particles().position.len();
+    let steps = 20;
+    p.world.reset_times();
+    let start = std::time::Instant::now();
+    for _ in 0..steps {
+        p.world.step().expect("steps");
+    }
+    let wall = start.elapsed().as_secs_f64();
+    println!(
+        "{n} particles, {steps} steps, {} threads: {:.3e} particle-steps/s",
+        rayon::current_num_threads(),
+        (n * steps) as f64 / wall
+    );
+    for (stage, t) in p.world.stage_times() {
+        println!(
+            "  {stage}: {:.1} ms/step ({:.0}%)",
+            1e3 * t / steps as f64,
+            100.0 * t / wall
+        );
+    }
+}
