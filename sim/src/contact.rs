@@ -9,7 +9,7 @@
 //! Anchors hold the points inside a region of the scene at a prescribed rigid motion
 //! until their release time.
 
-use perifrac_math::dot;
+use perifrac_math::{dot, norm, sub};
 use rayon::prelude::*;
 
 use crate::error::{Result, SimError};
@@ -98,12 +98,8 @@ impl Collider {
                 (depth > 0.0).then_some(([0.0, 1.0, 0.0], depth))
             }
             ColliderShape::Sphere(radius) => {
-                let d = [
-                    p[0] - self.center[0],
-                    p[1] - self.center[1],
-                    p[2] - self.center[2],
-                ];
-                let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+                let d = sub(p, self.center);
+                let l = norm(d);
                 if l >= radius {
                     return None;
                 }

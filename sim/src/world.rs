@@ -43,11 +43,6 @@ impl Part {
         }
     }
 
-    /// Verlet's acceleration at the current positions.
-    pub fn acceleration(&self) -> &[[f64; 3]] {
-        &self.acceleration
-    }
-
     fn apply_anchors(&mut self, time: f64) {
         let p = self.model.points_mut();
         contact::apply_anchors(

@@ -11,6 +11,7 @@ use std::collections::{BTreeMap, HashMap};
 
 use perifrac_cache::manifest::BodyInfo;
 use perifrac_cache::ply::ParticleFrame;
+use perifrac_math::{dot, sub};
 
 use crate::error::{Result, SurfaceError};
 
@@ -158,8 +159,8 @@ pub fn local_thickness(positions: &[[f32; 3]], indices: &[u32], spacing: f64) ->
                     };
                     for &j in list {
                         let q = positions[j as usize].map(f64::from);
-                        let d = [q[0] - p[0], q[1] - p[1], q[2] - p[2]];
-                        if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] <= radius * radius {
+                        let d = sub(q, p);
+                        if dot(d, d) <= radius * radius {
                             neighbours.push(q);
                         }
                     }

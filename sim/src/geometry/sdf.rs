@@ -4,6 +4,8 @@
 //! [`Ball`], [`Cylinder`]) are exact; the combinators [`Union`] and
 //! [`Difference`] give conservative bounds, which is all the mesher needs.
 
+use perifrac_math::{dist, norm, sub};
+
 /// A solid shape described by a signed distance function.
 pub trait Sdf: Sync {
     /// Signed distance (negative inside) at p. Exact or a conservative bound (|grad| <= 1).
@@ -116,8 +118,7 @@ impl Sdf for Cuboid {
 
 impl Sdf for Ball {
     fn distance(&self, p: [f64; 3]) -> f64 {
-        let d = [0, 1, 2].map(|k| p[k] - self.center[k]);
-        (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() - self.radius
+        dist(p, self.center) - self.radius
     }
 
     fn bounds(&self) -> ([f64; 3], [f64; 3]) {
@@ -128,8 +129,8 @@ impl Sdf for Ball {
     }
 
     fn gradient(&self, p: [f64; 3]) -> [f64; 3] {
-        let d = [0, 1, 2].map(|k| p[k] - self.center[k]);
-        let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        let d = sub(p, self.center);
+        let len = norm(d);
         if len > 0.0 {
             d.map(|x| x / len)
         } else {

@@ -27,7 +27,7 @@ mod kernel;
 mod solver;
 mod stable;
 
-use perifrac_math::{UnionFind, det_sum, mat_vec, norm, sub};
+use perifrac_math::{UnionFind, det_sum, dot, mat_vec, norm, sub};
 use rayon::prelude::*;
 
 use crate::family::{BROKEN, Bonds, Corrections, INDEX};
@@ -348,7 +348,7 @@ impl PdModel {
     pub fn kinetic_energy(&self) -> f64 {
         det_sum(self.len(), |i| {
             let v = self.particles.velocity[i];
-            0.5 * self.mass(i) * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+            0.5 * self.mass(i) * dot(v, v)
         })
     }
 

@@ -1,5 +1,5 @@
-//! From a scene to frames on disk: [`setup`] builds the world, [`frames`] steps it
-//! frame by frame writing the cache and checkpoints, [`resume`] continues an
+//! From a scene to frames on disk: `setup` builds the world, `frames` steps it
+//! frame by frame writing the cache and checkpoints, `resume` continues an
 //! interrupted run from its checkpoint.
 
 mod frames;

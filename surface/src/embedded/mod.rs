@@ -16,7 +16,7 @@
 //! the volume correction below undoes, so no Taubin inflation step is needed (with
 //! the guard below, Taubin's λ/μ pairs were measured to diverge: inflation steps
 //! were cut less often than shrink steps). After each pass every tet touching a
-//! moved vertex must keep at least [`MIN_VOLUME_FRACTION`] of its signed volume: a
+//! moved vertex must keep at least `MIN_VOLUME_FRACTION` (2%) of its signed volume: a
 //! tet mesh whose tets stay positively oriented maps each vertex's neighbourhood
 //! one-to-one, so a fragment's surface cannot fold over itself locally; where a tet
 //! would fall below, the moves of its vertices are halved (four times, then
