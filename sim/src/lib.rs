@@ -34,6 +34,7 @@ pub mod material;
 pub mod membrane;
 pub mod memory;
 pub mod model;
+pub mod mpm;
 pub mod pd;
 pub mod run;
 pub mod world;

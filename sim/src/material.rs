@@ -151,6 +151,7 @@ mod tests {
             air_damping: 0.0,
             laplacian_damping: 0.0,
             membrane: None,
+            mpm: None,
         }
     }
 

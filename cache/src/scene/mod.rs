@@ -144,6 +144,10 @@ pub struct MaterialSpec {
     /// `model = "membrane"` only. Default: the defaults of [`MembraneMaterialSpec`].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub membrane: Option<MembraneMaterialSpec>,
+    /// Material point method settings (`[materials.NAME.mpm]`), read by bodies with
+    /// `model = "mpm"`. Default: fixed corotated elasticity.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mpm: Option<MpmSpec>,
 }
 
 /// `[materials.NAME.membrane]`: fracture and diffusion of a membrane material (Han et
@@ -392,6 +396,10 @@ pub enum ModelKind {
     /// is the sheet (a `box` or `slab` for a rectangle, a `cylinder` for a disc) and
     /// `resolution` the particle spacing (see [`crate::membrane`]).
     Membrane,
+    /// The material point method (MLS-MPM, Lyu 2021 ch. 3): particles seeded in the
+    /// shape on a sparse grid of spacing `resolution`; every body of the scene must then
+    /// use it. Material settings in `[materials.NAME.mpm]`.
+    Mpm,
 }
 
 impl ModelKind {
@@ -1015,4 +1023,27 @@ resolution = 0.1
         let (_, _, message) = error("");
         assert!(message.contains("scene"), "{message}");
     }
+}
+
+/// `[materials.NAME.mpm]`: how a material behaves in the material point method
+/// (Lyu 2021 ch. 3 and 7).
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MpmSpec {
+    /// Elastic energy: `"fixed-corotated"` (Eq. 3.5) or `"neo-hookean"` (Eq. 3.8).
+    /// Default `"fixed-corotated"`.
+    #[serde(default)]
+    pub elasticity: MpmElasticity,
+}
+
+/// The elastic energy density ψ(F) of an MPM material.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum MpmElasticity {
+    /// Fixed corotated, ψ = μ‖F − R‖² + λ/2 (J − 1)² (Lyu Eq. 3.5): defined when
+    /// inverted.
+    #[default]
+    FixedCorotated,
+    /// Neo-Hookean, ψ = μ/2 (tr FᵀF − 3) − μ log J + λ/2 (log J)² (Lyu Eq. 3.8).
+    NeoHookean,
 }

@@ -76,6 +76,7 @@ pub(super) fn validate(scene: &Scene) -> Check {
     for (i, b) in scene.bodies.iter().enumerate() {
         body(scene, &i.to_string(), b)?;
     }
+    mpm(scene)?;
     fem(scene)?;
     membrane(scene)?;
     for (i, c) in scene.colliders.iter().enumerate() {
@@ -463,6 +464,52 @@ fn membrane(scene: &Scene) -> Check {
                 ));
             }
             positive(&p("softening"), spec.softening, "β of Eq. 20")?;
+        }
+    }
+    Ok(())
+}
+
+/// The material point method runs a whole scene (its bodies share one grid) and has
+/// no bonds: no mixing with other models, no initial cracks, no bond parameters.
+fn mpm(scene: &Scene) -> Check {
+    let Some(first) = scene.bodies.iter().position(|b| b.model == ModelKind::Mpm) else {
+        return Ok(());
+    };
+    for (i, b) in scene.bodies.iter().enumerate() {
+        let i = i.to_string();
+        if b.model != ModelKind::Mpm {
+            return Err(issue(
+                &["body", &i, "model"],
+                format!(
+                    "body {first} uses model = \"mpm\" and this one does not: a scene runs one solver, \
+                     so give every body model = \"mpm\" or none"
+                ),
+            ));
+        }
+        if !b.cracks.is_empty() {
+            return Err(issue(
+                &["body", &i, "crack"],
+                "MPM bodies have no bonds to cut: remove [[body.crack]] or use peridynamics",
+            ));
+        }
+        let m = &scene.materials[&b.material];
+        let unsupported = [
+            ("yield_psi0", m.yield_psi0.is_some()),
+            ("yield_stretch", m.yield_stretch.is_some()),
+            ("critical_stretch", m.critical_stretch.is_some()),
+            ("anisotropy", m.anisotropy.is_some()),
+            ("laplacian_damping", m.laplacian_damping != 0.0),
+            ("air_damping", m.air_damping != 0.0),
+        ];
+        if let Some((key, _)) = unsupported.iter().find(|(_, set)| *set) {
+            return Err(issue(
+                &["materials", &b.material, key],
+                format!(
+                    "body {i} uses model = \"mpm\", whose materials are set in [materials.{}.mpm]: \
+                     remove {key} or use model = \"peridynamics\"",
+                    b.material
+                ),
+            ));
         }
     }
     Ok(())

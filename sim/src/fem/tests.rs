@@ -23,6 +23,7 @@ fn material() -> Material {
         air_damping: 0.0,
         laplacian_damping: 0.0,
         membrane: None,
+        mpm: None,
     })
 }
 

@@ -23,6 +23,7 @@ fn material(e: f64, nu: f64) -> MaterialSpec {
         air_damping: 0.0,
         laplacian_damping: 0.0,
         membrane: None,
+        mpm: None,
     }
 }
 

@@ -15,6 +15,7 @@ use crate::fem::{Fem, FemBody, FemModel};
 use crate::geometry::discretize::{Discretization, discretize};
 use crate::material::Material;
 use crate::membrane::{Membrane, MembraneModel};
+use crate::mpm::Mpm;
 use crate::pd::{BodyModel, PdModel, Peridynamics, cut_initial_cracks};
 use crate::scene::{ModelKind, Scene};
 use crate::world::{Part, World, WorldSettings};
@@ -58,10 +59,13 @@ pub fn prepare(scene: &Scene) -> Result<Prepared> {
 /// [`prepare`] for a scene already discretized.
 pub fn prepare_discretized(scene: &Scene, disc: Discretization) -> Result<Prepared> {
     let t1 = Instant::now();
+    let mut disc = disc;
     let part = if uses_fem(scene) {
         fem_part(scene, &disc)?
     } else if uses_membrane(scene) {
         membrane_part(scene, &disc)?
+    } else if scene.bodies.iter().any(|b| b.model == ModelKind::Mpm) {
+        mpm_part(scene, &mut disc)?
     } else {
         peridynamic_part(scene, &disc)?
     };
@@ -203,6 +207,26 @@ fn membrane_part(scene: &Scene, disc: &Discretization) -> Result<Part> {
     );
     let anchors = contact::anchors(scene, &model.reference, &model.mass, &model.body)?;
     Ok(Part::new(Box::new(Membrane::new(model)), anchors))
+}
+
+/// The MPM model of a scene whose bodies use `model = "mpm"` (Lyu 2021 ch. 3):
+/// particles seeded in each body's shape, initial velocities and anchors on them. The
+/// discretization's particles become the MPM particles (the manifest counts them).
+fn mpm_part(scene: &Scene, disc: &mut Discretization) -> Result<Part> {
+    if scene.output.writes_tets() {
+        return Err(SimError::Refused(
+            "MPM bodies have no tet mesh to split: set [output] tets = false and a surface method other than \"embedded\"".into(),
+        ));
+    }
+    let mut model = Mpm::from_scene(scene)?;
+    let p = &mut model.particles;
+    set_initial_velocities(scene, &p.reference, &p.mass, &p.body, &mut p.velocity);
+    let anchors = contact::anchors(scene, &p.reference, &p.mass, &p.body)?;
+    disc.position = p.reference.clone();
+    disc.volume = p.volume.clone();
+    disc.body = p.body.clone();
+    disc.tet = vec![0; p.len()];
+    Ok(Part::new(Box::new(model), anchors))
 }
 
 /// The time step (a multiple of the frame time) and the steps per frame: the scene's

@@ -1,0 +1,7 @@
+#!/bin/sh
+# MLS-MPM throughput (fixed corotated, APIC, f64, ≈10⁵ particles): particle-steps per
+# second and the time in sort, P2G, grid update and G2P. Uses the test profile
+# (opt-level 2), as the tests do.
+set -e
+cd "$(dirname "$0")/.."
+cargo test -p perifrac-sim --test mpm throughput -- --ignored --nocapture --test-threads 1

@@ -1,0 +1,180 @@
+//! Elastic energies of the material point method (Lyu 2021 §3.3) and their first
+//! Piola–Kirchhoff stresses, on 3×3 matrices stored as `[[f64; 3]; 3]` (row major).
+//!
+//! The rotation of the fixed corotated model comes from nalgebra's SVD with the
+//! inversion-safe sign convention (Irving et al. 2004; Stomakhin et al. 2012): U and
+//! V are made rotations and the sign goes to the smallest singular value, so that an
+//! inverted F has one negative singular value and R = UVᵀ is a rotation.
+
+use nalgebra::Matrix3;
+
+use crate::scene::MpmElasticity;
+
+/// A 3×3 matrix, row major.
+pub type Mat3 = [[f64; 3]; 3];
+
+/// The identity.
+pub const IDENTITY: Mat3 = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+
+/// Lamé parameters μ, λ (Lyu Eq. 3.6) and the elastic energy of a material.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Elastic {
+    /// Which energy density ψ(F).
+    pub energy: MpmElasticity,
+    /// Shear modulus μ (Pa).
+    pub mu: f64,
+    /// Lamé's first parameter λ (Pa).
+    pub lambda: f64,
+}
+
+/// The SVD F = U Σ Vᵀ with U and V rotations (det = +1): when F is inverted the
+/// smallest singular value is negative.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RotationSvd {
+    /// Left rotation U.
+    pub u: Mat3,
+    /// Singular values, the smallest possibly negative.
+    pub sigma: [f64; 3],
+    /// Right rotation V.
+    pub v: Mat3,
+}
+
+fn to_na(a: &Mat3) -> Matrix3<f64> {
+    Matrix3::from_fn(|i, j| a[i][j])
+}
+
+fn from_na(m: &Matrix3<f64>) -> Mat3 {
+    [0, 1, 2].map(|i| [0, 1, 2].map(|j| m[(i, j)]))
+}
+
+/// The inversion-safe SVD of `f` (nalgebra's SVD, then the sign fix).
+pub fn rotation_svd(f: &Mat3) -> RotationSvd {
+    let svd = to_na(f).svd(true, true);
+    // Both factors were asked for, so both are present.
+    let mut u = svd.u.unwrap_or_else(Matrix3::identity);
+    let mut v = svd.v_t.unwrap_or_else(Matrix3::identity).transpose();
+    let mut sigma = [
+        svd.singular_values[0],
+        svd.singular_values[1],
+        svd.singular_values[2],
+    ];
+    let smallest = (0..3)
+        .min_by(|&a, &b| sigma[a].total_cmp(&sigma[b]))
+        .unwrap_or(2);
+    if u.determinant() < 0.0 {
+        u.column_mut(smallest).neg_mut();
+        sigma[smallest] = -sigma[smallest];
+    }
+    if v.determinant() < 0.0 {
+        v.column_mut(smallest).neg_mut();
+        sigma[smallest] = -sigma[smallest];
+    }
+    RotationSvd {
+        u: from_na(&u),
+        sigma,
+        v: from_na(&v),
+    }
+}
+
+/// The rotation R of the polar decomposition F = RS (R = UVᵀ of [`rotation_svd`]).
+pub fn polar_rotation(f: &Mat3) -> Mat3 {
+    let s = rotation_svd(f);
+    mul_transpose(&s.u, &s.v)
+}
+
+/// A Bᵀ.
+pub fn mul_transpose(a: &Mat3, b: &Mat3) -> Mat3 {
+    [0, 1, 2].map(|i| [0, 1, 2].map(|j| (0..3).map(|k| a[i][k] * b[j][k]).sum()))
+}
+
+/// A B.
+pub fn mul(a: &Mat3, b: &Mat3) -> Mat3 {
+    [0, 1, 2].map(|i| [0, 1, 2].map(|j| (0..3).map(|k| a[i][k] * b[k][j]).sum()))
+}
+
+/// det A.
+pub fn determinant(a: &Mat3) -> f64 {
+    a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
+        - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
+        + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])
+}
+
+/// The cofactor matrix ∂J/∂F = J F⁻ᵀ, defined for singular F too.
+pub fn cofactor(a: &Mat3) -> Mat3 {
+    [
+        [
+            a[1][1] * a[2][2] - a[1][2] * a[2][1],
+            a[1][2] * a[2][0] - a[1][0] * a[2][2],
+            a[1][0] * a[2][1] - a[1][1] * a[2][0],
+        ],
+        [
+            a[0][2] * a[2][1] - a[0][1] * a[2][2],
+            a[0][0] * a[2][2] - a[0][2] * a[2][0],
+            a[0][1] * a[2][0] - a[0][0] * a[2][1],
+        ],
+        [
+            a[0][1] * a[1][2] - a[0][2] * a[1][1],
+            a[0][2] * a[1][0] - a[0][0] * a[1][2],
+            a[0][0] * a[1][1] - a[0][1] * a[1][0],
+        ],
+    ]
+}
+
+impl Elastic {
+    /// The material of Young's modulus `e` and Poisson ratio `nu` (Lyu Eq. 3.6).
+    pub fn from_young(energy: MpmElasticity, e: f64, nu: f64) -> Elastic {
+        Elastic {
+            energy,
+            mu: e / (2.0 * (1.0 + nu)),
+            lambda: e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)),
+        }
+    }
+
+    /// The first Piola–Kirchhoff stress P = ∂ψ/∂F:
+    /// fixed corotated (Eq. 3.5) P = 2μ(F − R) + λ(J − 1) J F⁻ᵀ;
+    /// Neo-Hookean (Eq. 3.8) P = μ(F − F⁻ᵀ) + λ log J F⁻ᵀ (not defined for J ≤ 0).
+    pub fn first_piola(&self, f: &Mat3) -> Mat3 {
+        let j = determinant(f);
+        let cof = cofactor(f);
+        match self.energy {
+            MpmElasticity::FixedCorotated => {
+                let r = polar_rotation(f);
+                let volume = self.lambda * (j - 1.0);
+                [0, 1, 2].map(|a| {
+                    [0, 1, 2].map(|b| 2.0 * self.mu * (f[a][b] - r[a][b]) + volume * cof[a][b])
+                })
+            }
+            MpmElasticity::NeoHookean => {
+                let log_j = j.ln();
+                [0, 1, 2].map(|a| {
+                    [0, 1, 2].map(|b| {
+                        let f_inv_t = cof[a][b] / j;
+                        self.mu * (f[a][b] - f_inv_t) + self.lambda * log_j * f_inv_t
+                    })
+                })
+            }
+        }
+    }
+
+    /// The energy density ψ(F) (J/m³) of Eq. 3.5 or 3.8.
+    pub fn energy_density(&self, f: &Mat3) -> f64 {
+        let j = determinant(f);
+        match self.energy {
+            MpmElasticity::FixedCorotated => {
+                let s = rotation_svd(f);
+                let dev: f64 = s.sigma.iter().map(|x| (x - 1.0) * (x - 1.0)).sum();
+                self.mu * dev + 0.5 * self.lambda * (j - 1.0) * (j - 1.0)
+            }
+            MpmElasticity::NeoHookean => {
+                let ic: f64 = f.iter().flatten().map(|x| x * x).sum();
+                let log_j = j.ln();
+                0.5 * self.mu * (ic - 3.0) - self.mu * log_j + 0.5 * self.lambda * log_j * log_j
+            }
+        }
+    }
+
+    /// P-wave speed √((λ + 2μ)/ρ) at density `rho`: the fastest elastic signal.
+    pub fn p_wave_speed(&self, rho: f64) -> f64 {
+        ((self.lambda + 2.0 * self.mu) / rho).sqrt()
+    }
+}

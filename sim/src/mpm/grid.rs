@@ -1,0 +1,469 @@
+//! The sparse background grid of MLS-MPM (Lyu 2021 §3.2, Hu et al. 2018) and the
+//! three transfers: [`SparseGrid::p2g`], [`SparseGrid::grid_update`],
+//! [`SparseGrid::g2p`], with quadratic B-spline weights.
+//!
+//! Nodes live in blocks of [`BLOCK`]³; a block exists only while a particle's stencil
+//! touches it, so the grid follows the particles (a projectile in flight carries its
+//! few blocks along, nothing is allocated along its path). The blocks are rebuilt
+//! every step ([`SparseGrid::rebuild`]) from the particles' positions.
+//!
+//! **Determinism of the P2G scatter.** Particles are sorted by (block of their stencil
+//! base node, particle index); the particles of one block (a *bin*) scatter, in that
+//! order, into a private padded buffer of ([`BLOCK`] + 2)³ nodes — a quadratic stencil
+//! reaches at most two nodes past its block. Each grid block then gathers the buffers
+//! of the (up to 8) bins that overlap it, in a fixed order of neighbours. Every sum is
+//! taken in an order fixed by the positions alone, so 1 and N threads give the same
+//! bytes; no atomics, no locks.
+
+use std::collections::HashMap;
+
+use rayon::prelude::*;
+
+use super::constitutive::Mat3;
+use crate::contact::{Collider, ColliderShape};
+
+/// Nodes along each axis of a block.
+pub const BLOCK: usize = 4;
+/// log₂ [`BLOCK`].
+const BLOCK_SHIFT: u32 = 2;
+/// Nodes of a block.
+const BLOCK_NODES: usize = BLOCK * BLOCK * BLOCK;
+/// Nodes along each axis of a bin's scatter buffer: the block and the two nodes a
+/// quadratic stencil reaches past it.
+const SPAN: usize = BLOCK + 2;
+/// Nodes of a bin's scatter buffer.
+const SPAN_NODES: usize = SPAN * SPAN * SPAN;
+/// Bits of each block coordinate in a block key.
+const KEY_BITS: u32 = 21;
+/// Offset that makes block coordinates non-negative in a key.
+const KEY_OFFSET: i64 = 1 << (KEY_BITS - 1);
+/// The inertia-like tensor of quadratic B-splines is D = Δx²/4 I (Hu et al. 2018), so
+/// D⁻¹ = `D_INVERSE_FACTOR`/Δx².
+pub const D_INVERSE_FACTOR: f64 = 4.0;
+/// The offsets, in blocks, of the 8 blocks a bin's buffer overlaps (x fastest).
+const NEIGHBOURS: [[i64; 3]; 8] = [
+    [0, 0, 0],
+    [1, 0, 0],
+    [0, 1, 0],
+    [1, 1, 0],
+    [0, 0, 1],
+    [1, 0, 1],
+    [0, 1, 1],
+    [1, 1, 1],
+];
+
+/// The key of a block: its coordinates, offset and packed (x major, so that sorting
+/// keys sorts blocks lexicographically).
+fn block_key(b: [i64; 3]) -> u64 {
+    let part = |c: i64| (c + KEY_OFFSET) as u64;
+    (part(b[0]) << (2 * KEY_BITS)) | (part(b[1]) << KEY_BITS) | part(b[2])
+}
+
+/// The coordinates of a block from its key.
+fn key_block(k: u64) -> [i64; 3] {
+    let mask = (1u64 << KEY_BITS) - 1;
+    [2 * KEY_BITS, KEY_BITS, 0].map(|s| ((k >> s) & mask) as i64 - KEY_OFFSET)
+}
+
+/// The key of the block a particle at `x` scatters from on a grid of spacing `dx`:
+/// sorting particles by it orders them as the grid's bins.
+pub fn block_order(x: [f64; 3], dx: f64) -> u64 {
+    block_key(Stencil::new(x, 1.0 / dx).block())
+}
+
+/// The quadratic B-spline stencil of a particle: the first of its 3³ nodes and the
+/// weights along each axis.
+#[derive(Debug, Clone, Copy)]
+pub struct Stencil {
+    /// Grid index of the first node (the stencil spans base..base + 3).
+    pub base: [i64; 3],
+    /// Position in cells relative to `base`, in [0.5, 1.5).
+    pub fx: [f64; 3],
+    /// w[axis][i]: the weight of node base + i along that axis.
+    pub w: [[f64; 3]; 3],
+}
+
+/// The most negative or positive node index the keys hold (positions beyond are
+/// clamped; they are non-finite or kilometres away, and the blow-up detector stops
+/// the run).
+const NODE_LIMIT: i64 = (KEY_OFFSET - 1) * BLOCK as i64;
+
+impl Stencil {
+    /// The stencil of a particle at `x` on a grid of spacing 1/`inv_dx`.
+    pub fn new(x: [f64; 3], inv_dx: f64) -> Stencil {
+        let mut base = [0i64; 3];
+        let mut fx = [0.0; 3];
+        let mut w = [[0.0; 3]; 3];
+        for a in 0..3 {
+            let cell = x[a] * inv_dx;
+            let b = ((cell - 0.5).floor() as i64).clamp(-NODE_LIMIT, NODE_LIMIT);
+            let f = cell - b as f64;
+            base[a] = b;
+            fx[a] = f;
+            w[a] = [
+                0.5 * (1.5 - f) * (1.5 - f),
+                0.75 - (f - 1.0) * (f - 1.0),
+                0.5 * (f - 0.5) * (f - 0.5),
+            ];
+        }
+        Stencil { base, fx, w }
+    }
+
+    /// The block holding the base node.
+    fn block(&self) -> [i64; 3] {
+        self.base.map(|b| b >> BLOCK_SHIFT)
+    }
+}
+
+/// A bin: the particles whose stencil base lies in one block.
+#[derive(Debug, Clone, Copy)]
+struct Bin {
+    /// The block's key.
+    key: u64,
+    /// The bin's particles are `order[start..end]`.
+    start: usize,
+    end: usize,
+    /// Slots of the grid blocks at [`NEIGHBOURS`].
+    neighbours: [u32; 8],
+}
+
+/// What the grid update imposes on nodes besides gravity.
+#[derive(Debug, Clone, Copy)]
+pub struct Boundary<'a> {
+    /// Gravity (m/s²).
+    pub gravity: [f64; 3],
+    /// Rigid colliders (ground, spheres, boxes).
+    pub colliders: &'a [Collider],
+}
+
+/// The sparse grid of one MPM model.
+#[derive(Debug, Clone, Default)]
+pub struct SparseGrid {
+    /// Node spacing Δx (m).
+    pub dx: f64,
+    /// (bin key, particle) sorted: the scatter order.
+    order: Vec<(u64, u32)>,
+    /// The bins, in key order.
+    bins: Vec<Bin>,
+    /// Each particle's bin.
+    bin_of: Vec<u32>,
+    /// Keys of the allocated blocks, sorted.
+    blocks: Vec<u64>,
+    /// Block key → slot in `blocks`.
+    slot: HashMap<u64, u32>,
+    /// Bin scatter buffers, [`SPAN_NODES`] each: mass and momentum.
+    scatter: Vec<[f64; 4]>,
+    /// Block nodes, [`BLOCK_NODES`] each: mass and momentum after P2G, mass and
+    /// velocity after the grid update.
+    nodes: Vec<[f64; 4]>,
+}
+
+/// Index of node (i, j, k) in a cube of `n` nodes a side (x fastest).
+#[inline]
+fn cube_index(i: usize, j: usize, k: usize, n: usize) -> usize {
+    (k * n + j) * n + i
+}
+
+impl SparseGrid {
+    /// An empty grid of spacing `dx`.
+    pub fn new(dx: f64) -> SparseGrid {
+        SparseGrid {
+            dx,
+            ..SparseGrid::default()
+        }
+    }
+
+    /// Blocks allocated at the last rebuild.
+    pub fn block_count(&self) -> usize {
+        self.blocks.len()
+    }
+
+    /// Bytes the grid holds now (live blocks, bins and the sort order).
+    pub fn memory_bytes(&self) -> usize {
+        use std::mem::size_of;
+        self.order.len() * size_of::<(u64, u32)>()
+            + self.bins.len() * size_of::<Bin>()
+            + self.bin_of.len() * size_of::<u32>()
+            + self.blocks.len() * (size_of::<u64>() + size_of::<(u64, u32)>())
+            + (self.scatter.len() + self.nodes.len()) * size_of::<[f64; 4]>()
+    }
+
+    /// Sorts the particles into bins and allocates the blocks their stencils touch.
+    pub fn rebuild(&mut self, position: &[[f64; 3]]) {
+        let inv_dx = 1.0 / self.dx;
+        self.order.clear();
+        self.order.par_extend(
+            position
+                .par_iter()
+                .enumerate()
+                .map(|(p, x)| (block_key(Stencil::new(*x, inv_dx).block()), p as u32)),
+        );
+        self.order.par_sort_unstable();
+        self.bins.clear();
+        let mut start = 0;
+        while start < self.order.len() {
+            let key = self.order[start].0;
+            let mut end = start + 1;
+            while end < self.order.len() && self.order[end].0 == key {
+                end += 1;
+            }
+            self.bins.push(Bin {
+                key,
+                start,
+                end,
+                neighbours: [0; 8],
+            });
+            start = end;
+        }
+        self.blocks.clear();
+        for bin in &self.bins {
+            let b = key_block(bin.key);
+            self.blocks.extend(
+                NEIGHBOURS
+                    .iter()
+                    .map(|o| block_key([b[0] + o[0], b[1] + o[1], b[2] + o[2]])),
+            );
+        }
+        self.blocks.par_sort_unstable();
+        self.blocks.dedup();
+        self.slot.clear();
+        self.slot
+            .extend(self.blocks.iter().enumerate().map(|(s, &k)| (k, s as u32)));
+        for bin in &mut self.bins {
+            let b = key_block(bin.key);
+            for (n, o) in NEIGHBOURS.iter().enumerate() {
+                bin.neighbours[n] = self.slot[&block_key([b[0] + o[0], b[1] + o[1], b[2] + o[2]])];
+            }
+        }
+        self.bin_of.resize(position.len(), 0);
+        for (i, bin) in self.bins.iter().enumerate() {
+            for &(_, p) in &self.order[bin.start..bin.end] {
+                self.bin_of[p as usize] = i as u32;
+            }
+        }
+    }
+
+    /// Particle to grid (Hu et al. 2018 Eq. 16–17; Lyu §3.2): each node receives
+    /// Σ_p w_ip m_p and Σ_p w_ip (m_p v_p + A_p (x_i − x_p)), where the affine momentum
+    /// A_p = m_p C_p − Δt V_p⁰ D⁻¹ P_p F_pᵀ carries APIC's C and the stress (MLS-MPM).
+    /// Deterministic (see the module documentation).
+    pub fn p2g(
+        &mut self,
+        position: &[[f64; 3]],
+        mass: &[f64],
+        velocity: &[[f64; 3]],
+        affine: &[Mat3],
+    ) {
+        let inv_dx = 1.0 / self.dx;
+        let dx = self.dx;
+        self.scatter.clear();
+        self.scatter.resize(self.bins.len() * SPAN_NODES, [0.0; 4]);
+        let order = &self.order;
+        self.scatter
+            .par_chunks_mut(SPAN_NODES)
+            .zip(self.bins.par_iter())
+            .for_each(|(buffer, bin)| {
+                let origin = key_block(bin.key).map(|c| c << BLOCK_SHIFT);
+                for &(_, p) in &order[bin.start..bin.end] {
+                    let p = p as usize;
+                    let s = Stencil::new(position[p], inv_dx);
+                    let local = [0, 1, 2].map(|a| (s.base[a] - origin[a]) as usize);
+                    let (m, v, c) = (mass[p], velocity[p], &affine[p]);
+                    for k in 0..3 {
+                        for j in 0..3 {
+                            for i in 0..3 {
+                                let w = s.w[0][i] * s.w[1][j] * s.w[2][k];
+                                let d = [
+                                    (i as f64 - s.fx[0]) * dx,
+                                    (j as f64 - s.fx[1]) * dx,
+                                    (k as f64 - s.fx[2]) * dx,
+                                ];
+                                let node = &mut buffer
+                                    [cube_index(local[0] + i, local[1] + j, local[2] + k, SPAN)];
+                                node[0] += w * m;
+                                for a in 0..3 {
+                                    let cd = c[a][0] * d[0] + c[a][1] * d[1] + c[a][2] * d[2];
+                                    node[1 + a] += w * (m * v[a] + cd);
+                                }
+                            }
+                        }
+                    }
+                }
+            });
+        self.gather();
+    }
+
+    /// Each block sums the scatter buffers of the bins that overlap it, bins in the
+    /// order of [`NEIGHBOURS`] reversed (the bin at the block itself first).
+    fn gather(&mut self) {
+        self.nodes.clear();
+        self.nodes.resize(self.blocks.len() * BLOCK_NODES, [0.0; 4]);
+        let bin_index: HashMap<u64, usize> = self
+            .bins
+            .iter()
+            .enumerate()
+            .map(|(i, b)| (b.key, i))
+            .collect();
+        let scatter = &self.scatter;
+        self.nodes
+            .par_chunks_mut(BLOCK_NODES)
+            .zip(self.blocks.par_iter())
+            .for_each(|(nodes, &key)| {
+                let b = key_block(key);
+                for o in NEIGHBOURS {
+                    let source = block_key([b[0] - o[0], b[1] - o[1], b[2] - o[2]]);
+                    let Some(&bin) = bin_index.get(&source) else {
+                        continue;
+                    };
+                    let buffer = &scatter[bin * SPAN_NODES..(bin + 1) * SPAN_NODES];
+                    // Node (i, j, k) of this block is node (i, j, k) + BLOCK·o of the
+                    // bin's buffer, which holds SPAN nodes a side.
+                    let shift = o.map(|c| c as usize * BLOCK);
+                    let range = |a: usize| 0..(SPAN - shift[a]).min(BLOCK);
+                    for k in range(2) {
+                        for j in range(1) {
+                            for i in range(0) {
+                                let from = buffer
+                                    [cube_index(i + shift[0], j + shift[1], k + shift[2], SPAN)];
+                                let to = &mut nodes[cube_index(i, j, k, BLOCK)];
+                                for c in 0..4 {
+                                    to[c] += from[c];
+                                }
+                            }
+                        }
+                    }
+                }
+            });
+    }
+
+    /// Grid update (Lyu §3.4, explicit): v_i = (m v)_i / m_i + Δt g, then the
+    /// colliders' boundary conditions at each node inside one: the normal velocity
+    /// relative to the collider is made non-negative and Coulomb friction μ removes at
+    /// most μ|Δv_n| of the tangential velocity (μ = 0 slips; a large μ sticks).
+    pub fn grid_update(&mut self, dt: f64, boundary: &Boundary<'_>) {
+        let dx = self.dx;
+        self.nodes
+            .par_chunks_mut(BLOCK_NODES)
+            .zip(self.blocks.par_iter())
+            .for_each(|(nodes, &key)| {
+                let origin = key_block(key).map(|c| c << BLOCK_SHIFT);
+                for k in 0..BLOCK {
+                    for j in 0..BLOCK {
+                        for i in 0..BLOCK {
+                            let node = &mut nodes[cube_index(i, j, k, BLOCK)];
+                            if node[0] <= 0.0 {
+                                continue;
+                            }
+                            let mut v =
+                                [0, 1, 2].map(|a| node[1 + a] / node[0] + dt * boundary.gravity[a]);
+                            let x = [
+                                (origin[0] + i as i64) as f64 * dx,
+                                (origin[1] + j as i64) as f64 * dx,
+                                (origin[2] + k as i64) as f64 * dx,
+                            ];
+                            for c in boundary.colliders {
+                                collide(c, x, &mut v);
+                            }
+                            node[1..].copy_from_slice(&v);
+                        }
+                    }
+                }
+            });
+    }
+
+    /// Grid to particle (APIC; Hu et al. 2018 Eq. 12–13): v_p = Σ_i w_ip v_i,
+    /// C_p = D⁻¹ Σ_i w_ip v_i (x_i − x_p)ᵀ, x_p ← x_p + Δt v_p, F_p ← (I + Δt C_p) F_p.
+    pub fn g2p(
+        &self,
+        dt: f64,
+        position: &mut [[f64; 3]],
+        velocity: &mut [[f64; 3]],
+        affine: &mut [Mat3],
+        deformation: &mut [Mat3],
+    ) {
+        let inv_dx = 1.0 / self.dx;
+        let dx = self.dx;
+        let d_inv = D_INVERSE_FACTOR * inv_dx * inv_dx;
+        position
+            .par_iter_mut()
+            .zip(velocity.par_iter_mut())
+            .zip(affine.par_iter_mut())
+            .zip(deformation.par_iter_mut())
+            .enumerate()
+            .with_min_len(256)
+            .for_each(|(p, (((x, v), c), f))| {
+                let s = Stencil::new(*x, inv_dx);
+                let bin = &self.bins[self.bin_of[p] as usize];
+                let origin = key_block(bin.key).map(|b| b << BLOCK_SHIFT);
+                let local = [0, 1, 2].map(|a| (s.base[a] - origin[a]) as usize);
+                let mut new_v = [0.0; 3];
+                let mut b = [[0.0; 3]; 3];
+                for k in 0..3 {
+                    for j in 0..3 {
+                        for i in 0..3 {
+                            let l = [local[0] + i, local[1] + j, local[2] + k];
+                            let o = l.map(|c| c >> BLOCK_SHIFT);
+                            let slot = bin.neighbours[o[0] + 2 * o[1] + 4 * o[2]] as usize;
+                            let node = &self.nodes[slot * BLOCK_NODES
+                                + cube_index(
+                                    l[0] & (BLOCK - 1),
+                                    l[1] & (BLOCK - 1),
+                                    l[2] & (BLOCK - 1),
+                                    BLOCK,
+                                )];
+                            let w = s.w[0][i] * s.w[1][j] * s.w[2][k];
+                            let d = [
+                                (i as f64 - s.fx[0]) * dx,
+                                (j as f64 - s.fx[1]) * dx,
+                                (k as f64 - s.fx[2]) * dx,
+                            ];
+                            for a in 0..3 {
+                                let wv = w * node[1 + a];
+                                new_v[a] += wv;
+                                for e in 0..3 {
+                                    b[a][e] += wv * d[e];
+                                }
+                            }
+                        }
+                    }
+                }
+                let new_c = b.map(|row| row.map(|x| d_inv * x));
+                let grown = [0, 1, 2].map(|a| {
+                    [0, 1, 2]
+                        .map(|e| f[a][e] + dt * (0..3).map(|k| new_c[a][k] * f[k][e]).sum::<f64>())
+                });
+                for a in 0..3 {
+                    x[a] += dt * new_v[a];
+                }
+                *v = new_v;
+                *c = new_c;
+                *f = grown;
+            });
+    }
+}
+
+/// The boundary condition of collider `c` on a node at `x` with velocity `v`: nodes on
+/// or below the ground, or inside a sphere or box, get a non-negative normal velocity
+/// relative to the collider and Coulomb friction on the tangential part.
+fn collide(c: &Collider, x: [f64; 3], v: &mut [f64; 3]) {
+    let normal = match c.shape {
+        ColliderShape::Ground => (x[1] <= c.center[1]).then_some([0.0, 1.0, 0.0]),
+        _ => c.penetration(x).map(|(n, _)| n),
+    };
+    let Some(n) = normal else {
+        return;
+    };
+    let rel = [0, 1, 2].map(|a| v[a] - c.velocity[a]);
+    let vn = rel[0] * n[0] + rel[1] * n[1] + rel[2] * n[2];
+    if vn >= 0.0 {
+        return;
+    }
+    let t = [0, 1, 2].map(|a| rel[a] - vn * n[a]);
+    let vt = (t[0] * t[0] + t[1] * t[1] + t[2] * t[2]).sqrt();
+    let keep = if vt > 0.0 {
+        (1.0 - c.friction * (-vn) / vt).max(0.0)
+    } else {
+        0.0
+    };
+    *v = [0, 1, 2].map(|a| c.velocity[a] + keep * t[a]);
+}
