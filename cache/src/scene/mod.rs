@@ -394,7 +394,7 @@ pub enum ModelKind {
     FemCorotated,
     /// A thin membrane of one layer of particles (Han et al. 2021): the body's shape
     /// is the sheet (a `box` or `slab` for a rectangle, a `cylinder` for a disc) and
-    /// `resolution` the particle spacing (see [`crate::membrane`]).
+    /// `resolution` the particle spacing (see `perifrac_sim::membrane`).
     Membrane,
     /// The material point method (MLS-MPM, Lyu 2021 ch. 3): particles seeded in the
     /// shape on a sparse grid of spacing `resolution`; every body of the scene must then

@@ -79,7 +79,7 @@ pub struct Stencil {
     pub base: [i64; 3],
     /// Position in cells relative to `base`, in [0.5, 1.5).
     pub fx: [f64; 3],
-    /// w[axis][i]: the weight of node base + i along that axis.
+    /// `w[axis][i]`: the weight of node base + i along that axis.
     pub w: [[f64; 3]; 3],
 }
 
