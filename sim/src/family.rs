@@ -14,7 +14,7 @@
 //! homogeneous deformation wherever positive weights can do it.
 
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
-use perifrac_math::{dist, sub};
+use perifrac_math::{UnionFind, dist, sub};
 use rayon::prelude::*;
 
 use crate::error::{Result, SimError};
@@ -47,6 +47,22 @@ pub struct Corrections {
 }
 
 impl Bonds {
+    /// Connected components of intact bonds over the `offsets.len() − 1` particles,
+    /// numbered by their smallest particle index in increasing order (deterministic).
+    pub fn fragments(&self) -> Vec<u32> {
+        let n = self.offsets.len().saturating_sub(1);
+        let mut sets = UnionFind::new(n);
+        for i in 0..n {
+            for k in self.range(i) {
+                let nb = self.neighbours[k];
+                if nb & BROKEN == 0 {
+                    sets.union(i, (nb & INDEX) as usize);
+                }
+            }
+        }
+        sets.labels()
+    }
+
     /// Number of directed bonds.
     pub fn len(&self) -> usize {
         self.neighbours.len()

@@ -44,7 +44,7 @@ mod tests;
 
 use std::time::Instant;
 
-use perifrac_math::{UnionFind, det_sum};
+use perifrac_math::det_sum;
 use rayon::prelude::*;
 
 pub use law::Law;
@@ -454,16 +454,7 @@ impl MembraneModel {
     /// Connected components of intact bonds, numbered by their smallest particle
     /// index in increasing order (deterministic).
     pub fn fragments(&self) -> Vec<u32> {
-        let mut sets = UnionFind::new(self.len());
-        for i in 0..self.len() {
-            for k in self.bonds.range(i) {
-                let nb = self.bonds.neighbours[k];
-                if nb & BROKEN == 0 {
-                    sets.union(i, (nb & INDEX) as usize);
-                }
-            }
-        }
-        sets.labels()
+        self.bonds.fragments()
     }
 
     /// φ_i = 1 − intact/initial bonds, from the broken bits.

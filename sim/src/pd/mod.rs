@@ -27,7 +27,7 @@ mod kernel;
 mod solver;
 mod stable;
 
-use perifrac_math::{UnionFind, det_sum, dot, mat_vec, norm, sub};
+use perifrac_math::{det_sum, dot, mat_vec, norm, sub};
 use rayon::prelude::*;
 
 use crate::family::{BROKEN, Bonds, Corrections, INDEX};
@@ -356,16 +356,7 @@ impl PdModel {
     /// Connected components of intact bonds, numbered by their smallest particle
     /// index in increasing order (deterministic).
     pub fn fragments(&self) -> Vec<u32> {
-        let mut sets = UnionFind::new(self.len());
-        for i in 0..self.len() {
-            for k in self.bonds.range(i) {
-                let nb = self.bonds.neighbours[k];
-                if nb & BROKEN == 0 {
-                    sets.union(i, (nb & INDEX) as usize);
-                }
-            }
-        }
-        sets.labels()
+        self.bonds.fragments()
     }
 
     /// Plastic strain measure per particle: mean |e^p|/|ξ| over its bonds (0 without
