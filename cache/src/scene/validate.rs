@@ -308,13 +308,7 @@ fn fem(scene: &Scene) -> Check {
             ));
         }
         let m = &scene.materials[&b.material];
-        let unsupported = [
-            ("yield_psi0", m.yield_psi0.is_some()),
-            ("yield_stretch", m.yield_stretch.is_some()),
-            ("critical_stretch", m.critical_stretch.is_some()),
-            ("anisotropy", m.anisotropy.is_some()),
-            ("laplacian_damping", m.laplacian_damping != 0.0),
-        ];
+        let unsupported = bond_keys(m);
         if let Some((key, _)) = unsupported.iter().find(|(_, set)| *set) {
             return Err(issue(
                 &["materials", &b.material, key],
@@ -493,14 +487,8 @@ fn mpm(scene: &Scene) -> Check {
             ));
         }
         let m = &scene.materials[&b.material];
-        let unsupported = [
-            ("yield_psi0", m.yield_psi0.is_some()),
-            ("yield_stretch", m.yield_stretch.is_some()),
-            ("critical_stretch", m.critical_stretch.is_some()),
-            ("anisotropy", m.anisotropy.is_some()),
-            ("laplacian_damping", m.laplacian_damping != 0.0),
-            ("air_damping", m.air_damping != 0.0),
-        ];
+        let mut unsupported = bond_keys(m).to_vec();
+        unsupported.push(("air_damping", m.air_damping != 0.0));
         if let Some((key, _)) = unsupported.iter().find(|(_, set)| *set) {
             return Err(issue(
                 &["materials", &b.material, key],
@@ -513,6 +501,18 @@ fn mpm(scene: &Scene) -> Check {
         }
     }
     Ok(())
+}
+
+/// The material keys only a bonded (peridynamic) model reads, each with whether the
+/// material sets it: the FEM and MPM refuse a set one by name.
+fn bond_keys(m: &MaterialSpec) -> [(&'static str, bool); 5] {
+    [
+        ("yield_psi0", m.yield_psi0.is_some()),
+        ("yield_stretch", m.yield_stretch.is_some()),
+        ("critical_stretch", m.critical_stretch.is_some()),
+        ("anisotropy", m.anisotropy.is_some()),
+        ("laplacian_damping", m.laplacian_damping != 0.0),
+    ]
 }
 
 fn shape(scene: &Scene, path: &[&str], s: &ShapeSpec) -> Check {
