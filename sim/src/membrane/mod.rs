@@ -35,6 +35,30 @@
 //!
 //! which conserves Σ_i ρ C A_i θ_i exactly when the bonded particles carry equal areas
 //! (every particle of a sheet does, and bonds join particles of one body only).
+//! Sources and sinks (Eq. 8's S) are in [`source`].
+//!
+//! # The state-based option
+//!
+//! Han §7 names the bond-based limit (ν = 1/3 in plane stress) and the area loss it
+//! causes under large stretch (their Fig. 13) as open problems. `membrane_model =
+//! "state"` replaces the micro-springs with an ordinary state-based sheet in plane
+//! stress (in the spirit of Chen's solid model and of Le, Silling and Bobaru's 2D
+//! ordinary state-based model), on the same bonds and weights W_ij:
+//!
+//! ```text
+//! m_i   = Σ_j W_ij |ξ_ij|² A_j                     weighted area moment (reference)
+//! e_ij  = |y_j − y_i| − |ξ_ij|(1 + αθ̄)            extension over the expanded length
+//! ϑ_i   = (2/m_i) Σ_j W_ij |ξ_ij| e_ij A_j          dilatation (2ε under ε·I)
+//! W_i   = κ'ϑ_i²/2 + (α_i/2) Σ_j W_ij (e_ij − ϑ_i|ξ_ij|/2)² A_j,   α_i = 8μ/m_i
+//! t_ij  = ∂W_i/∂e_ij = (2κ'ϑ_i/m_i) W_ij |ξ_ij| + α_i W_ij (e_ij − ϑ_i|ξ_ij|/2)
+//! ρ a_i = Σ_j (t_ij + t_ji) A_j (y_j − y_i)/|y_j − y_i|
+//! ```
+//!
+//! with the plane-stress moduli κ' = E/(2(1 − ν)) and μ = E/(2(1 + ν)): W_i equals
+//! the continuum's κ'(tr ε)²/2 + μ ε_dev : ε_dev for every homogeneous strain (the
+//! deviatoric sum is zero-mean over an isotropic family, which also drops ϑ's
+//! derivative from t). The material's Poisson ratio is then the sheet's; fracture is
+//! the same critical strain η_c on each bond. Linear law only.
 
 pub mod law;
 pub mod sheet;
