@@ -69,7 +69,7 @@ mod tests;
 
 use std::time::Instant;
 
-use perifrac_math::{det_sum, dist};
+use perifrac_math::{cross, det_sum, dist, dot, norm, sub};
 use rayon::prelude::*;
 
 pub use law::Law;
@@ -652,6 +652,70 @@ impl MembraneModel {
                         * (0.5 * plane.bulk * dilatation * dilatation
                             + 0.5 * 8.0 * plane.shear / m * deviatoric)
                 }
+            }
+        })
+    }
+
+    /// The sheet's lattice triangles: every triple of particles of one body bonded
+    /// pairwise at the lattice spacing (each particle's shortest bond, to 0.1%),
+    /// wound so that their reference normals agree with the first one's along the
+    /// sheet's normal, in increasing order of their smallest index.
+    pub fn lattice_triangles(&self) -> Vec<[u32; 3]> {
+        let bonds = &self.bonds;
+        let nearest = |i: usize| -> Vec<usize> {
+            let shortest = bonds
+                .range(i)
+                .map(|k| bonds.rest_length[k])
+                .fold(f64::INFINITY, f64::min);
+            let mut near: Vec<usize> = bonds
+                .range(i)
+                .filter(|&k| bonds.rest_length[k] <= 1.001 * shortest)
+                .map(|k| (bonds.neighbours[k] & INDEX) as usize)
+                .filter(|&j| j > i)
+                .collect();
+            near.sort_unstable();
+            near
+        };
+        let x = &self.reference;
+        let normal = |t: [usize; 3]| cross(sub(x[t[1]], x[t[0]]), sub(x[t[2]], x[t[0]]));
+        let mut triangles = Vec::new();
+        let mut up: Option<[f64; 3]> = None;
+        for i in 0..self.len() {
+            let near = nearest(i);
+            for (a, &j) in near.iter().enumerate() {
+                let of_j = nearest(j);
+                for &k in &near[a + 1..] {
+                    if of_j.binary_search(&k).is_ok() {
+                        let n = normal([i, j, k]);
+                        let reference = *up.get_or_insert(n);
+                        triangles.push(if dot(n, reference) >= 0.0 {
+                            [i as u32, j as u32, k as u32]
+                        } else {
+                            [i as u32, k as u32, j as u32]
+                        });
+                    }
+                }
+            }
+        }
+        triangles
+    }
+
+    /// The current area (m²) of the lattice triangles `triangles` whose three bonds
+    /// are intact, in 3D (wrinkles and folds count at their true area).
+    pub fn sheet_area(&self, triangles: &[[u32; 3]]) -> f64 {
+        let intact = |i: usize, j: usize| {
+            self.bonds.range(i).any(|k| {
+                let nb = self.bonds.neighbours[k];
+                (nb & INDEX) as usize == j && nb & BROKEN == 0
+            })
+        };
+        let y = &self.position;
+        det_sum(triangles.len(), |t| {
+            let [i, j, k] = triangles[t].map(|v| v as usize);
+            if intact(i, j) && intact(j, k) && intact(k, i) {
+                0.5 * norm(cross(sub(y[j], y[i]), sub(y[k], y[i])))
+            } else {
+                0.0
             }
         })
     }
