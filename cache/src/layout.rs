@@ -58,6 +58,17 @@ impl Layout {
         self.tets_dir().join(frame_file(frame, "vtu"))
     }
 
+    /// `sheet/`.
+    pub fn sheet_dir(&self) -> PathBuf {
+        self.root.join("sheet")
+    }
+
+    /// `sheet/NNNN.ply`, a membrane's sheet (particles and intact triangles) at frame
+    /// `frame`.
+    pub fn sheet(&self, frame: usize) -> PathBuf {
+        self.sheet_dir().join(frame_file(frame, "ply"))
+    }
+
     /// `surface/`.
     pub fn surface_dir(&self) -> PathBuf {
         self.root.join("surface")

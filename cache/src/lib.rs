@@ -23,6 +23,7 @@ pub mod manifest;
 pub mod mesh;
 pub mod ply;
 pub mod scene;
+pub mod sheet;
 pub mod vtu;
 
 pub use error::{CacheError, Result};

@@ -243,6 +243,9 @@ pub enum SurfaceMethodArg {
     /// The split tet mesh's boundary with smoothed crack faces (needs `tets/`):
     /// `surface/NNNN.glb` and `surface/animated.glb`.
     Embedded,
+    /// Membranes: each sheet's intact triangles offset to its thickness (needs
+    /// `sheet/`): `surface/NNNN.glb` and `surface/animated.glb`.
+    Sheet,
 }
 
 /// `perifrac surface` as typed.

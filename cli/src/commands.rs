@@ -229,6 +229,7 @@ pub fn simulate(
         SurfaceMethod::Embedded => {
             crate::surface::embedded_stage(out, &scene.output.embedded, quiet)?
         }
+        SurfaceMethod::Sheet => crate::surface::sheet_stage(out, quiet)?,
     }
     let preview = if scene.output.preview {
         crate::render::stage(out, threads, quiet)

@@ -1,6 +1,7 @@
-//! `perifrac surface OUT --method vdb|embedded`, and the surface stage `perifrac run`
-//! runs when the scene's `[output] surface` asks for it: dispatches to
-//! `perifrac_surface::embedded::stage` or `perifrac_surface::vdb::stage` with
+//! `perifrac surface OUT --method vdb|embedded|sheet`, and the surface stage `perifrac
+//! run` runs when the scene's `[output] surface` asks for it: dispatches to
+//! `perifrac_surface::embedded::stage`, `perifrac_surface::vdb::stage` or
+//! `perifrac_surface::sheet::stage` with
 //! `perifrac-render`'s glTF writer, shows a progress bar and prints the summary.
 
 use std::path::Path;
@@ -38,6 +39,7 @@ pub fn command(config: &SurfaceConfig, quiet: bool) -> Result<(), Failure> {
     match config.method {
         SurfaceMethodArg::Vdb => stage(&config.out, &scene.output.vdb, quiet),
         SurfaceMethodArg::Embedded => embedded_stage(&config.out, &scene.output.embedded, quiet),
+        SurfaceMethodArg::Sheet => sheet_stage(&config.out, quiet),
     }
 }
 
@@ -82,6 +84,27 @@ pub fn embedded_stage(out: &Path, spec: &EmbeddedSpec, quiet: bool) -> Result<()
             r.backed_off,
             r.reverted,
             r.volume_error,
+            layout.surface_dir().display()
+        );
+    }
+    Ok(())
+}
+
+/// Runs the `sheet` method over every frame of the cache in `out`.
+pub fn sheet_stage(out: &Path, quiet: bool) -> Result<(), Failure> {
+    let layout = Layout::new(out);
+    let bar = progress(quiet);
+    let start = std::time::Instant::now();
+    let frames = perifrac_surface::sheet::stage(&layout, &Glb, &|done, total| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+    });
+    bar.finish_and_clear();
+    let frames = frames?;
+    if !quiet {
+        eprintln!(
+            "surfaced {frames} frames (sheet) in {:.1} s; output in {}",
+            start.elapsed().as_secs_f64(),
             layout.surface_dir().display()
         );
     }

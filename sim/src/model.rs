@@ -13,6 +13,7 @@ use std::any::Any;
 use std::fmt::Debug;
 
 use crate::cache::checkpoint::{Decoder, Encoder};
+use crate::cache::sheet::SheetFrame;
 use crate::cache::vtu::TetFrame;
 use crate::contact::{Anchor, Collider};
 use crate::error::Result;
@@ -173,6 +174,12 @@ pub trait Model: Any + Debug + Send + Sync {
 
     /// Sets the stage times back to zero (benchmarks).
     fn reset_stage_times(&mut self);
+
+    /// The sheet of the current state (its particles and intact triangles), for
+    /// models that write `sheet/` (membranes).
+    fn sheet_frame(&self) -> Option<SheetFrame> {
+        None
+    }
 
     /// The split tet mesh of the current state, for models that write `tets/`.
     fn tet_frame(&mut self) -> Option<TetFrame> {

@@ -14,7 +14,10 @@
 //!   check that refuses single layers of particles;
 //! - [`mesh`]: [`mesh::TriangleMesh`], the mesher's triangles with their measures
 //!   (volume, open edges, parts, normals);
-//! - [`debris`]: fragments too small to surface, as `surface/NNNN_debris.ply` points.
+//! - [`debris`]: fragments too small to surface, as `surface/NNNN_debris.ply` points;
+//! - [`sheet::stage`]: the `sheet` method for membranes, each sheet's intact lattice
+//!   triangles (`sheet/NNNN.ply`) thickened into a closed shell, as `surface/NNNN.glb`
+//!   and `surface/animated.glb`.
 //!
 //! Surfaces leave the crate as the cache's one surface type,
 //! [`perifrac_cache::mesh::SurfaceMesh`]. The stages write their `.glb` files through a
@@ -29,6 +32,7 @@ pub mod embedded;
 pub mod error;
 pub mod mesh;
 pub mod particles;
+pub mod sheet;
 #[cfg(feature = "openvdb")]
 pub mod vdb;
 

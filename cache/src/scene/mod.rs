@@ -672,6 +672,11 @@ impl OutputSpec {
     pub fn writes_tets(&self) -> bool {
         self.tets.unwrap_or(self.surface == SurfaceMethod::Embedded)
     }
+
+    /// Whether the run writes `sheet/NNNN.ply` (membranes, the `sheet` method).
+    pub fn writes_sheets(&self) -> bool {
+        self.surface == SurfaceMethod::Sheet
+    }
 }
 
 /// `[output.embedded]`: the crack-surface smoothing of the `embedded` method (the
@@ -726,6 +731,10 @@ pub enum SurfaceMethod {
     /// The embedded tet mesh (Chen §5.2): `tets/NNNN.vtu` → boundary with smoothed
     /// crack faces → `surface/NNNN.glb` and `surface/animated.glb`.
     Embedded,
+    /// Membranes only: each sheet's own triangulated particles (`sheet/NNNN.ply`, the
+    /// lattice triangles whose bonds are intact) offset to its thickness with the crack
+    /// edges closed → `surface/NNNN.glb` and `surface/animated.glb`.
+    Sheet,
 }
 
 /// `[output.vdb]`: how particles become level sets and meshes (the `vdb` method).

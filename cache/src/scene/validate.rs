@@ -90,6 +90,14 @@ pub(super) fn validate(scene: &Scene) -> Check {
             "surface = \"embedded\" reads the split tet meshes: set tets = true or leave it out",
         ));
     }
+    let membranes = scene.bodies.iter().any(|b| b.model == ModelKind::Membrane);
+    if scene.output.surface == SurfaceMethod::Sheet && !membranes {
+        return Err(issue(
+            &["output", "surface"],
+            "surface = \"sheet\" meshes membranes (model = \"membrane\"): use \"embedded\" \
+             or \"vdb\" for solids",
+        ));
+    }
     Ok(())
 }
 

@@ -700,19 +700,24 @@ impl MembraneModel {
         triangles
     }
 
+    /// Whether the three bonds of lattice triangle `t` are intact.
+    pub fn triangle_intact(&self, t: [u32; 3]) -> bool {
+        let intact = |i: u32, j: u32| {
+            self.bonds.range(i as usize).any(|k| {
+                let nb = self.bonds.neighbours[k];
+                nb & INDEX == j && nb & BROKEN == 0
+            })
+        };
+        intact(t[0], t[1]) && intact(t[1], t[2]) && intact(t[2], t[0])
+    }
+
     /// The current area (m²) of the lattice triangles `triangles` whose three bonds
     /// are intact, in 3D (wrinkles and folds count at their true area).
     pub fn sheet_area(&self, triangles: &[[u32; 3]]) -> f64 {
-        let intact = |i: usize, j: usize| {
-            self.bonds.range(i).any(|k| {
-                let nb = self.bonds.neighbours[k];
-                (nb & INDEX) as usize == j && nb & BROKEN == 0
-            })
-        };
         let y = &self.position;
         det_sum(triangles.len(), |t| {
-            let [i, j, k] = triangles[t].map(|v| v as usize);
-            if intact(i, j) && intact(j, k) && intact(k, i) {
+            if self.triangle_intact(triangles[t]) {
+                let [i, j, k] = triangles[t].map(|v| v as usize);
                 0.5 * norm(cross(sub(y[j], y[i]), sub(y[k], y[i])))
             } else {
                 0.0

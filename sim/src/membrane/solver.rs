@@ -9,10 +9,13 @@
 //! world's velocity Verlet is as stable as the paper's scheme (at second order) with
 //! the same bound ([`MembraneModel::stable_time_step`]).
 
+use std::sync::OnceLock;
+
 use rayon::prelude::*;
 
 use super::MembraneModel;
 use crate::cache::checkpoint::{Decoder, Encoder};
+use crate::cache::sheet::SheetFrame;
 use crate::error::Result;
 use crate::family::INDEX;
 use crate::model::{Model, ParticleColumns, Points, PointsMut};
@@ -22,12 +25,17 @@ use crate::model::{Model, ParticleColumns, Points, PointsMut};
 pub struct Membrane {
     /// The model.
     pub model: MembraneModel,
+    /// The lattice triangles, found the first time a sheet is written.
+    triangles: OnceLock<Vec<[u32; 3]>>,
 }
 
 impl Membrane {
     /// The model behind the interface.
     pub fn new(model: MembraneModel) -> Membrane {
-        Membrane { model }
+        Membrane {
+            model,
+            triangles: OnceLock::new(),
+        }
     }
 }
 
@@ -137,6 +145,28 @@ impl Model for Membrane {
 
     fn bonds(&self) -> usize {
         self.model.bonds.len()
+    }
+
+    /// The particles (with their body's thickness) and the lattice triangles whose
+    /// three bonds are intact.
+    fn sheet_frame(&self) -> Option<SheetFrame> {
+        let m = &self.model;
+        let triangles = self.triangles.get_or_init(|| m.lattice_triangles());
+        Some(SheetFrame {
+            positions: m.position.iter().map(f32x3).collect(),
+            thickness: m
+                .body
+                .iter()
+                .map(|&b| m.bodies[b as usize].thickness as f32)
+                .collect(),
+            quantity: m.quantity.iter().map(|&q| q as f32).collect(),
+            damage: m.damage.iter().map(|&d| d as f32).collect(),
+            triangles: triangles
+                .iter()
+                .copied()
+                .filter(|&t| m.triangle_intact(t))
+                .collect(),
+        })
     }
 
     /// Positions, velocities, the bonds' broken bits, θ and the diffusion's time;

@@ -94,6 +94,11 @@ impl<'a> Frames<'a> {
                     frame_split += s.elapsed().as_secs_f64();
                     tets.write(&layout.tets(frame))?;
                 }
+                if scene.output.writes_sheets()
+                    && let Some(sheet) = part.model.sheet_frame()
+                {
+                    sheet.write(&layout.sheet(frame))?;
+                }
             }
             self.split_time += frame_split;
             self.manifest.frame_times.push(world.time);

@@ -85,9 +85,13 @@ pub fn run_prepared(
     progress: &mut dyn FnMut(Progress),
 ) -> Result<Manifest> {
     layout.create()?;
-    if scene.output.writes_tets() {
-        let dir = layout.root.join("tets");
-        std::fs::create_dir_all(&dir).map_err(|e| SimError::io(&dir, e))?;
+    for (writes, dir) in [
+        (scene.output.writes_tets(), layout.tets_dir()),
+        (scene.output.writes_sheets(), layout.sheet_dir()),
+    ] {
+        if writes {
+            std::fs::create_dir_all(&dir).map_err(|e| SimError::io(&dir, e))?;
+        }
     }
     let mut frames = frames::Frames::new(scene, layout, &prepared, options, start, progress);
     if options.resume && layout.checkpoint().is_file() {
