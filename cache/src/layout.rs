@@ -98,6 +98,12 @@ impl Layout {
         self.preview_dir().join(frame_file(frame, "png"))
     }
 
+    /// `preview/frame_NNNN.png`, a single frame rendered on its own (`perifrac render
+    /// --frame`), apart from the sequence's `preview/NNNN.png` so it never replaces one.
+    pub fn single_preview(&self, frame: usize) -> PathBuf {
+        self.preview_dir().join(format!("frame_{frame:04}.png"))
+    }
+
     /// `preview/turntable_NNN.png`, turntable view `view` (from 1).
     pub fn turntable(&self, view: usize) -> PathBuf {
         self.preview_dir().join(format!("turntable_{view:03}.png"))

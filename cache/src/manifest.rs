@@ -181,14 +181,12 @@ impl Manifest {
         })
     }
 
-    /// Records `bytes` as the contents of `path` (a file under `root`), for
+    /// Records what was written to `path` (a file under `root`), for
     /// `perifrac verify`.
-    pub fn record(&mut self, root: &Path, path: &Path, bytes: &[u8]) {
+    pub fn record(&mut self, root: &Path, path: &Path, record: FileRecord) {
         let key = path.strip_prefix(root).unwrap_or(path);
-        self.files.insert(
-            key.to_string_lossy().replace('\\', "/"),
-            FileRecord::of(bytes),
-        );
+        self.files
+            .insert(key.to_string_lossy().replace('\\', "/"), record);
     }
 
     /// Frames written (`frame_times` has one entry a frame).
