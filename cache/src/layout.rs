@@ -137,9 +137,7 @@ impl Layout {
     /// Whether the directory holds a cache (a manifest, particle frames or a
     /// checkpoint): a new run into it must resume it or replace it, never mix with it.
     pub fn holds_cache(&self) -> bool {
-        self.manifest().exists()
-            || !self.particle_frames().is_empty()
-            || self.checkpoint().exists()
+        self.manifest().exists() || !self.particle_frames().is_empty() || self.checkpoint().exists()
     }
 
     /// Removes the cache in the directory: the manifest, the resolved scene and the
@@ -302,10 +300,9 @@ pub fn write_error(path: &Path, error: std::io::Error, needed: u64) -> CacheErro
             "; the file ({}) is above this process's file size limit (`ulimit -f`): raise it",
             human_bytes(needed)
         ),
-        ErrorKind::PermissionDenied => format!(
-            "; check that {} is writable by this user",
-            dir.display()
-        ),
+        ErrorKind::PermissionDenied => {
+            format!("; check that {} is writable by this user", dir.display())
+        }
         ErrorKind::ReadOnlyFilesystem => {
             "; the filesystem is read-only: write the cache elsewhere (-o)".to_string()
         }
@@ -392,7 +389,10 @@ mod tests {
         let missing = dir.path().join("gone").join("0001.ply");
         let err = write_atomic(&missing, b"x").expect_err("no directory");
         let text = err.to_string();
-        assert!(text.starts_with(&format!("could not write {}:", missing.display())), "{text}");
+        assert!(
+            text.starts_with(&format!("could not write {}:", missing.display())),
+            "{text}"
+        );
         assert!(!text.contains(".tmp-"), "{text}");
         assert_eq!(text.matches("os error").count(), 1, "{text}");
         assert!(std::error::Error::source(&err).is_none());

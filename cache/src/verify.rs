@@ -295,7 +295,9 @@ mod tests {
         for k in 1..=3 {
             let path = layout.particles(k);
             let record = frame(k, k as f32).write(&path).expect("write");
-            manifest.files.insert(format!("particles/{k:04}.ply"), record);
+            manifest
+                .files
+                .insert(format!("particles/{k:04}.ply"), record);
             manifest.frame_times.push(k as f64);
         }
         manifest.write(&layout.manifest()).expect("manifest");
@@ -309,13 +311,18 @@ mod tests {
         bytes[last] ^= 0x10;
         std::fs::write(layout.particles(2), bytes).expect("write");
         std::fs::remove_file(layout.particles(3)).expect("remove");
-        frame(4, f32::NAN).write(&layout.particles(4)).expect("write");
+        frame(4, f32::NAN)
+            .write(&layout.particles(4))
+            .expect("write");
         let report = verify(&layout);
         let text: Vec<String> = report.problems.iter().map(|p| p.to_string()).collect();
         assert_eq!(report.problems.len(), 3, "{text:?}");
         assert!(text[0].contains("0002.ply: checksum"), "{text:?}");
         assert!(text[1].contains("0003.ply: missing"), "{text:?}");
-        assert!(text[2].contains("0004.ply: a frame the manifest does not list"), "{text:?}");
+        assert!(
+            text[2].contains("0004.ply: a frame the manifest does not list"),
+            "{text:?}"
+        );
 
         write_atomic(&layout.manifest(), b"{ not json").expect("write");
         let report = verify(&layout);

@@ -379,7 +379,11 @@ mod tests {
         assert_eq!(c.threads, Some(2));
         assert_eq!(c.out, Some(PathBuf::from("x")));
         assert!(c.resume && !c.force);
-        assert!(parse(&["perifrac", "run", "a.toml", "--force"]).unwrap().force);
+        assert!(
+            parse(&["perifrac", "run", "a.toml", "--force"])
+                .unwrap()
+                .force
+        );
         assert!(
             parse(&["perifrac", "run", "a.toml", "--force", "--resume"])
                 .unwrap_err()

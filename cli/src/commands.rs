@@ -207,7 +207,10 @@ pub fn demo(
     )?;
     let lifecycle = Lifecycle {
         force,
-        resume_command: format!("perifrac demo -o {} --resume", shell_word(&out.to_string_lossy())),
+        resume_command: format!(
+            "perifrac demo -o {} --resume",
+            shell_word(&out.to_string_lossy())
+        ),
     };
     let options = RunOptions {
         resume,

@@ -10,9 +10,9 @@ use indicatif::{ProgressBar, ProgressStyle};
 use perifrac_cache::Layout;
 
 use crate::args::RenderConfig;
+use crate::commands::Failure;
 #[cfg(feature = "gl")]
 use crate::commands::{EXIT_FAILED, EXIT_INPUT};
-use crate::commands::Failure;
 
 #[cfg(feature = "gl")]
 fn progress_bar(quiet: bool, message: &str) -> ProgressBar {

@@ -7,8 +7,8 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use indicatif::{ProgressBar, ProgressStyle};
-use perifrac_cache::{CacheError, Layout};
 use perifrac_cache::scene::{EmbeddedSpec, Scene, VdbSpec};
+use perifrac_cache::{CacheError, Layout};
 use perifrac_render::gltf::Glb;
 use perifrac_surface::SurfaceError;
 

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-/// A jelly cube dropped on the ground: 21 frames of a few thousand particles, long
+/// A jelly cube dropped on the ground: 21 frames of 2,250 particles, long
 /// enough (a second or two) to be stopped in the middle.
 const SCENE: &str = r#"[scene]
 name = "lifecycle"
@@ -27,7 +27,7 @@ critical_stretch = 0.05
 name = "cube"
 material = "jelly"
 shape = { type = "box", center = [0, 0.03, 0], size = [0.05, 0.05, 0.05] }
-resolution = 0.005
+resolution = 0.008
 velocity = [0, -1, 0]
 
 [[collider]]
@@ -166,7 +166,10 @@ fn reference(dir: &Path, scene: &str) -> BTreeMap<PathBuf, Vec<u8>> {
     let r = perifrac(&["run", scene, "-o", &out.to_string_lossy()]);
     assert!(r.status.success(), "{}", text(&r));
     assert_eq!(manifest(&out)["status"], "complete");
-    assert_eq!(manifest(&out)["frame_times"].as_array().map(Vec::len), Some(FRAMES));
+    assert_eq!(
+        manifest(&out)["frame_times"].as_array().map(Vec::len),
+        Some(FRAMES)
+    );
     cache_bytes(&out)
 }
 
@@ -214,10 +217,21 @@ fn sigkill_anywhere_then_resume_gives_the_bytes_of_an_uninterrupted_run() {
     let tmp = caught.expect("a write in flight was caught before the run ended");
     child.kill().expect("SIGKILL");
     child.wait().expect("reaped");
-    assert!(out.join(&tmp).exists(), "the half-written file is left by the kill");
+    assert!(
+        out.join(&tmp).exists(),
+        "the half-written file is left by the kill"
+    );
     resume(&scene, &out);
-    assert_same_cache(&out, &reference, &format!("killed writing {}", tmp.display()));
-    assert_eq!(temporary_files(&out), Vec::<PathBuf>::new(), "swept on resume");
+    assert_same_cache(
+        &out,
+        &reference,
+        &format!("killed writing {}", tmp.display()),
+    );
+    assert_eq!(
+        temporary_files(&out),
+        Vec::<PathBuf>::new(),
+        "swept on resume"
+    );
 }
 
 /// A run stopped by `name` after frame 5 or later.
@@ -332,14 +346,26 @@ fn a_full_disk_stops_cleanly_names_the_file_and_resumes_once_space_is_freed() {
     assert_eq!(r.status.code(), Some(1), "{err}");
     assert!(err.contains("could not write"), "{err}");
     assert!(err.contains("No space left on device"), "{err}");
-    assert_eq!(err.matches("os error").count(), 1, "the OS's words once: {err}");
+    assert_eq!(
+        err.matches("os error").count(),
+        1,
+        "the OS's words once: {err}"
+    );
     assert!(err.contains(" free and this file needs "), "{err}");
-    assert!(!err.contains(".tmp-"), "the final file is named, not the temporary: {err}");
+    assert!(
+        !err.contains(".tmp-"),
+        "the final file is named, not the temporary: {err}"
+    );
     assert!(err.contains("--resume"), "{err}");
     assert_eq!(temporary_files(&out), Vec::<PathBuf>::new());
     let m = manifest(&out);
     assert_eq!(m["status"], "failed", "{m}");
-    assert!(m["message"].as_str().is_some_and(|s| s.contains("No space left")), "{m}");
+    assert!(
+        m["message"]
+            .as_str()
+            .is_some_and(|s| s.contains("No space left")),
+        "{m}"
+    );
 
     disk.resize(4 * total + (1 << 20));
     resume(&scene, &out);
@@ -373,7 +399,10 @@ fn a_folder_holding_a_cache_is_resumed_or_replaced_never_mixed() {
     assert!(r.status.success(), "{}", text(&r));
     let frames: Vec<PathBuf> = files(&out.join("particles"));
     assert_eq!(frames.len(), 4, "{frames:?}");
-    assert_eq!(manifest(&out)["frame_times"].as_array().map(Vec::len), Some(4));
+    assert_eq!(
+        manifest(&out)["frame_times"].as_array().map(Vec::len),
+        Some(4)
+    );
 
     // Resumed to the end, then "already complete" without running again.
     resume(&scene, &out);
@@ -388,7 +417,11 @@ fn a_folder_holding_a_cache_is_resumed_or_replaced_never_mixed() {
     std::fs::write(out.join("manifest.json"), "{ \"scene\": ").expect("write");
     let r = perifrac(&["run", &scene, "-o", &o, "--resume"]);
     assert_eq!(r.status.code(), Some(2), "{}", text(&r));
-    assert!(text(&r).contains("manifest.json") && text(&r).contains("--force"), "{}", text(&r));
+    assert!(
+        text(&r).contains("manifest.json") && text(&r).contains("--force"),
+        "{}",
+        text(&r)
+    );
 }
 
 #[test]

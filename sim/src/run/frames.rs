@@ -75,6 +75,10 @@ impl<'a> Frames<'a> {
         self.manifest.frame_times = from.manifest.frame_times;
         self.manifest.collider_centers = from.manifest.collider_centers;
         self.manifest.files = from.manifest.files;
+        // Where it stood, should nothing be left to run (`--resume --frames` at the
+        // frame it stopped at).
+        self.manifest.status = from.manifest.status;
+        self.manifest.message = from.manifest.message;
     }
 
     /// Steps `world` through the remaining frames. On any error but an interruption
@@ -136,9 +140,7 @@ impl<'a> Frames<'a> {
                     format!("{reason}: stopped after frame {frame}; --resume continues"),
                 ),
                 (None, false) => (Status::Running, String::new()),
-                (None, true) if frames == scene.frame_count() => {
-                    (Status::Complete, String::new())
-                }
+                (None, true) if frames == scene.frame_count() => (Status::Complete, String::new()),
                 (None, true) => (
                     Status::Interrupted,
                     format!(
