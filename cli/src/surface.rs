@@ -92,6 +92,7 @@ fn vdb_files(layout: &Layout) -> Vec<PathBuf> {
 
 /// The `embedded` method's files: `surface/animated.glb` and, with it,
 /// `surface/NNNN.glb`.
+#[cfg(feature = "openvdb")]
 fn embedded_files(layout: &Layout) -> Vec<PathBuf> {
     if !layout.animated_surface().exists() {
         return Vec::new();
