@@ -3,4 +3,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
-cargo run --release -q -p perifrac -- demo -o out/demo "$@"
+# A rerun replaces the previous demo cache, unless asked to --resume it.
+replace=(--force)
+for arg in "$@"; do [[ "$arg" == --resume || "$arg" == --force ]] && replace=(); done
+cargo run --release -q -p perifrac -- demo -o out/demo "${replace[@]}" "$@"

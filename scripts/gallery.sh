@@ -9,9 +9,9 @@ cargo build --release -q -p perifrac --manifest-path "$root/Cargo.toml"
 bin="$root/target/release/perifrac"
 # scene, frames to simulate, the frame shown, camera azimuth (degrees)
 while read -r scene frames shown azimuth; do
-  "$bin" run "$root/assets/scenes/$scene.toml" -o "$out/$scene" --frames "$frames" --quiet
+  "$bin" run "$root/assets/scenes/$scene.toml" -o "$out/$scene" --frames "$frames" --force --quiet
   "$bin" render "$out/$scene" --frame "$shown" --size 960x540 --azimuth "$azimuth" --quiet
-  cp "$out/$scene/preview/$(printf '%04d' "$shown").png" "$root/docs/gallery/$scene.png"
+  cp "$out/$scene/preview/frame_$(printf '%04d' "$shown").png" "$root/docs/gallery/$scene.png"
   echo "docs/gallery/$scene.png: frame $shown of $frames"
 done <<'LIST'
 demo 30 20 145
@@ -29,5 +29,5 @@ cp -r "$out/demo" "$out/demo-vdb"
 rm -rf "$out/demo-vdb/surface" "$out/demo-vdb/preview"
 "$bin" surface "$out/demo-vdb" --method vdb --quiet
 "$bin" render "$out/demo-vdb" --frame 10 --size 960x540 --azimuth 145 --quiet
-cp "$out/demo-vdb/preview/0010.png" "$root/docs/gallery/demo-vdb.png"
+cp "$out/demo-vdb/preview/frame_0010.png" "$root/docs/gallery/demo-vdb.png"
 echo "docs/gallery/demo-vdb.png: frame 10 of the demo, vdb method"

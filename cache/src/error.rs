@@ -19,13 +19,26 @@ pub enum CacheError {
         /// What is wrong and how to fix it.
         message: String,
     },
-    /// Reading or writing a file failed.
-    #[error("{path}: {source}")]
+    /// Reading a file (or making a directory) failed.
+    #[error("{path}: {error}")]
     Io {
         /// The file or directory.
         path: PathBuf,
+        /// The underlying error (shown in the message, not chained as its source, so
+        /// the OS's words appear once).
+        error: std::io::Error,
+    },
+    /// Writing a cache file failed: names the file (never its temporary name), the
+    /// OS's reason once, and what to do about it.
+    #[error("could not write {path}: {error}{hint}")]
+    Write {
+        /// The file being written.
+        path: PathBuf,
         /// The underlying error.
-        source: std::io::Error,
+        error: std::io::Error,
+        /// `; ` and the fix (for a full disk: the free space and what the file needs),
+        /// or empty.
+        hint: String,
     },
     /// A cache file does not have the expected layout (or a checkpoint is damaged).
     #[error("{path}: {message}")]
@@ -39,10 +52,10 @@ pub enum CacheError {
 
 impl CacheError {
     /// An I/O error with the path it concerns.
-    pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+    pub fn io(path: impl Into<PathBuf>, error: std::io::Error) -> Self {
         CacheError::Io {
             path: path.into(),
-            source,
+            error,
         }
     }
 
@@ -54,12 +67,28 @@ impl CacheError {
         }
     }
 
-    /// Whether the error is bad input from the user (a scene file), rather than a
-    /// failed run or a damaged cache.
+    /// Whether the error is bad input (a scene file, or a cache file or checkpoint
+    /// that is damaged or not what it should be: exit code 2 from every command),
+    /// rather than a failed run (I/O).
     pub fn is_bad_input(&self) -> bool {
-        matches!(self, CacheError::Scene { .. })
+        matches!(self, CacheError::Scene { .. } | CacheError::Format { .. })
+    }
+
+    /// Whether the error is a write that failed for lack of space.
+    pub fn is_disk_full(&self) -> bool {
+        matches!(self, CacheError::Write { error, .. } if is_disk_full(error))
     }
 }
 
 /// Shorthand for results in this crate.
 pub type Result<T, E = CacheError> = std::result::Result<T, E>;
+
+/// Whether `error` says the filesystem (or the file size limit) is full.
+pub(crate) fn is_disk_full(error: &std::io::Error) -> bool {
+    matches!(
+        error.kind(),
+        std::io::ErrorKind::StorageFull
+            | std::io::ErrorKind::QuotaExceeded
+            | std::io::ErrorKind::FileTooLarge
+    )
+}

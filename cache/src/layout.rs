@@ -109,6 +109,12 @@ impl Layout {
         self.preview_dir().join(frame_file(frame, "png"))
     }
 
+    /// `preview/frame_NNNN.png`, a single frame rendered on its own (`perifrac render
+    /// --frame`), apart from the sequence's `preview/NNNN.png` so it never replaces one.
+    pub fn single_preview(&self, frame: usize) -> PathBuf {
+        self.preview_dir().join(format!("frame_{frame:04}.png"))
+    }
+
     /// `preview/turntable_NNN.png`, turntable view `view` (from 1).
     pub fn turntable(&self, view: usize) -> PathBuf {
         self.preview_dir().join(format!("turntable_{view:03}.png"))
@@ -137,6 +143,75 @@ impl Layout {
     /// Frame numbers with a `surface/NNNN.glb`, ascending.
     pub fn surface_frames(&self) -> Vec<usize> {
         frame_numbers(&self.surface_dir(), ".glb")
+    }
+
+    /// Whether the directory holds a cache (a manifest, particle frames or a
+    /// checkpoint): a new run into it must resume it or replace it, never mix with it.
+    pub fn holds_cache(&self) -> bool {
+        self.manifest().exists() || !self.particle_frames().is_empty() || self.checkpoint().exists()
+    }
+
+    /// Removes the cache in the directory: the manifest, the resolved scene and the
+    /// `particles/`, `tets/`, `sheet/`, `surface/`, `vdb/`, `preview/` and `checkpoint/`
+    /// directories (nothing else). `perifrac run --force` calls it before a new run.
+    pub fn clear(&self) -> Result<()> {
+        for dir in self.directories() {
+            match std::fs::remove_dir_all(&dir) {
+                Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                    return Err(CacheError::io(&dir, e));
+                }
+                _ => {}
+            }
+        }
+        for file in [self.manifest(), self.scene()] {
+            match std::fs::remove_file(&file) {
+                Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                    return Err(CacheError::io(&file, e));
+                }
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+
+    /// Every directory of the layout below the root.
+    fn directories(&self) -> [PathBuf; 7] {
+        [
+            self.particles_dir(),
+            self.tets_dir(),
+            self.sheet_dir(),
+            self.surface_dir(),
+            self.vdb_dir(),
+            self.preview_dir(),
+            self.checkpoint_dir(),
+        ]
+    }
+
+    /// Removes the temporary files ([`temporary_path`]) a killed or failed writer
+    /// left in the cache: those of this process and of processes no longer running
+    /// (a live process's are its writes in flight). Returns the files removed.
+    pub fn remove_temporary_files(&self) -> Vec<PathBuf> {
+        let own = std::process::id();
+        let mut removed = Vec::new();
+        let dirs = std::iter::once(self.root.clone()).chain(self.directories());
+        for dir in dirs {
+            let Ok(entries) = std::fs::read_dir(&dir) else {
+                continue;
+            };
+            for entry in entries.flatten() {
+                let name = entry.file_name();
+                let Some(pid) = name.to_str().and_then(temporary_owner) else {
+                    continue;
+                };
+                if (pid == own || !process_is_running(pid))
+                    && std::fs::remove_file(entry.path()).is_ok()
+                {
+                    removed.push(entry.path());
+                }
+            }
+        }
+        removed.sort();
+        removed
     }
 
     /// Creates the directories the simulator writes into.
@@ -180,17 +255,101 @@ pub fn temporary_path(path: &Path) -> PathBuf {
     dir.join(format!(".{name}.tmp-{}", std::process::id()))
 }
 
-/// Writes `bytes` to `path` atomically (temporary file, then rename).
+/// The process id in a temporary file name `.NAME.tmp-PID`, if it is one.
+fn temporary_owner(name: &str) -> Option<u32> {
+    let (stem, pid) = name.rsplit_once(".tmp-")?;
+    (stem.starts_with('.') && stem.len() > 1 && !pid.is_empty())
+        .then(|| pid.parse().ok())
+        .flatten()
+}
+
+/// Whether process `pid` is running (Linux: `/proc/PID` exists; elsewhere every
+/// other process counts as gone).
+fn process_is_running(pid: u32) -> bool {
+    Path::new("/proc").join(pid.to_string()).exists()
+}
+
+/// Writes `bytes` to `path` atomically: a temporary file beside it, then a rename.
+/// On failure the temporary file is removed and the error names `path`, the OS's
+/// reason and the fix (for a full disk, the free space and the bytes needed).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     let tmp = temporary_path(path);
     let write = || -> std::io::Result<()> {
         let mut f = std::fs::File::create(&tmp)?;
         f.write_all(bytes)?;
         f.sync_data()?;
-        Ok(())
+        drop(f);
+        std::fs::rename(&tmp, path)
     };
-    write().map_err(|e| CacheError::io(&tmp, e))?;
-    std::fs::rename(&tmp, path).map_err(|e| CacheError::io(path, e))
+    write().map_err(|error| {
+        // The partial file would keep a full disk full.
+        let _ = std::fs::remove_file(&tmp);
+        write_error(path, error, bytes.len() as u64)
+    })
+}
+
+/// The error of a failed write of `needed` bytes to `path`, with the fix.
+pub fn write_error(path: &Path, error: std::io::Error, needed: u64) -> CacheError {
+    use std::io::ErrorKind;
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let hint = match error.kind() {
+        ErrorKind::StorageFull | ErrorKind::QuotaExceeded => {
+            let free = free_space(dir).map_or_else(
+                || "an unknown amount of space".to_string(),
+                |b| format!("{} free", human_bytes(b)),
+            );
+            format!(
+                "; the filesystem of {} has {free} and this file needs {}: free some \
+                 space, or write the cache to another disk (-o)",
+                dir.display(),
+                human_bytes(needed)
+            )
+        }
+        ErrorKind::FileTooLarge => format!(
+            "; the file ({}) is above this process's file size limit (`ulimit -f`): raise it",
+            human_bytes(needed)
+        ),
+        ErrorKind::PermissionDenied => {
+            format!("; check that {} is writable by this user", dir.display())
+        }
+        ErrorKind::ReadOnlyFilesystem => {
+            "; the filesystem is read-only: write the cache elsewhere (-o)".to_string()
+        }
+        ErrorKind::NotFound => format!(
+            "; the directory {} is gone (removed while the run was writing?)",
+            dir.display()
+        ),
+        _ => String::new(),
+    };
+    CacheError::Write {
+        path: path.to_path_buf(),
+        error,
+        hint,
+    }
+}
+
+/// Bytes the filesystem holding `path` gives an unprivileged user, if known.
+pub fn free_space(path: &Path) -> Option<u64> {
+    let stat = rustix::fs::statvfs(path).ok()?;
+    Some(stat.f_bavail.saturating_mul(stat.f_frsize))
+}
+
+/// `1.5 MiB`, `820 B`: a byte count for messages.
+pub fn human_bytes(bytes: u64) -> String {
+    const UNITS: [&str; 5] = ["KiB", "MiB", "GiB", "TiB", "PiB"];
+    if bytes < 1024 {
+        return format!("{bytes} B");
+    }
+    let mut value = bytes as f64 / 1024.0;
+    let mut unit = 0;
+    while value >= 1024.0 && unit + 1 < UNITS.len() {
+        value /= 1024.0;
+        unit += 1;
+    }
+    format!("{value:.1} {}", UNITS[unit])
 }
 
 #[cfg(test)]
@@ -212,5 +371,45 @@ mod tests {
         write_atomic(&layout.particles_dir().join("notes.ply"), b"x").expect("write");
         assert_eq!(layout.particle_frames(), vec![1, 3]);
         assert!(layout.surface_frames().is_empty());
+        assert!(layout.holds_cache());
+        layout.clear().expect("clear");
+        assert!(!layout.holds_cache() && layout.root.exists());
+    }
+
+    #[test]
+    fn temporary_files_of_gone_processes_are_swept_and_live_ones_kept() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let layout = Layout::new(dir.path());
+        layout.create().expect("create");
+        let own = temporary_path(&layout.particles(2));
+        // PID 1 is always running; u32::MAX never is.
+        let live = layout.particles_dir().join(".0003.ply.tmp-1");
+        let gone = layout.root.join(format!(".manifest.json.tmp-{}", u32::MAX));
+        let not_temporary = layout.particles_dir().join("0004.ply.tmp-x");
+        for path in [&own, &live, &gone, &not_temporary] {
+            std::fs::write(path, b"partial").expect("write");
+        }
+        let mut expected = vec![own, gone];
+        expected.sort();
+        assert_eq!(layout.remove_temporary_files(), expected);
+        assert!(live.exists() && not_temporary.exists());
+    }
+
+    #[test]
+    fn a_failed_write_names_the_file_once_and_leaves_no_temporary() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let missing = dir.path().join("gone").join("0001.ply");
+        let err = write_atomic(&missing, b"x").expect_err("no directory");
+        let text = err.to_string();
+        assert!(
+            text.starts_with(&format!("could not write {}:", missing.display())),
+            "{text}"
+        );
+        assert!(!text.contains(".tmp-"), "{text}");
+        assert_eq!(text.matches("os error").count(), 1, "{text}");
+        assert!(std::error::Error::source(&err).is_none());
+        assert_eq!(human_bytes(1536), "1.5 KiB");
+        assert_eq!(human_bytes(12), "12 B");
+        assert!(free_space(dir.path()).is_some());
     }
 }

@@ -13,6 +13,7 @@
 //! | [`manifest::Manifest`] | `manifest.json`: what a run produced and what it cost |
 //! | [`checkpoint::Checkpoint`] | the versioned, checksummed checkpoint container; a model writes its state into the payload with [`checkpoint::Encoder`] and reads it with [`checkpoint::Decoder`] |
 //! | [`mesh::SurfaceMesh`] | a surface as the surface stage makes it and the glTF writer writes it; [`mesh::SurfaceEncoder`] is how the surface stage has it encoded |
+//! | [`verify::verify`] | a cache checked against its manifest: frames present, sizes and checksums as written, finite positions |
 //! | [`CacheError`] | every failure, naming the file (and, for scenes, line, column and key) |
 #![warn(missing_docs)]
 
@@ -24,7 +25,8 @@ pub mod mesh;
 pub mod ply;
 pub mod scene;
 pub mod sheet;
+pub mod verify;
 pub mod vtu;
 
 pub use error::{CacheError, Result};
-pub use layout::{Layout, temporary_path, write_atomic};
+pub use layout::{Layout, free_space, human_bytes, temporary_path, write_atomic, write_error};

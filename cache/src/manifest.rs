@@ -38,11 +38,67 @@ pub struct Manifest {
     pub steps: u64,
     /// Bonds broken so far (directed).
     pub broken_bonds: u64,
-    /// How the run ended: `"complete"`, `"running"` or the blow-up message.
-    pub status: String,
+    /// How the run stands: running, complete, interrupted or failed.
+    pub status: Status,
+    /// Why the run was interrupted (a signal, `--frames`) or what made it fail (the
+    /// blow-up, the I/O error); empty while running and when complete.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub message: String,
+    /// Size and CRC-32 of every file the run wrote, by path relative to the output
+    /// directory (`particles/0001. py`, …), recorded at write time: `perifrac verify`
+    /// checks the cache against them.
+    #[serde(default)]
+    pub files: BTreeMap<String, FileRecord>,
     /// Wall-clock seconds in each stage (not part of the deterministic output:
     /// excluded by [`Manifest::deterministic_json`]).
     pub timings: Timings,
+}
+
+/// How a run stands, in `manifest.json` as a lowercase word.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Status {
+    /// Being written (or the process was killed: nothing else marks it).
+    #[default]
+    Running,
+    /// Every frame of the scene is written.
+    Complete,
+    /// Stopped before the end, with a checkpoint to continue from (`--resume`): a
+    /// signal, or `--frames`; [`Manifest::message`] says which.
+    Interrupted,
+    /// Stopped by an error (a blow-up, a write that failed); [`Manifest::message`]
+    /// holds it.
+    Failed,
+}
+
+impl std::fmt::Display for Status {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Status::Running => "running",
+            Status::Complete => "complete",
+            Status::Interrupted => "interrupted",
+            Status::Failed => "failed",
+        })
+    }
+}
+
+/// A file as it was written: what `perifrac verify` checks it against.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct FileRecord {
+    /// Length in bytes.
+    pub bytes: u64,
+    /// CRC-32 (IEEE) of its bytes.
+    pub crc32: u32,
+}
+
+impl FileRecord {
+    /// The record of `bytes`.
+    pub fn of(bytes: &[u8]) -> FileRecord {
+        FileRecord {
+            bytes: bytes.len() as u64,
+            crc32: crc32fast::hash(bytes),
+        }
+    }
 }
 
 /// One body's discretization.
@@ -110,12 +166,54 @@ impl Manifest {
 
     /// Reads a manifest.
     pub fn read(path: &Path) -> Result<Manifest> {
-        let text = std::fs::read_to_string(path).map_err(|e| CacheError::io(path, e))?;
-        serde_json::from_str(&text).map_err(|e| CacheError::Format {
-            path: path.to_path_buf(),
-            message: format!("not a perifrac manifest: {e}"),
+        let bytes = std::fs::read(path).map_err(|e| CacheError::io(path, e))?;
+        let text = String::from_utf8(bytes).map_err(|e| {
+            CacheError::format(
+                path,
+                format!(
+                    "not a perifrac manifest: not UTF-8 (byte {})",
+                    e.utf8_error().valid_up_to()
+                ),
+            )
+        })?;
+        serde_json::from_str(&text).map_err(|e| {
+            CacheError::format(path, format!("not a perifrac manifest (damaged?): {e}"))
         })
     }
+
+    /// Records what was written to `path` (a file under `root`), for
+    /// `perifrac verify`.
+    pub fn record(&mut self, root: &Path, path: &Path, record: FileRecord) {
+        let key = path.strip_prefix(root).unwrap_or(path);
+        self.files
+            .insert(key.to_string_lossy().replace('\\', "/"), record);
+    }
+
+    /// Frames written (`frame_times` has one entry a frame).
+    pub fn frames(&self) -> usize {
+        self.frame_times.len()
+    }
+
+    /// Keeps what describes frames 1 to `frame` (their times, collider centres and
+    /// file records) and forgets later ones: what a resume from a checkpoint at
+    /// `frame` starts from.
+    pub fn truncate_to_frame(&mut self, frame: usize) {
+        self.frame_times.truncate(frame);
+        self.collider_centers.truncate(frame);
+        self.files.retain(|name, _| match frame_of(name) {
+            Some(k) => k <= frame,
+            None => true,
+        });
+    }
+}
+
+/// The frame number of a per-frame file name (`particles/0007.ply` → 7).
+pub fn frame_of(name: &str) -> Option<usize> {
+    let file = name.rsplit('/').next()?;
+    let stem = file.split('.').next()?;
+    (stem.len() == 4 && stem.bytes().all(|b| b.is_ascii_digit()))
+        .then(|| stem.parse().ok())
+        .flatten()
 }
 
 #[cfg(test)]

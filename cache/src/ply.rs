@@ -218,8 +218,9 @@ impl ParticleFrame {
         encode_points(&comment, &self.position, &self.velocity, &scalars)
     }
 
-    /// Writes the frame atomically; refuses columns of the wrong length.
-    pub fn write(&self, path: &Path) -> Result<()> {
+    /// Writes the frame atomically; refuses columns of the wrong length. Returns
+    /// what the manifest records of the file.
+    pub fn write(&self, path: &Path) -> Result<crate::manifest::FileRecord> {
         let n = self.len();
         let lengths = [
             ("velocity", self.velocity.len()),
@@ -235,7 +236,9 @@ impl ParticleFrame {
                 format!("{n} particles but {len} values of '{name}'"),
             ));
         }
-        crate::write_atomic(path, &self.to_bytes())
+        let bytes = self.to_bytes();
+        crate::write_atomic(path, &bytes)?;
+        Ok(crate::manifest::FileRecord::of(&bytes))
     }
 
     /// Reads a frame written by [`ParticleFrame::write`] (or any binary little-endian

@@ -7,6 +7,7 @@ use std::path::Path;
 
 use crate::error::{CacheError, Result};
 use crate::layout::write_atomic;
+use crate::manifest::FileRecord;
 
 /// One frame of a sheet.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -64,9 +65,11 @@ impl SheetFrame {
         bytes
     }
 
-    /// Writes `path` atomically.
-    pub fn write(&self, path: &Path) -> Result<()> {
-        write_atomic(path, &self.to_bytes())
+    /// Writes `path` atomically; returns its size and checksum for the manifest.
+    pub fn write(&self, path: &Path) -> Result<FileRecord> {
+        let bytes = self.to_bytes();
+        write_atomic(path, &bytes)?;
+        Ok(FileRecord::of(&bytes))
     }
 
     /// Reads `path`; a file not written by [`SheetFrame::write`] (another layout,

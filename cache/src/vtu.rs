@@ -164,12 +164,14 @@ impl TetFrame {
     }
 
     /// Writes the frame atomically; refuses inconsistent data.
-    pub fn write(&self, path: &Path) -> Result<()> {
+    pub fn write(&self, path: &Path) -> Result<crate::manifest::FileRecord> {
         self.check().map_err(|message| CacheError::Format {
             path: path.to_path_buf(),
             message,
         })?;
-        crate::write_atomic(path, &self.to_bytes())
+        let bytes = self.to_bytes();
+        crate::write_atomic(path, &bytes)?;
+        Ok(crate::manifest::FileRecord::of(&bytes))
     }
 
     /// Reads a frame written by [`TetFrame::write`].

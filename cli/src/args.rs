@@ -4,9 +4,16 @@ use std::path::PathBuf;
 
 use clap::{Parser, Subcommand};
 
+/// Exit codes, shown under `perifrac --help`.
+const EXIT_CODES: &str = "Exit codes: 0 success; 1 the run failed (I/O, full disk, blow-up); \
+2 bad input (scene, flags, a damaged cache or checkpoint, an output folder holding another \
+cache); 3 stopped by SIGINT/SIGTERM/SIGHUP after a checkpoint (resume with --resume); \
+128+N a second signal N ended it at once (130: Ctrl-C). verify: 0 clean and complete, \
+1 the run failed, 2 damaged or missing files, 3 unfinished.";
+
 /// perifrac: fracture animation for visual effects.
 #[derive(Debug, Parser)]
-#[command(name = "perifrac", version, about, long_about = None)]
+#[command(name = "perifrac", version, about, long_about = None, after_help = EXIT_CODES)]
 pub struct Cli {
     /// No progress bar.
     #[arg(long, global = true)]
@@ -26,6 +33,14 @@ pub enum Command {
     /// Render preview images of a cache: `preview/NNNN.png`, turntables, a contact
     /// sheet.
     Render(RenderArgs),
+    /// Check a cache against its manifest: every frame there, each file's size and
+    /// checksum as written, finite positions, the checkpoint readable. Exit 0 when
+    /// clean and complete, 1 when the run failed, 2 when something is damaged or
+    /// missing, 3 when the run is unfinished (running or interrupted).
+    Verify {
+        /// The output directory of a `perifrac run`.
+        out: PathBuf,
+    },
     /// Validate a scene and print what it would cost.
     Check {
         /// The scene file.
@@ -39,6 +54,12 @@ pub enum Command {
         /// Worker threads (default: all cores).
         #[arg(long)]
         threads: Option<usize>,
+        /// Continue an interrupted demo from its checkpoint.
+        #[arg(long, conflicts_with = "force")]
+        resume: bool,
+        /// Replace a cache already in the output directory.
+        #[arg(long)]
+        force: bool,
     },
     /// Benchmarks.
     Bench {
@@ -231,8 +252,12 @@ pub struct RunArgs {
     #[arg(long)]
     pub threads: Option<String>,
     /// Continue an interrupted run from its checkpoint.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "force")]
     pub resume: bool,
+    /// Replace the cache already in the output directory (its frames, previews,
+    /// surfaces and checkpoint are removed first).
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// A surface method.
@@ -298,6 +323,8 @@ pub struct RunConfig {
     pub threads: Option<usize>,
     /// Resume from a checkpoint.
     pub resume: bool,
+    /// Replace an existing cache.
+    pub force: bool,
 }
 
 fn positive(flag: &str, value: Option<&str>) -> Result<Option<usize>, String> {
@@ -319,6 +346,7 @@ impl TryFrom<RunArgs> for RunConfig {
             scene: a.scene,
             out: a.out,
             resume: a.resume,
+            force: a.force,
         })
     }
 }
@@ -353,7 +381,17 @@ mod tests {
         assert_eq!(c.frames, Some(3));
         assert_eq!(c.threads, Some(2));
         assert_eq!(c.out, Some(PathBuf::from("x")));
-        assert!(c.resume);
+        assert!(c.resume && !c.force);
+        assert!(
+            parse(&["perifrac", "run", "a.toml", "--force"])
+                .unwrap()
+                .force
+        );
+        assert!(
+            parse(&["perifrac", "run", "a.toml", "--force", "--resume"])
+                .unwrap_err()
+                .contains("cannot be used with")
+        );
     }
 
     #[test]

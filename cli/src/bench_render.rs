@@ -106,10 +106,15 @@ pub fn run(
             Path::new("."),
         )?;
         let dir = out.join("demo");
+        let lifecycle = crate::commands::Lifecycle {
+            force: true,
+            resume_command: format!("perifrac bench render --demo -o {}", out.display()),
+        };
         let timing = crate::commands::simulate(
             &scene,
             &dir,
             &perifrac_sim::run::RunOptions::default(),
+            &lifecycle,
             None,
             quiet,
         )?;

@@ -4,37 +4,49 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressStyle};
+use perifrac_cache::manifest::Manifest;
 use perifrac_cache::scene::{Scene, SurfaceMethod};
 use perifrac_cache::{CacheError, Layout};
 use perifrac_sim::SimError;
 use perifrac_sim::family;
 use perifrac_sim::geometry::discretize::discretize;
 use perifrac_sim::memory::{BYTES_PER_PARTICLE, estimate_memory};
-use perifrac_sim::run::{self, Progress, RunOptions};
+use perifrac_sim::run::{self, Plan, Progress, RunOptions};
 
 use crate::args::RunConfig;
+use crate::signals::{EXIT_INTERRUPTED, Watcher};
+
+/// Exit code of a run that failed (I/O, blow-up) and of `verify` on a failed run.
+pub const EXIT_FAILED: u8 = 1;
+/// Exit code of bad input: a scene file, flags, a damaged cache or checkpoint, a run
+/// that would not fit in memory, an output folder holding another cache.
+pub const EXIT_INPUT: u8 = 2;
 
 /// A failed command and its exit code.
 pub struct Failure {
     /// What went wrong.
     pub error: anyhow::Error,
-    /// 1 for a failed run, 2 for bad input.
+    /// [`EXIT_FAILED`], [`EXIT_INPUT`] or [`EXIT_INTERRUPTED`].
     pub code: u8,
 }
 
 impl Failure {
     /// Bad input (exit code 2).
     pub fn input(error: anyhow::Error) -> Failure {
-        Failure { error, code: 2 }
+        Failure {
+            error,
+            code: EXIT_INPUT,
+        }
     }
 }
 
 impl From<SimError> for Failure {
     fn from(e: SimError) -> Failure {
         let code = match &e {
-            SimError::Cache(c) if c.is_bad_input() => 2,
-            SimError::Refused(_) | SimError::Mesh { .. } => 2,
-            _ => 1,
+            SimError::Cache(c) if c.is_bad_input() => EXIT_INPUT,
+            SimError::Refused(_) | SimError::Mesh { .. } => EXIT_INPUT,
+            SimError::Interrupted { .. } => EXIT_INTERRUPTED,
+            _ => EXIT_FAILED,
         };
         Failure {
             error: e.into(),
@@ -46,7 +58,11 @@ impl From<SimError> for Failure {
 impl From<CacheError> for Failure {
     fn from(e: CacheError) -> Failure {
         Failure {
-            code: if e.is_bad_input() { 2 } else { 1 },
+            code: if e.is_bad_input() {
+                EXIT_INPUT
+            } else {
+                EXIT_FAILED
+            },
             error: e.into(),
         }
     }
@@ -89,14 +105,77 @@ pub fn check_memory(estimate: &perifrac_sim::memory::MemoryEstimate) -> Result<(
     }
 }
 
+/// `out/<scene name>`, refused (exit 2) when the name is not a single folder name.
+pub fn default_output(scene: &Scene, file: &Path) -> Result<PathBuf, Failure> {
+    let name = &scene.scene.name;
+    let single = !name.is_empty()
+        && name != "."
+        && name != ".."
+        && !name.contains(['/', '\\'])
+        && !name.chars().any(char::is_control);
+    if !single {
+        return Err(Failure::input(anyhow::anyhow!(
+            "{}: scene.name = {name:?} cannot name the output folder out/<name>: it must be one \
+             folder name (not empty, no '/', '\\' or '..'); rename the scene, or give the \
+             output folder with -o",
+            file.display()
+        )));
+    }
+    Ok(PathBuf::from("out").join(name))
+}
+
+/// `perifrac run SCENE …` as a shell command with `--resume`, to print after a stop.
+fn resume_command(config: &RunConfig, out: &Path) -> String {
+    let mut words = vec![
+        "perifrac".to_string(),
+        "run".into(),
+        shell_word(&config.scene.to_string_lossy()),
+        "-o".into(),
+        shell_word(&out.to_string_lossy()),
+    ];
+    if let Some(n) = config.frames {
+        words.push(format!("--frames {n}"));
+    }
+    if let Some(n) = config.threads {
+        words.push(format!("--threads {n}"));
+    }
+    words.push("--resume".into());
+    words.join(" ")
+}
+
+/// `word`, quoted for a POSIX shell when it needs to be.
+fn shell_word(word: &str) -> String {
+    let plain = !word.is_empty()
+        && word
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || "-_./=:+,@%".contains(c));
+    if plain {
+        word.to_string()
+    } else {
+        format!("'{}'", word.replace('\'', "'\\''"))
+    }
+}
+
+/// What a command asks of an output folder that may already hold a cache.
+pub struct Lifecycle {
+    /// Replace an existing cache (`--force`).
+    pub force: bool,
+    /// The command that continues this run (printed after a stop).
+    pub resume_command: String,
+}
+
 /// `perifrac run`.
 pub fn run(config: &RunConfig, quiet: bool) -> Result<(), Failure> {
     set_threads(config.threads)?;
     let scene = Scene::load(&config.scene)?;
-    let out = config
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("out").join(&scene.scene.name));
+    let out = match &config.out {
+        Some(out) => out.clone(),
+        None => default_output(&scene, &config.scene)?,
+    };
+    let lifecycle = Lifecycle {
+        force: config.force,
+        resume_command: resume_command(config, &out),
+    };
     simulate(
         &scene,
         &out,
@@ -105,6 +184,7 @@ pub fn run(config: &RunConfig, quiet: bool) -> Result<(), Failure> {
             resume: config.resume,
             ..RunOptions::default()
         },
+        &lifecycle,
         config.threads,
         quiet,
     )?;
@@ -112,14 +192,31 @@ pub fn run(config: &RunConfig, quiet: bool) -> Result<(), Failure> {
 }
 
 /// `perifrac demo`.
-pub fn demo(out: &Path, threads: Option<usize>, quiet: bool) -> Result<(), Failure> {
+pub fn demo(
+    out: &Path,
+    threads: Option<usize>,
+    resume: bool,
+    force: bool,
+    quiet: bool,
+) -> Result<(), Failure> {
     set_threads(threads)?;
     let scene = Scene::parse(
         DEMO_SCENE,
         Path::new("demo.toml (built in)"),
         Path::new("."),
     )?;
-    let timing = simulate(&scene, out, &RunOptions::default(), threads, quiet)?;
+    let lifecycle = Lifecycle {
+        force,
+        resume_command: format!(
+            "perifrac demo -o {} --resume",
+            shell_word(&out.to_string_lossy())
+        ),
+    };
+    let options = RunOptions {
+        resume,
+        ..RunOptions::default()
+    };
+    let timing = simulate(&scene, out, &options, &lifecycle, threads, quiet)?;
     if let (false, Some(preview)) = (quiet, timing.preview) {
         eprintln!(
             "demo: simulation {:.1} s, previews {:.1} s ({:.1} % of the simulation)",
@@ -171,15 +268,110 @@ pub struct StageSeconds {
     pub preview: Option<f64>,
 }
 
+/// Makes `out` ready for a run: a folder holding another cache is refused unless the
+/// run resumes it or `--force` replaces it (clearing it first). Returns the cache's
+/// manifest when `--resume` finds it complete already (nothing to run).
+fn prepare_output(
+    scene: &Scene,
+    layout: &Layout,
+    options: &RunOptions,
+    lifecycle: &Lifecycle,
+    quiet: bool,
+) -> Result<Option<Manifest>, Failure> {
+    if options.resume {
+        return match run::resume_plan(layout, scene, options)? {
+            Plan::Complete(manifest) => Ok(Some(*manifest)),
+            Plan::Fresh | Plan::Continue(_) => Ok(None),
+        };
+    }
+    if !layout.holds_cache() {
+        return Ok(None);
+    }
+    if lifecycle.force {
+        layout.clear()?;
+        if !quiet {
+            eprintln!(
+                "--force: removed the cache that was in {} (frames, previews, surfaces, \
+                 checkpoint, manifest)",
+                layout.root.display()
+            );
+        }
+        return Ok(None);
+    }
+    let what = match Manifest::read(&layout.manifest()) {
+        Ok(m) => format!(
+            "the cache of a run of '{}' ({}, {} frames)",
+            m.scene,
+            m.status,
+            m.frames()
+        ),
+        Err(e) => format!("a cache (its manifest does not read: {e})"),
+    };
+    Err(Failure::input(anyhow::anyhow!(
+        "{} holds {what}; a run never mixes its frames with another's: continue it with \
+         --resume, or replace it with --force (removes its frames, previews, surfaces and \
+         checkpoint first), or write to another folder with -o",
+        layout.root.display()
+    )))
+}
+
+/// What to tell the user after the run stopped early.
+fn explain_stop(failure: Failure, lifecycle: &Lifecycle, layout: &Layout) -> Failure {
+    let resume = &lifecycle.resume_command;
+    let error = match &failure.code {
+        &EXIT_INTERRUPTED => {
+            anyhow::anyhow!("{:#}; continue with:\n  {resume}", failure.error)
+        }
+        &EXIT_FAILED => match failure.error.downcast_ref::<SimError>() {
+            Some(SimError::Cache(c @ (CacheError::Write { .. } | CacheError::Io { .. }))) => {
+                let last = Manifest::read(&layout.manifest()).map_or(0, |m| m.frames());
+                anyhow::anyhow!(
+                    "{c}; the frames up to {last} are on disk and the manifest says so: once \
+                     that is fixed, continue from the last checkpoint with:\n  {resume}"
+                )
+            }
+            _ => return failure,
+        },
+        _ => return failure,
+    };
+    Failure {
+        error,
+        code: failure.code,
+    }
+}
+
 /// Simulates `scene` into `out`, then runs the stages its `[output]` asks for
-/// (surfaces, previews).
+/// (surfaces, previews). SIGINT, SIGTERM and SIGHUP stop the simulation cleanly (see
+/// [`crate::signals`]).
 pub fn simulate(
     scene: &Scene,
     out: &Path,
     options: &RunOptions,
+    lifecycle: &Lifecycle,
     threads: Option<usize>,
     quiet: bool,
 ) -> Result<StageSeconds, Failure> {
+    let layout = Layout::new(out);
+    if let Some(done) = prepare_output(scene, &layout, options, lifecycle, quiet)? {
+        println!(
+            "{}: already complete ({} frames, status {}); nothing to run (perifrac verify {} \
+             checks it; --force reruns it)",
+            out.display(),
+            done.frames(),
+            done.status,
+            shell_word(&out.to_string_lossy())
+        );
+        return Ok(StageSeconds {
+            simulation: 0.0,
+            preview: None,
+        });
+    }
+    let options = RunOptions {
+        memory_limit: available_memory(),
+        ..options.clone()
+    };
+    let watcher = Watcher::start(options.stop.clone(), out.to_path_buf())
+        .map_err(|e| anyhow::anyhow!("cannot watch for SIGINT/SIGTERM/SIGHUP: {e}"))?;
     let bar = if quiet {
         ProgressBar::hidden()
     } else {
@@ -203,13 +395,11 @@ pub fn simulate(
         bar.set_position(p.frame as u64);
         bar.set_message(format!("{} steps, {:.0} steps/s", p.steps, rate));
     };
-    let options = RunOptions {
-        memory_limit: available_memory(),
-        ..options.clone()
-    };
+    watcher.set_simulating(true);
     let result = run::run(scene, out, &options, &mut report);
+    watcher.set_simulating(false);
     bar.finish_and_clear();
-    let manifest = result?;
+    let manifest = result.map_err(|e| explain_stop(Failure::from(e), lifecycle, &layout))?;
     let simulation = start.elapsed().as_secs_f64();
     if !quiet {
         eprintln!(

@@ -4,10 +4,17 @@
 //! |---|---|
 //! | [`args`] | the clap arguments ([`args::Cli`], [`args::Command`]) and their validated configs ([`args::RunConfig`], [`args::SurfaceConfig`], …) |
 //! | [`commands`] | `run`, `demo`, `check`; [`commands::Failure`] and its exit code |
+//! | [`signals`] | SIGINT/SIGTERM/SIGHUP during a run: a clean stop with a checkpoint |
+//! | [`verify`] | `perifrac verify`, and the warnings `render` and `surface` print first |
 //! | `surface`, [`render`] | the surface and render stages as commands |
 //! | [`bench`](mod@bench), [`bench_render`], [`accuracy`], [`stability`], [`plot`] | `perifrac bench …`: throughput, accuracy against a reference, stability, plots |
 //!
-//! Exit codes: 0 success, 1 a run failed (I/O, blow-up), 2 bad input (scene, flags).
+//! Exit codes: 0 success; 1 a run failed (I/O, blow-up); 2 bad input (scene, flags, a
+//! damaged cache or checkpoint, an output folder holding another cache); 3 a run
+//! stopped by SIGINT/SIGTERM/SIGHUP after a checkpoint (the message gives the command
+//! that resumes it); 128 + N when a second signal N ends it at once (130 for Ctrl-C).
+//! `perifrac verify`: 0 clean and complete, 1 the run failed, 2 damaged or missing
+//! files, 3 unfinished.
 
 mod accuracy;
 mod args;
@@ -16,8 +23,10 @@ mod bench_render;
 mod commands;
 mod plot;
 mod render;
+mod signals;
 mod stability;
 mod surface;
+mod verify;
 
 use std::process::ExitCode;
 
@@ -41,13 +50,23 @@ fn main() -> ExitCode {
             Err(message) => Err(commands::Failure::input(anyhow::anyhow!(message))),
         },
         Command::Check { scene } => commands::check(&scene),
-        Command::Demo { out, threads } => commands::demo(&out, threads, cli.quiet),
+        Command::Verify { out } => verify::command(&out),
+        Command::Demo {
+            out,
+            threads,
+            resume,
+            force,
+        } => commands::demo(&out, threads, resume, force, cli.quiet),
         Command::Bench { which } => bench::run(which, cli.quiet),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(failure) => {
-            eprintln!("error: {:#}", failure.error);
+            let label = match failure.code {
+                signals::EXIT_INTERRUPTED => "stopped",
+                _ => "error",
+            };
+            eprintln!("{label}: {:#}", failure.error);
             ExitCode::from(failure.code)
         }
     }

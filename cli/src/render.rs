@@ -7,10 +7,12 @@ use std::time::Duration;
 #[cfg(feature = "gl")]
 use indicatif::{ProgressBar, ProgressStyle};
 #[cfg(feature = "gl")]
-use perifrac_cache::{CacheError, Layout};
+use perifrac_cache::Layout;
 
 use crate::args::RenderConfig;
 use crate::commands::Failure;
+#[cfg(feature = "gl")]
+use crate::commands::{EXIT_FAILED, EXIT_INPUT};
 
 #[cfg(feature = "gl")]
 fn progress_bar(quiet: bool, message: &str) -> ProgressBar {
@@ -108,12 +110,14 @@ pub fn command(config: &RenderConfig, quiet: bool) -> Result<(), Failure> {
             workers: workers(config.threads),
             azimuth: config.azimuth.to_radians(),
         };
+        crate::verify::warn(&config.out);
         previews(&config.out, &options, quiet).map_err(|e| {
             let code = match &e {
-                RenderError::Input { .. } | RenderError::Size(_) => 2,
-                // A malformed scene.toml or particle frame is bad input; I/O is not.
-                RenderError::Cache(c) if !matches!(c, CacheError::Io { .. }) => 2,
-                _ => 1,
+                RenderError::Input { .. } | RenderError::Size(_) => EXIT_INPUT,
+                // A malformed scene.toml or particle frame is bad input (as in
+                // `surface`); I/O is not.
+                RenderError::Cache(c) if c.is_bad_input() => EXIT_INPUT,
+                _ => EXIT_FAILED,
             };
             Failure {
                 error: e.into(),

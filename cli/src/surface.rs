@@ -4,25 +4,27 @@
 //! `perifrac_surface::sheet::stage` with
 //! `perifrac-render`'s glTF writer, shows a progress bar and prints the summary.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use indicatif::{ProgressBar, ProgressStyle};
-use perifrac_cache::Layout;
 use perifrac_cache::scene::{EmbeddedSpec, Scene, VdbSpec};
+use perifrac_cache::{CacheError, Layout};
 use perifrac_render::gltf::Glb;
 use perifrac_surface::SurfaceError;
 
 use crate::args::{SurfaceConfig, SurfaceMethodArg};
-use crate::commands::{Failure, set_threads};
+use crate::commands::{EXIT_FAILED, EXIT_INPUT, Failure, set_threads};
 
 impl From<SurfaceError> for Failure {
     fn from(e: SurfaceError) -> Failure {
+        // A damaged cache file is bad input here as in `render` (the same code for
+        // the same damage).
         let code = match &e {
-            SurfaceError::Frame { .. } | SurfaceError::SingleLayer { .. } => 2,
-            SurfaceError::Input(_) => 2,
-            SurfaceError::Cache(c) if c.is_bad_input() => 2,
-            _ => 1,
+            SurfaceError::Frame { .. } | SurfaceError::SingleLayer { .. } => EXIT_INPUT,
+            SurfaceError::Input(_) => EXIT_INPUT,
+            SurfaceError::Cache(c) if c.is_bad_input() => EXIT_INPUT,
+            _ => EXIT_FAILED,
         };
         Failure {
             error: e.into(),
@@ -35,6 +37,7 @@ impl From<SurfaceError> for Failure {
 /// resolved scene (`OUT/scene.toml`).
 pub fn command(config: &SurfaceConfig, quiet: bool) -> Result<(), Failure> {
     set_threads(config.threads)?;
+    crate::verify::warn(&config.out);
     let scene = Scene::load(&Layout::new(&config.out).scene())?;
     match config.method {
         SurfaceMethodArg::Vdb => stage(&config.out, &scene.output.vdb, quiet),
@@ -59,9 +62,71 @@ fn progress(quiet: bool) -> ProgressBar {
     bar
 }
 
+/// Removes `files` (the other method's surfaces) so the two methods never mix in
+/// `surface/`, saying so.
+fn remove_other_method(files: Vec<PathBuf>, other: &str, layout: &Layout) -> Result<(), Failure> {
+    if files.is_empty() {
+        return Ok(());
+    }
+    for file in &files {
+        std::fs::remove_file(file).map_err(|e| CacheError::io(file, e))?;
+    }
+    eprintln!(
+        "note: removed the {other} method's {} file{} from {} (the two methods' surfaces \
+         share file names and never mix)",
+        files.len(),
+        if files.len() == 1 { "" } else { "s" },
+        layout.root.display()
+    );
+    Ok(())
+}
+
+/// The `vdb` method's files: `vdb/NNNN.vdb`, `surface/NNNN_debris.ply` and, when
+/// there are any of those, `surface/NNNN.glb`.
+fn vdb_files(layout: &Layout) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = frame_files(&layout.vdb_dir(), ".vdb");
+    files.extend(frame_files(&layout.surface_dir(), "_debris.ply"));
+    if !files.is_empty() {
+        files.extend(layout.surface_frames().iter().map(|&k| layout.surface(k)));
+    }
+    files
+}
+
+/// The `embedded` method's files: `surface/animated.glb` and, with it,
+/// `surface/NNNN.glb`.
+#[cfg(feature = "openvdb")]
+fn embedded_files(layout: &Layout) -> Vec<PathBuf> {
+    if !layout.animated_surface().exists() {
+        return Vec::new();
+    }
+    let mut files = vec![layout.animated_surface()];
+    files.extend(layout.surface_frames().iter().map(|&k| layout.surface(k)));
+    files
+}
+
+/// Files `NNNN<suffix>` in `dir`.
+fn frame_files(dir: &Path, suffix: &str) -> Vec<PathBuf> {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return Vec::new();
+    };
+    let mut files: Vec<PathBuf> = entries
+        .flatten()
+        .filter(|e| {
+            e.file_name().to_str().is_some_and(|n| {
+                n.strip_suffix(suffix)
+                    .is_some_and(|s| s.len() == 4 && s.bytes().all(|b| b.is_ascii_digit()))
+            })
+        })
+        .map(|e| e.path())
+        .collect();
+    files.sort();
+    files
+}
+
 /// Runs the `embedded` method over every frame of the cache in `out`.
 pub fn embedded_stage(out: &Path, spec: &EmbeddedSpec, quiet: bool) -> Result<(), Failure> {
     let layout = Layout::new(out);
+    remove_other_method(vdb_files(&layout), "vdb", &layout)?;
     let bar = progress(quiet);
     let report = perifrac_surface::embedded::stage(&layout, spec, &Glb, &|done, total| {
         bar.set_length(total as u64);
@@ -123,6 +188,7 @@ pub fn stage(_out: &Path, _spec: &VdbSpec, _quiet: bool) -> Result<(), Failure> 
 #[cfg(feature = "openvdb")]
 pub fn stage(out: &Path, spec: &VdbSpec, quiet: bool) -> Result<(), Failure> {
     let layout = Layout::new(out);
+    remove_other_method(embedded_files(&layout), "embedded", &layout)?;
     let bar = progress(quiet);
     let start = std::time::Instant::now();
     let total = perifrac_surface::vdb::stage(&layout, spec, &Glb, &|done, total| {

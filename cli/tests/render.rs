@@ -102,14 +102,17 @@ fn run_ends_with_previews_and_render_makes_turntables() {
         let png = image::open(out.join(format!("preview/turntable_{i:03}.png"))).unwrap();
         assert_eq!((png.width(), png.height()), (64, 48));
     }
-    let again = std::fs::read(out.join("preview/0002.png")).unwrap();
+    let again = std::fs::read(out.join("preview/frame_0002.png")).unwrap();
     let r = perifrac(&["render", &o, "--frame", "2", "--size", "64x48"], &[]);
     assert!(r.status.success(), "{}", text(&r));
     assert_eq!(
         again,
-        std::fs::read(out.join("preview/0002.png")).unwrap(),
+        std::fs::read(out.join("preview/frame_0002.png")).unwrap(),
         "the same frame twice must give identical bytes"
     );
+    // The single frame went beside the sequence's preview, not over it.
+    let sequence = image::open(out.join("preview/0002.png")).unwrap();
+    assert_eq!((sequence.width(), sequence.height()), (960, 540));
 
     let r = perifrac(&["render", &o, "--color-by", "temperature"], &[]);
     assert_eq!(r.status.code(), Some(2), "{}", text(&r));
@@ -134,7 +137,7 @@ fn run_ends_with_previews_and_render_makes_turntables() {
         "{}",
         text(&r)
     );
-    assert!(out.join("preview/0003.png").is_file());
+    assert!(out.join("preview/frame_0003.png").is_file());
 }
 
 #[test]

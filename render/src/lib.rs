@@ -56,21 +56,21 @@ pub enum RenderError {
     #[error(transparent)]
     Cache(#[from] perifrac_cache::CacheError),
     /// Reading or writing a file failed.
-    #[error("{path}: {source}")]
+    #[error("{path}: {error}")]
     Io {
         /// The file.
         path: PathBuf,
-        /// The cause.
-        source: std::io::Error,
+        /// The cause (in the message, not chained: the OS's words once).
+        error: std::io::Error,
     },
 }
 
 impl RenderError {
     /// An I/O error on `path`.
-    pub fn io(path: &Path, source: std::io::Error) -> RenderError {
+    pub fn io(path: &Path, error: std::io::Error) -> RenderError {
         RenderError::Io {
             path: path.to_path_buf(),
-            source,
+            error,
         }
     }
 }

@@ -1,5 +1,6 @@
 //! Preview images of an output directory: `preview/NNNN.png` for every frame (one fixed
-//! camera framed on the bounds of all frames), `preview/turntable_NNN.png` (N views of
+//! camera framed on the bounds of all frames; a frame rendered alone goes to
+//! `preview/frame_NNNN.png`, never over the sequence's), `preview/turntable_NNN.png` (N views of
 //! one frame around the vertical axis) and `preview/contact_sheet.png`. Frames render
 //! in parallel, each worker thread with its own GL context reused for all its frames.
 
@@ -113,7 +114,10 @@ pub fn render_cache(
         .map(|&frame| Job {
             frame,
             camera,
-            path: layout.preview(frame),
+            path: match options.frame {
+                Some(_) => layout.single_preview(frame),
+                None => layout.preview(frame),
+            },
             thumbnail: options.frame.is_none(),
         })
         .collect();

@@ -6,12 +6,12 @@ use std::path::PathBuf;
 #[derive(Debug, thiserror::Error)]
 pub enum SimError {
     /// Reading or writing a file failed.
-    #[error("{path}: {source}")]
+    #[error("{path}: {error}")]
     Io {
         /// The file or directory.
         path: PathBuf,
-        /// The underlying error.
-        source: std::io::Error,
+        /// The underlying error (in the message, not chained, so it reads once).
+        error: std::io::Error,
     },
     /// A scene file is bad, or a cache file (frames, manifest, checkpoint) could not
     /// be read or written.
@@ -28,6 +28,15 @@ pub enum SimError {
     /// The run would not fit in memory or is otherwise not runnable as asked.
     #[error("{0}")]
     Refused(String),
+    /// The run was asked to stop (a signal, through [`crate::run::StopRequest`]): it
+    /// finished the frame it was on and checkpointed it.
+    #[error("interrupted by {reason}: stopped after frame {frame}, checkpointed")]
+    Interrupted {
+        /// Who asked (e.g. `SIGTERM`).
+        reason: String,
+        /// The last frame written, and the checkpoint's frame.
+        frame: usize,
+    },
     /// The simulation became unstable.
     #[error(
         "blow-up at step {step} (t = {time:.6e} s): {what} at particle {particle} \
@@ -51,10 +60,10 @@ pub enum SimError {
 
 impl SimError {
     /// An I/O error with the path it concerns.
-    pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+    pub fn io(path: impl Into<PathBuf>, error: std::io::Error) -> Self {
         SimError::Io {
             path: path.into(),
-            source,
+            error,
         }
     }
 }

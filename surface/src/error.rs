@@ -11,12 +11,12 @@ pub enum SurfaceError {
     #[error(transparent)]
     Cache(#[from] CacheError),
     /// Writing an output file failed.
-    #[error("{path}: {source}")]
+    #[error("{path}: {error}")]
     Io {
         /// The file or directory.
         path: PathBuf,
-        /// The underlying error.
-        source: std::io::Error,
+        /// The underlying error (in the message, not chained: the OS's words once).
+        error: std::io::Error,
     },
     /// The cache cannot be surfaced as asked (no frames, a missing input); the
     /// message names the file.
@@ -66,10 +66,10 @@ pub enum SurfaceError {
 
 impl SurfaceError {
     /// An I/O error with the path it concerns.
-    pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+    pub fn io(path: impl Into<PathBuf>, error: std::io::Error) -> Self {
         SurfaceError::Io {
             path: path.into(),
-            source,
+            error,
         }
     }
 }

@@ -1,6 +1,9 @@
 //! The frame loop: step the world to each output frame, write its particles (and split
-//! tet mesh), the manifest and, every `checkpoint_every` frames, a checkpoint; stop
-//! cleanly on a blow-up with the last good frame on disk.
+//! tet mesh), the manifest (with each file's size and checksum) and, every
+//! `checkpoint_every` frames, a checkpoint. It stops cleanly three ways: at the
+//! `--frames` limit and when asked to (a signal) it checkpoints the last frame and
+//! marks the manifest interrupted; on a blow-up or a failed write it marks the
+//! manifest failed with the message, the frames written so far on disk.
 
 use std::time::Instant;
 
@@ -8,7 +11,7 @@ use super::resume::Resumed;
 use super::{Prepared, Progress, RunOptions, scene_hash};
 use crate::cache::Layout;
 use crate::cache::checkpoint::{Checkpoint, Encoder};
-use crate::cache::manifest::{BodyInfo, Manifest, Timings};
+use crate::cache::manifest::{BodyInfo, Manifest, Status, Timings};
 use crate::cache::ply::ParticleFrame;
 use crate::error::{Result, SimError};
 use crate::scene::Scene;
@@ -29,6 +32,10 @@ pub struct Frames<'a> {
     progress: &'a mut dyn FnMut(Progress),
     /// Seconds spent splitting vertices and placing them.
     split_time: f64,
+    /// Seconds spent writing frames.
+    output_time: f64,
+    /// Where a request to stop comes from.
+    stop: super::StopRequest,
 }
 
 impl<'a> Frames<'a> {
@@ -56,6 +63,8 @@ impl<'a> Frames<'a> {
             manifest: manifest_for(scene, prepared),
             progress,
             split_time: 0.0,
+            output_time: 0.0,
+            stop: options.stop.clone(),
         }
     }
 
@@ -63,41 +72,66 @@ impl<'a> Frames<'a> {
     pub fn resume_from(&mut self, from: Resumed) {
         self.first = from.frame + 1;
         self.broken_total = from.broken_bonds;
-        self.manifest.frame_times = from.frame_times;
-        self.manifest.collider_centers = from.collider_centers;
+        self.manifest.frame_times = from.manifest.frame_times;
+        self.manifest.collider_centers = from.manifest.collider_centers;
+        self.manifest.files = from.manifest.files;
+        // Where it stood, should nothing be left to run (`--resume --frames` at the
+        // frame it stopped at).
+        self.manifest.status = from.manifest.status;
+        self.manifest.message = from.manifest.message;
     }
 
-    /// Steps `world` through the remaining frames.
+    /// Steps `world` through the remaining frames. On any error but an interruption
+    /// (which marks the manifest itself) the manifest is marked failed with the
+    /// message before the error is returned.
     pub fn run(mut self, world: &mut World, setup: &Timings) -> Result<Manifest> {
+        match self.frames(world, setup) {
+            Ok(()) => {
+                self.finish(world, setup);
+                self.manifest.write(&self.layout.manifest())?;
+                Ok(self.manifest)
+            }
+            Err(err) => {
+                if !matches!(err, SimError::Interrupted { .. }) {
+                    self.manifest.status = Status::Failed;
+                    self.manifest.message = err.to_string();
+                    self.finish(world, setup);
+                    // A second failure (the disk still full) must not hide the first;
+                    // the manifest then still says "running".
+                    let _ = self.manifest.write(&self.layout.manifest());
+                }
+                Err(err)
+            }
+        }
+    }
+
+    fn frames(&mut self, world: &mut World, setup: &Timings) -> Result<()> {
         let (scene, layout, frames) = (self.scene, self.layout, self.frames);
-        let hash = scene_hash(scene);
-        let mut output_time = 0.0;
         for frame in self.first..=frames + 1 {
             if frame > 1 {
-                if let Err(err) = self.advance(world, frame) {
-                    if matches!(err, SimError::BlowUp { .. }) {
-                        self.manifest.status = err.to_string();
-                        self.finish(world, output_time, setup);
-                        self.manifest.write(&layout.manifest())?;
-                    }
-                    return Err(err);
-                }
+                self.advance(world, frame)?;
             }
             let t = Instant::now();
             let mut frame_split = 0.0;
             if scene.output.particles {
-                particle_frame(world, frame).write(&layout.particles(frame))?;
+                let path = layout.particles(frame);
+                let record = particle_frame(world, frame).write(&path)?;
+                self.manifest.record(&layout.root, &path, record);
             }
             for part in &mut world.parts {
                 let s = Instant::now();
                 if let Some(tets) = part.model.tet_frame() {
                     frame_split += s.elapsed().as_secs_f64();
-                    tets.write(&layout.tets(frame))?;
+                    let path = layout.tets(frame);
+                    let record = tets.write(&path)?;
+                    self.manifest.record(&layout.root, &path, record);
                 }
                 if scene.output.writes_sheets()
                     && let Some(sheet) = part.model.sheet_frame()
                 {
-                    sheet.write(&layout.sheet(frame))?;
+                    let path = layout.sheet(frame);
+                    let record = sheet.write(&path)?;
+                    self.manifest.record(&layout.root, &path, record);
                 }
             }
             self.split_time += frame_split;
@@ -105,43 +139,62 @@ impl<'a> Frames<'a> {
             self.manifest
                 .collider_centers
                 .push(world.colliders.iter().map(|c| c.center).collect());
-            self.manifest.status = if frame <= frames {
-                "running".into()
-            } else if frames == scene.frame_count() {
-                "complete".into()
-            } else {
-                format!(
-                    "interrupted: stopped after frame {frame} as asked (--frames {frames}); \
-                     --resume continues"
-                )
+            let last = frame == frames + 1;
+            let stop = self.stop.reason().filter(|_| !last);
+            let (status, message) = match (&stop, last) {
+                (Some(reason), _) => (
+                    Status::Interrupted,
+                    format!("{reason}: stopped after frame {frame}; --resume continues"),
+                ),
+                (None, false) => (Status::Running, String::new()),
+                (None, true) if frames == scene.frame_count() => (Status::Complete, String::new()),
+                (None, true) => (
+                    Status::Interrupted,
+                    format!(
+                        "stopped after frame {frame} as asked (--frames {frames}); --resume \
+                         continues"
+                    ),
+                ),
             };
-            self.finish(world, output_time, setup);
-            self.manifest.write(&layout.manifest())?;
             let every = scene.output.checkpoint_every;
-            if every > 0 && frame % every == 0 && frame <= frames {
-                let mut payload = Encoder::new();
-                world.save(&mut payload);
-                let checkpoint = Checkpoint {
-                    scene_hash: hash,
-                    frame: frame as u64,
-                    steps: world.steps,
-                    broken_bonds: self.broken_total,
-                    time: world.time,
-                    payload: payload.finish(),
-                };
-                checkpoint.write(&layout.checkpoint())?;
+            let on_schedule = every > 0 && frame % every == 0 && !last;
+            let stopping = status == Status::Interrupted;
+            (self.manifest.status, self.manifest.message) = (status, message);
+            self.finish(world, setup);
+            // The manifest before the checkpoint: a kill between the two leaves a
+            // manifest ahead of the checkpoint, which a resume cuts back.
+            self.manifest.write(&layout.manifest())?;
+            // A run stopped before the scene's end checkpoints where it stopped.
+            if on_schedule || stopping {
+                self.checkpoint(world, frame)?;
             }
-            output_time += t.elapsed().as_secs_f64() - frame_split;
+            self.output_time += t.elapsed().as_secs_f64() - frame_split;
             (self.progress)(Progress {
                 frame,
                 frames: frames + 1,
                 steps: world.steps,
                 steps_per_frame: self.steps_per_frame,
             });
+            if let Some(reason) = stop {
+                return Err(SimError::Interrupted { reason, frame });
+            }
         }
-        self.finish(world, output_time, setup);
-        self.manifest.write(&layout.manifest())?;
-        Ok(self.manifest)
+        Ok(())
+    }
+
+    /// Writes the checkpoint of the world as it is at `frame`.
+    fn checkpoint(&self, world: &World, frame: usize) -> Result<()> {
+        let mut payload = Encoder::new();
+        world.save(&mut payload);
+        let checkpoint = Checkpoint {
+            scene_hash: scene_hash(self.scene),
+            frame: frame as u64,
+            steps: world.steps,
+            broken_bonds: self.broken_total,
+            time: world.time,
+            payload: payload.finish(),
+        };
+        Ok(checkpoint.write(&self.layout.checkpoint())?)
     }
 
     /// The steps from frame − 1 to `frame`, then the blow-up check; a blow-up names
@@ -171,7 +224,8 @@ impl<'a> Frames<'a> {
         }
     }
 
-    fn finish(&mut self, world: &World, output: f64, setup: &Timings) {
+    fn finish(&mut self, world: &World, setup: &Timings) {
+        let output = self.output_time;
         let m = &mut self.manifest;
         m.steps = world.steps;
         m.broken_bonds = self.broken_total;
@@ -233,7 +287,7 @@ fn manifest_for(scene: &Scene, prepared: &Prepared) -> Manifest {
                 mean_edge: d.quality[b].mean_edge,
             })
             .collect(),
-        status: "running".into(),
+        status: Status::Running,
         ..Manifest::default()
     }
 }

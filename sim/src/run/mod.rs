@@ -7,8 +7,10 @@ mod resume;
 mod setup;
 
 use std::path::Path;
+use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
+pub use resume::{Plan, plan as resume_plan};
 pub use setup::{Prepared, prepare, prepare_discretized, uses_fem, uses_membrane};
 
 use crate::cache::manifest::Manifest;
@@ -28,6 +30,31 @@ pub struct RunOptions {
     /// Refuse a scene whose estimated memory ([`crate::memory::estimate_memory`]) is
     /// above this many bytes, before any bond is built.
     pub memory_limit: Option<u64>,
+    /// Asked from outside to stop (the CLI asks on SIGINT, SIGTERM, SIGHUP): the run
+    /// finishes the frame it is on, writes it and a checkpoint, marks the manifest
+    /// interrupted and returns [`SimError::Interrupted`].
+    pub stop: StopRequest,
+}
+
+/// A request to stop a run, shared between the run and whoever may ask (a signal
+/// watcher): the run looks at it after each frame. The physics never sees it.
+#[derive(Debug, Clone, Default)]
+pub struct StopRequest(Arc<Mutex<Option<String>>>);
+
+impl StopRequest {
+    /// Asks the run to stop; `reason` (e.g. `SIGTERM`) goes into the manifest and the
+    /// error. The first reason stays.
+    pub fn request(&self, reason: impl Into<String>) {
+        let mut slot = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        if slot.is_none() {
+            *slot = Some(reason.into());
+        }
+    }
+
+    /// The reason, if a stop was asked for.
+    pub fn reason(&self) -> Option<String> {
+        self.0.lock().unwrap_or_else(|e| e.into_inner()).clone()
+    }
 }
 
 /// Progress of a run, reported after each frame.
@@ -50,9 +77,11 @@ pub fn scene_hash(scene: &Scene) -> u64 {
     })
 }
 
-/// Runs a scene into `out`; `progress` is called after each frame. On a blow-up the
-/// frames written so far stay on disk, the manifest records what happened and the
-/// error names the step, the particle and the last good frame.
+/// Runs a scene into `out`; `progress` is called after each frame. On a blow-up (or a
+/// write that fails) the frames written so far stay on disk, the manifest is marked
+/// failed with the message and the error names the step, the particle and the last
+/// good frame. With `options.resume`, a cache that is already complete is returned as
+/// it is, and one that cannot be resumed is refused before anything is written.
 pub fn run(
     scene: &Scene,
     out: &Path,
@@ -61,8 +90,12 @@ pub fn run(
 ) -> Result<Manifest> {
     let start = Instant::now();
     let layout = Layout::new(out);
+    if options.resume
+        && let resume::Plan::Complete(manifest) = resume::plan(&layout, scene, options)?
+    {
+        return Ok(*manifest);
+    }
     layout.create()?;
-    write_atomic(&layout.scene(), scene.to_toml().as_bytes())?;
     let disc = discretize(scene)?;
     if let Some(limit) = options.memory_limit {
         estimate_memory(scene, &disc).refuse_above(limit)?;
@@ -84,7 +117,17 @@ pub fn run_prepared(
     start: Instant,
     progress: &mut dyn FnMut(Progress),
 ) -> Result<Manifest> {
+    let plan = match options.resume {
+        true => resume::plan(layout, scene, options)?,
+        false => resume::Plan::Fresh,
+    };
+    let earlier = match plan {
+        resume::Plan::Complete(manifest) => return Ok(*manifest),
+        resume::Plan::Fresh => None,
+        resume::Plan::Continue(manifest) => Some(manifest),
+    };
     layout.create()?;
+    layout.remove_temporary_files();
     for (writes, dir) in [
         (scene.output.writes_tets(), layout.tets_dir()),
         (scene.output.writes_sheets(), layout.sheet_dir()),
@@ -93,13 +136,17 @@ pub fn run_prepared(
             std::fs::create_dir_all(&dir).map_err(|e| SimError::io(&dir, e))?;
         }
     }
+    write_atomic(&layout.scene(), scene.to_toml().as_bytes())?;
     let mut frames = frames::Frames::new(scene, layout, &prepared, options, start, progress);
-    if options.resume && layout.checkpoint().is_file() {
+    if let Some(earlier) = earlier
+        && layout.checkpoint().is_file()
+    {
         let from = resume::restore(
             layout,
             &mut prepared.world,
             scene_hash(scene),
             scene.output.writes_tets(),
+            *earlier,
         )?;
         frames.resume_from(from);
     }

@@ -1,13 +1,86 @@
-//! Continuing an interrupted run: the checkpoint restores the world, the manifest the
-//! frame times already on disk, and the last split tet mesh the vertex numbering.
+//! Continuing an interrupted run: first whether the cache can be continued at all
+//! ([`plan`]: a manifest that reads, the same scene, no fewer frames than are on disk,
+//! not already complete), then the checkpoint restores the world, the manifest the
+//! frames already on disk, and the last split tet mesh the vertex numbering.
 
-use crate::cache::CacheError;
-use crate::cache::Layout;
+use super::RunOptions;
 use crate::cache::checkpoint::{Checkpoint, Decoder};
-use crate::cache::manifest::Manifest;
+use crate::cache::manifest::{Manifest, Status};
 use crate::cache::vtu::TetFrame;
+use crate::cache::{CacheError, Layout};
 use crate::error::Result;
+use crate::scene::Scene;
 use crate::world::World;
+
+/// What `--resume` will do with the cache in a directory.
+#[derive(Debug)]
+pub enum Plan {
+    /// There is no cache there: run from the start.
+    Fresh,
+    /// Continue the cache this manifest describes (from its checkpoint, or from the
+    /// start when it has none).
+    Continue(Box<Manifest>),
+    /// Every frame is written already: nothing to run.
+    Complete(Box<Manifest>),
+}
+
+/// Decides whether the cache in `layout` can be resumed with `scene` and `options`,
+/// before anything is written: refuses a manifest that cannot be read, a cache written
+/// for another scene, and a `--frames` that stops before the frames already on disk.
+pub fn plan(layout: &Layout, scene: &Scene, options: &RunOptions) -> Result<Plan> {
+    if !layout.holds_cache() {
+        return Ok(Plan::Fresh);
+    }
+    let refuse = |path: &std::path::Path, message: String| -> Result<Plan> {
+        Err(CacheError::format(path, message).into())
+    };
+    let manifest = match Manifest::read(&layout.manifest()) {
+        Ok(m) => m,
+        // Killed after its first frame and before its first manifest: nothing to keep.
+        Err(_) if !layout.manifest().exists() && !layout.checkpoint().exists() => {
+            return Ok(Plan::Fresh);
+        }
+        Err(e) => {
+            return refuse(
+                &layout.root,
+                format!(
+                    "cannot resume: {e}; without its manifest the frames on disk cannot be \
+                     trusted: rerun with --force (replaces the cache) instead of --resume"
+                ),
+            );
+        }
+    };
+    if let Ok(old) = std::fs::read_to_string(layout.scene())
+        && old != scene.to_toml()
+    {
+        return refuse(
+            &layout.scene(),
+            "cannot resume: the cache was written by another scene (or other settings): \
+             its resolved scene differs from this one; rerun with --force to replace it, or \
+             write to another directory with -o"
+                .into(),
+        );
+    }
+    let all = scene.frame_count() + 1;
+    if manifest.status == Status::Complete && manifest.frames() >= all {
+        return Ok(Plan::Complete(Box::new(manifest)));
+    }
+    let last = options.frames.map_or(all, |n| (n + 1).min(all));
+    if last < manifest.frames() {
+        return refuse(
+            &layout.root,
+            format!(
+                "cannot resume with --frames {}: that stops at frame {last}, but the cache \
+                 already holds {} frames; resume without --frames (or with --frames {} or \
+                 more), or rerun with --force to start over",
+                last - 1,
+                manifest.frames(),
+                manifest.frames() - 1
+            ),
+        );
+    }
+    Ok(Plan::Continue(Box::new(manifest)))
+}
 
 /// Where a restored run continues.
 #[derive(Debug, Clone, PartialEq)]
@@ -16,15 +89,21 @@ pub struct Resumed {
     pub frame: usize,
     /// Bonds broken so far.
     pub broken_bonds: u64,
-    /// The frame times of the frames on disk (from the manifest).
-    pub frame_times: Vec<f64>,
-    /// The collider centres of the frames on disk (from the manifest).
-    pub collider_centers: Vec<Vec<[f64; 3]>>,
+    /// The earlier manifest, cut back to the checkpoint's frame: the frame times,
+    /// collider centres and file records of the frames on disk.
+    pub manifest: Manifest,
 }
 
 /// Restores `world` (built from the same scene) from the checkpoint in `layout`; with
 /// `tets`, the split tet mesh from the last frame written before the checkpoint.
-pub fn restore(layout: &Layout, world: &mut World, scene_hash: u64, tets: bool) -> Result<Resumed> {
+/// `earlier` is the cache's manifest (read by [`plan`]).
+pub fn restore(
+    layout: &Layout,
+    world: &mut World,
+    scene_hash: u64,
+    tets: bool,
+    earlier: Manifest,
+) -> Result<Resumed> {
     let path = layout.checkpoint();
     let checkpoint = Checkpoint::read(&path)?;
     let mut input = Decoder::new(&checkpoint.payload, &path);
@@ -46,27 +125,21 @@ pub fn restore(layout: &Layout, world: &mut World, scene_hash: u64, tets: bool) 
             part.model.restore_tet_frame(last.clone())?;
         }
     }
-    let (frame_times, collider_centers) = match Manifest::read(&layout.manifest()) {
-        Ok(old) => (
-            old.frame_times.into_iter().take(frame).collect(),
-            old.collider_centers.into_iter().take(frame).collect(),
-        ),
-        Err(_) => (Vec::new(), Vec::new()),
-    };
-    if frame_times.len() != frame {
+    if earlier.frames() < frame {
         return Err(CacheError::format(
             layout.manifest(),
             format!(
-                "the manifest records {} frames but the checkpoint is at frame {frame}; rerun without --resume",
-                frame_times.len()
+                "the manifest records {} frames but the checkpoint is at frame {frame}; rerun with --force instead of --resume",
+                earlier.frames()
             ),
         )
         .into());
     }
+    let mut manifest = earlier;
+    manifest.truncate_to_frame(frame);
     Ok(Resumed {
         frame,
         broken_bonds: checkpoint.broken_bonds,
-        frame_times,
-        collider_centers,
+        manifest,
     })
 }

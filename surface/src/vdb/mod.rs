@@ -247,8 +247,14 @@ pub fn surface_particles(
     let t = Instant::now();
     stats.active_voxels = grids.active_voxels();
     let tmp = temporary_path(vdb_path);
-    grids.write(&tmp)?;
-    std::fs::rename(&tmp, vdb_path).map_err(|e| SurfaceError::io(vdb_path, e))?;
+    let written = grids
+        .write(&tmp)
+        .and_then(|()| std::fs::rename(&tmp, vdb_path).map_err(|e| SurfaceError::io(vdb_path, e)));
+    if let Err(e) = written {
+        // A partial file would keep a full disk full.
+        let _ = std::fs::remove_file(&tmp);
+        return Err(e);
+    }
     debris.write(debris_path, frame)?;
     seconds.write += t.elapsed().as_secs_f64();
     stats.seconds = seconds;
