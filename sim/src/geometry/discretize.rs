@@ -7,8 +7,9 @@
 use rayon::prelude::*;
 
 use super::mesh::{Conformity, MeshSdf, TriMesh, conform};
+use super::sdf::Sdf;
 use super::shape::{placement, to_sdf};
-use super::stuffing::stuff;
+use super::stuffing::{random_rotation, stuff, stuff_rotated};
 use super::{MeshQuality, TetMesh};
 use crate::error::{Result, SimError};
 use crate::membrane::sheet::{self, Sheet};
@@ -40,10 +41,23 @@ pub fn discretize(scene: &Scene) -> Result<Discretization> {
     let bodies: Vec<(TetMesh, Option<Conformity>)> = scene
         .bodies
         .par_iter()
-        .map(|b| {
+        .enumerate()
+        .map(|(index, b)| {
             let error = |message: String| SimError::Mesh {
                 body: b.name.clone(),
                 message,
+            };
+            // A breaking body's lattice is turned at random (issue 13: an aligned
+            // lattice's weak planes showed as axis-aligned cracks); others stay aligned
+            // and centred, so symmetric shapes get symmetric particles.
+            let rotation = scene
+                .materials
+                .get(&b.material)
+                .filter(|m| b.lattice_rotated(m))
+                .map(|_| random_rotation(scene.scene.seed, index as u64));
+            let stuff = |sdf: &dyn Sdf, lambda: f64| match rotation {
+                Some(r) => stuff_rotated(sdf, lambda, r),
+                None => stuff(sdf, lambda),
             };
             match (&b.shape, placement(&b.shape)) {
                 _ if b.model == ModelKind::Membrane => Ok((TetMesh::default(), None)),
