@@ -149,7 +149,7 @@ impl Sdf for Turned<'_> {
 /// random rotations", from three uniform numbers.
 pub fn random_rotation(seed: u64, stream: u64) -> [[f64; 3]; 3] {
     use std::f64::consts::TAU;
-    let mut rng = crate::mpm::SplitMix64::new(seed ^ stream.wrapping_mul(0xd1b5_4a32_d192_ed03));
+    let mut rng = perifrac_math::SplitMix64::new(seed ^ stream.wrapping_mul(0xd1b5_4a32_d192_ed03));
     let (u1, u2, u3) = (rng.next_f64(), rng.next_f64(), rng.next_f64());
     let (a, b) = ((1.0 - u1).sqrt(), u1.sqrt());
     let (w, x, y, z) = (
