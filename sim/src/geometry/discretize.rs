@@ -1,5 +1,7 @@
 //! Bodies to particles (Chen §5.2): each body is tetrahedralized to edge length ≈ λ
-//! and one particle is placed at each tet's barycentre with the tet's volume; a
+//! (on a lattice centred on the body, turned at random for a breaking body: see the
+//! body's `lattice` key and `docs/lattice.md`) and one particle is placed at each tet's
+//! barycentre with the tet's volume; a
 //! membrane body gets the particles of its sheet instead ([`crate::membrane::sheet`],
 //! an empty tet mesh). All particles are then sorted along a Morton curve so that families sit close in
 //! memory.
