@@ -48,7 +48,7 @@ use constitutive::{Elastic, IDENTITY, Mat3, mul_transpose};
 use grid::{Boundary, D_INVERSE_FACTOR, SparseGrid};
 use plasticity::{FlowInput, Plasticity};
 
-pub use seed::{PARTICLES_PER_CELL_AXIS, SEED_JITTER, SplitMix64};
+pub use seed::{PARTICLES_PER_CELL_AXIS, SEED_JITTER};
 
 /// CFL number: the stable step keeps v_max Δt ≤ `CFL` Δx at the initial velocities.
 pub const CFL: f64 = 0.3;
