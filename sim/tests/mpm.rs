@@ -223,7 +223,8 @@ fn scene_run() {
         (n as f64 * steps as f64) / wall
     );
     for b in 0..scene.bodies.len() {
-        let members: Vec<usize> = (0..n).filter(|&i| frame.body[i] as usize == b).collect();
+        // An MPM particle's fragment is its body.
+        let members: Vec<usize> = (0..n).filter(|&i| frame.fragment[i] as usize == b).collect();
         let mean = |a: usize| {
             members
                 .iter()
