@@ -224,7 +224,9 @@ fn scene_run() {
     );
     for b in 0..scene.bodies.len() {
         // An MPM particle's fragment is its body.
-        let members: Vec<usize> = (0..n).filter(|&i| frame.fragment[i] as usize == b).collect();
+        let members: Vec<usize> = (0..n)
+            .filter(|&i| frame.fragment[i] as usize == b)
+            .collect();
         let mean = |a: usize| {
             members
                 .iter()
