@@ -412,8 +412,8 @@ fn the_shock_model_replaces_the_pressure_by_mie_gruneisen() {
     let s = 0.8f64.cbrt();
     let f = [[s, 0.0, 0.0], [0.0, s, 0.0], [0.0, 0.0, s]];
     let tau = material.kirchhoff(&f, 1000.0);
-    for a in 0..3 {
-        let sigma = tau[a][a] / 0.8;
+    for (a, row) in tau.iter().enumerate() {
+        let sigma = row[a] / 0.8;
         assert!(
             (sigma + 2_498_512.790_005_95 + 1600.0).abs() < 1e-3,
             "{sigma}"
