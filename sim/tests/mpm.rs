@@ -19,7 +19,21 @@ shape = { type = \"sphere\", center = [0, 0.07, 0], radius = 0.05 }\n\
 
 #[test]
 fn an_mpm_run_resumed_from_its_checkpoint_writes_the_same_bytes() {
-    let scene = Scene::parse(SCENE, Path::new("mpm.toml"), Path::new(".")).expect("scene");
+    resumed_run_matches(SCENE);
+}
+
+/// The shock model's internal energy and the plastic strain go through the checkpoint.
+#[test]
+fn a_shock_and_johnson_cook_run_resumes_to_the_same_bytes() {
+    resumed_run_matches(&SCENE.replace(
+        "elasticity = \"neo-hookean\"",
+        "elasticity = \"shock\"\nbulk_sound_speed = 20\n\
+         plasticity = { type = \"johnson-cook\", yield_stress = 2e3, hardening = 1e4, exponent = 0.5 }",
+    ));
+}
+
+fn resumed_run_matches(text: &str) {
+    let scene = Scene::parse(text, Path::new("mpm.toml"), Path::new(".")).expect("scene");
     let frames = scene.frame_count() + 1;
     let full = tempfile::tempdir().expect("temp dir");
     let manifest =
@@ -57,6 +71,10 @@ fn an_mpm_run_resumed_from_its_checkpoint_writes_the_same_bytes() {
         last.position.iter().all(|p| p[1] > -0.01),
         "the ground holds the particles"
     );
+    for column in ["J", "constitutive"] {
+        let values = last.extra(column).expect("an MPM column");
+        assert_eq!(values.len(), last.position.len(), "{column}");
+    }
 }
 
 #[test]
@@ -70,24 +88,76 @@ fn bad_mpm_scene_input_names_the_key() {
     let unknown = SCENE.replace("elasticity = \"neo-hookean\"", "elasticity = \"rubber\"");
     let e = Scene::parse(&unknown, Path::new("mpm.toml"), Path::new(".")).expect_err("refused");
     assert!(e.to_string().contains("elasticity"), "{e}");
+    for (replacement, key, fix) in [
+        (
+            "elasticity = \"shock\"",
+            "materials.m.mpm.bulk_sound_speed",
+            "add bulk_sound_speed",
+        ),
+        (
+            "plasticity = { type = \"johnson-cook\", yield_stress = 1e4, exponent = 2 }",
+            "materials.m.mpm.plasticity.exponent",
+            "[0, 1]",
+        ),
+        (
+            "plasticity = { type = \"snow\", critical_compression = 1.5, critical_stretch = 0.01 }",
+            "materials.m.mpm.plasticity.critical_compression",
+            "(0, 1)",
+        ),
+        (
+            "plasticity = { type = \"drucker-prager\", friction_angle = 120 }",
+            "materials.m.mpm.plasticity.friction_angle",
+            "(0, 90)",
+        ),
+        (
+            "elasticity = \"neo-hookean\"\nbulk_sound_speed = 100",
+            "materials.m.mpm.bulk_sound_speed",
+            "remove it",
+        ),
+    ] {
+        let text = SCENE.replace("elasticity = \"neo-hookean\"", replacement);
+        let e = Scene::parse(&text, Path::new("mpm.toml"), Path::new(".")).expect_err("refused");
+        let message = e.to_string();
+        assert!(
+            message.contains(key) && message.contains(fix),
+            "{replacement}: {message}"
+        );
+    }
+    let stray = format!("{SCENE}[mpm]\nflip_ratio = 1.5\n");
+    let e = Scene::parse(&stray, Path::new("mpm.toml"), Path::new(".")).expect_err("refused");
+    assert!(e.to_string().contains("mpm.flip_ratio"), "{e}");
 }
 
-/// Throughput of MLS-MPM with fixed corotated elasticity at ≈10⁵ particles (a
-/// benchmark, not a check: run by `scripts/mpm-bench.sh`).
+/// Throughput of MLS-MPM with fixed corotated elasticity: a 0.4 × 0.2 × 0.16 m block
+/// on a slip ground at the resolution `MPM_BENCH_RESOLUTION` (default 0.01 m: ≈10⁵
+/// particles; 0.0046 m: ≈10⁶) for `MPM_BENCH_STEPS` steps (default 20). A benchmark,
+/// not a check: run by `scripts/mpm-bench.sh` and `scripts/taichi-compare.sh`.
 #[test]
 #[ignore = "benchmark: scripts/mpm-bench.sh"]
-fn throughput_at_1e5_particles() {
-    let text = "\
-[scene]\nduration = 1\nfps = 100\ngravity = [0, -9.81, 0]\n\
-[materials.m]\ndensity = 1000\nyoungs_modulus = 1e5\npoisson_ratio = 0.3\n\
-[[body]]\nmodel = \"mpm\"\nmaterial = \"m\"\nresolution = 0.01\n\
-shape = { type = \"box\", center = [0, 0.1, 0], size = [0.4, 0.2, 0.16] }\n\
-[[collider]]\ntype = \"ground\"\n\
-[output]\ntets = false\nsurface = \"none\"\npreview = false\n";
-    let scene = Scene::parse(text, Path::new("bench.toml"), Path::new(".")).expect("scene");
+fn throughput() {
+    let setting = |name: &str, default: f64| {
+        std::env::var(name)
+            .ok()
+            .and_then(|v| v.parse::<f64>().ok())
+            .unwrap_or(default)
+    };
+    let resolution = setting("MPM_BENCH_RESOLUTION", 0.01);
+    let steps = setting("MPM_BENCH_STEPS", 20.0) as usize;
+    let text = format!(
+        "[scene]\nduration = 1\nfps = 100\ngravity = [0, -9.81, 0]\n\
+         [materials.m]\ndensity = 1000\nyoungs_modulus = 1e5\npoisson_ratio = 0.3\n\
+         [[body]]\nmodel = \"mpm\"\nmaterial = \"m\"\nresolution = {resolution}\n\
+         shape = {{ type = \"box\", center = [0, 0.1, 0], size = [0.4, 0.2, 0.16] }}\n\
+         [[collider]]\ntype = \"ground\"\nfriction = 0\n\
+         [output]\ntets = false\nsurface = \"none\"\npreview = false\n"
+    );
+    let scene = Scene::parse(&text, Path::new("bench.toml"), Path::new(".")).expect("scene");
     let mut p = run::prepare(&scene).expect("prepares");
     let n = p.world.particles().position.len();
-    let steps = 20;
+    // Warm-up: the grid's buffers reach their size.
+    for _ in 0..3 {
+        p.world.step().expect("steps");
+    }
     p.world.reset_times();
     let start = std::time::Instant::now();
     for _ in 0..steps {
@@ -95,7 +165,7 @@ shape = { type = \"box\", center = [0, 0.1, 0], size = [0.4, 0.2, 0.16] }\n\
     }
     let wall = start.elapsed().as_secs_f64();
     println!(
-        "{n} particles, {steps} steps, {} threads: {:.3e} particle-steps/s",
+        "{n} particles, {steps} steps, {} threads: {:.4e} particle-steps/s",
         rayon::current_num_threads(),
         (n * steps) as f64 / wall
     );
@@ -104,6 +174,74 @@ shape = { type = \"box\", center = [0, 0.1, 0], size = [0.4, 0.2, 0.16] }\n\
             "  {stage}: {:.1} ms/step ({:.0}%)",
             1e3 * t / steps as f64,
             100.0 * t / wall
+        );
+    }
+}
+
+/// Runs the scene file `MPM_SCENE` (surfaces and previews off, for `MPM_SCENE_FRAMES`
+/// frames if set) and prints its wall time, step count and what the last frame
+/// holds. A benchmark, not a check: run by `scripts/mpm-scenes.sh`.
+#[test]
+#[ignore = "scene run: scripts/mpm-scenes.sh"]
+fn scene_run() {
+    let Ok(path) = std::env::var("MPM_SCENE") else {
+        return;
+    };
+    let path = Path::new(&path);
+    let mut scene = Scene::load(path).expect("scene");
+    scene.output.surface = perifrac_sim::scene::SurfaceMethod::None;
+    scene.output.preview = false;
+    let frames = std::env::var("MPM_SCENE_FRAMES")
+        .ok()
+        .and_then(|f| f.parse().ok());
+    let out = tempfile::tempdir().expect("temp dir");
+    let start = std::time::Instant::now();
+    let options = RunOptions {
+        frames,
+        ..RunOptions::default()
+    };
+    let mut steps = 0;
+    let manifest = run::run(&scene, out.path(), &options, &mut |p| steps = p.steps).expect("runs");
+    let wall = start.elapsed().as_secs_f64();
+    let last = std::fs::read_dir(out.path().join("particles"))
+        .expect("particles")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .max()
+        .expect("a frame");
+    let frame = ParticleFrame::read(&last).expect("last frame");
+    let n = frame.position.len();
+    let max_plastic = frame.plastic.iter().copied().fold(0.0f32, f32::max);
+    let mean_plastic = frame.plastic.iter().map(|&e| e as f64).sum::<f64>() / n as f64;
+    let j = frame.extra("J").expect("J");
+    let (j_min, j_max) = j
+        .iter()
+        .fold((f32::INFINITY, 0.0f32), |(a, b), &x| (a.min(x), b.max(x)));
+    println!(
+        "{}: {} ({n} particles, {steps} steps, {wall:.1} s, {:.3e} particle-steps/s); last frame: ε^p mean {mean_plastic:.4} max {max_plastic:.4}, J in [{j_min:.3}, {j_max:.3}]",
+        path.display(),
+        manifest.status,
+        (n as f64 * steps as f64) / wall
+    );
+    for b in 0..scene.bodies.len() {
+        // An MPM particle's fragment is its body.
+        let members: Vec<usize> = (0..n)
+            .filter(|&i| frame.fragment[i] as usize == b)
+            .collect();
+        let mean = |a: usize| {
+            members
+                .iter()
+                .map(|&i| frame.velocity[i][a] as f64)
+                .sum::<f64>()
+                / members.len() as f64
+        };
+        println!(
+            "  body {} ({}): {} particles, mean velocity [{:.2}, {:.2}, {:.2}] m/s",
+            b,
+            scene.bodies[b].name,
+            members.len(),
+            mean(0),
+            mean(1),
+            mean(2)
         );
     }
 }

@@ -62,7 +62,10 @@ pub fn discretize(scene: &Scene) -> Result<Discretization> {
                 None => stuff(sdf, lambda),
             };
             match (&b.shape, placement(&b.shape)) {
-                _ if b.model == ModelKind::Membrane => Ok((TetMesh::default(), None)),
+                // Membranes sample their sheet; MPM bodies seed their own particles.
+                _ if matches!(b.model, ModelKind::Membrane | ModelKind::Mpm) => {
+                    Ok((TetMesh::default(), None))
+                }
                 (ShapeSpec::Mesh { path, .. }, Some(placement)) => {
                     let surface = TriMesh::load(&scene.base_dir.join(path), &placement)
                         .map_err(|e| error(e.to_string()))?;

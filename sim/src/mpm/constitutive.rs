@@ -130,13 +130,32 @@ impl Elastic {
         }
     }
 
+    /// The parameters (μ̃, λ̃, α) of the stable Neo-Hookean energy (Smith et al. 2018
+    /// §3.4): μ̃ = 4μ/3 and λ̃ = λ + 5μ/6 so that it linearizes to the Lamé moduli μ, λ
+    /// of the scene, and α = 1 + 3μ̃/(4λ̃) so that P(I) = 0 (rest stability). Lyu's
+    /// Eq. 7.1 prints α = 1 + μ/λ − μλ/4, a misprint of Smith's 1 + μ/λ − μ/(4λ).
+    pub fn stable_parameters(&self) -> (f64, f64, f64) {
+        let mu = 4.0 * self.mu / 3.0;
+        let lambda = self.lambda + 5.0 * self.mu / 6.0;
+        (mu, lambda, 1.0 + 0.75 * mu / lambda)
+    }
+
     /// The first Piola–Kirchhoff stress P = ∂ψ/∂F:
     /// fixed corotated (Eq. 3.5) P = 2μ(F − R) + λ(J − 1) J F⁻ᵀ;
-    /// Neo-Hookean (Eq. 3.8) P = μ(F − F⁻ᵀ) + λ log J F⁻ᵀ (not defined for J ≤ 0).
+    /// Neo-Hookean (Eq. 3.8) P = μ(F − F⁻ᵀ) + λ log J F⁻ᵀ (not defined for J ≤ 0);
+    /// stable Neo-Hookean (Eq. 7.2) P = μ̃(1 − 1/(I_C + 1)) F + λ̃(J − α) ∂J/∂F, also
+    /// for the shock model, whose pressure [`super::Mpm`] then replaces.
     pub fn first_piola(&self, f: &Mat3) -> Mat3 {
         let j = determinant(f);
         let cof = cofactor(f);
         match self.energy {
+            MpmElasticity::StableNeoHookean | MpmElasticity::Shock => {
+                let (mu, lambda, alpha) = self.stable_parameters();
+                let ic: f64 = f.iter().flatten().map(|x| x * x).sum();
+                let shear = mu * (1.0 - 1.0 / (ic + 1.0));
+                let volume = lambda * (j - alpha);
+                [0, 1, 2].map(|a| [0, 1, 2].map(|b| shear * f[a][b] + volume * cof[a][b]))
+            }
             MpmElasticity::FixedCorotated => {
                 let r = polar_rotation(f);
                 let volume = self.lambda * (j - 1.0);
@@ -156,10 +175,20 @@ impl Elastic {
         }
     }
 
-    /// The energy density ψ(F) (J/m³) of Eq. 3.5 or 3.8.
+    /// The energy density ψ(F) (J/m³) of Eq. 3.5, 3.8 or 7.1 (the last less its
+    /// value at rest, so that every energy vanishes at F = I).
     pub fn energy_density(&self, f: &Mat3) -> f64 {
         let j = determinant(f);
         match self.energy {
+            MpmElasticity::StableNeoHookean | MpmElasticity::Shock => {
+                let (mu, lambda, alpha) = self.stable_parameters();
+                let ic: f64 = f.iter().flatten().map(|x| x * x).sum();
+                let psi = |ic: f64, j: f64| {
+                    0.5 * mu * (ic - 3.0) + 0.5 * lambda * (j - alpha) * (j - alpha)
+                        - 0.5 * mu * (ic + 1.0).ln()
+                };
+                psi(ic, j) - psi(3.0, 1.0)
+            }
             MpmElasticity::FixedCorotated => {
                 let s = rotation_svd(f);
                 let dev: f64 = s.sigma.iter().map(|x| (x - 1.0) * (x - 1.0)).sum();

@@ -156,7 +156,15 @@ pub struct SparseGrid {
     /// Block nodes, [`BLOCK_NODES`] each: mass and momentum after P2G, mass and
     /// velocity after the grid update.
     nodes: Vec<[f64; 4]>,
+    /// PIC/FLIP only: each node's velocity before forces, v̄_i (empty under APIC).
+    previous: Vec<[f64; 3]>,
+    /// With anchors only: each node's held mass and momentum (empty otherwise).
+    held: Vec<[f64; 4]>,
 }
+
+/// A node is held by the anchors when at least this share of its mass comes from
+/// anchored particles; it then moves at their mass-weighted velocity.
+pub const HELD_MASS_SHARE: f64 = 0.5;
 
 /// Index of node (i, j, k) in a cube of `n` nodes a side (x fastest).
 #[inline]
@@ -186,6 +194,34 @@ impl SparseGrid {
             + self.bin_of.len() * size_of::<u32>()
             + self.blocks.len() * (size_of::<u64>() + size_of::<(u64, u32)>())
             + (self.scatter.len() + self.nodes.len()) * size_of::<[f64; 4]>()
+            + self.previous.len() * size_of::<[f64; 3]>()
+            + self.held.len() * size_of::<[f64; 4]>()
+    }
+
+    /// Keeps the nodes' mass and momentum after a P2G of the anchored particles alone
+    /// (the others with zero mass, each anchored one at its anchor's velocity): the
+    /// grid update then moves held nodes with the anchors ([`HELD_MASS_SHARE`]).
+    pub fn keep_held(&mut self) {
+        self.held.clear();
+        self.held.extend_from_slice(&self.nodes);
+    }
+
+    /// Forgets the anchors' nodes (no anchor is active).
+    pub fn release_held(&mut self) {
+        self.held.clear();
+    }
+
+    /// Keeps the velocity (m v)_i / m_i of each node after a P2G, for FLIP's
+    /// increment v_i − v̄_i in [`SparseGrid::g2p`].
+    pub fn keep_velocity(&mut self) {
+        self.previous.clear();
+        self.previous.par_extend(self.nodes.par_iter().map(|n| {
+            if n[0] > 0.0 {
+                [n[1] / n[0], n[2] / n[0], n[3] / n[0]]
+            } else {
+                [0.0; 3]
+            }
+        }));
     }
 
     /// Sorts the particles into bins and allocates the blocks their stencils touch.
@@ -336,16 +372,19 @@ impl SparseGrid {
             });
     }
 
-    /// Grid update (Lyu §3.4, explicit): v_i = (m v)_i / m_i + Δt g, then the
+    /// Grid update (Lyu §3.4, explicit): v_i = (m v)_i / m_i + Δt g; a node held by
+    /// anchors (after [`SparseGrid::keep_held`]) takes their velocity; then the
     /// colliders' boundary conditions at each node inside one: the normal velocity
     /// relative to the collider is made non-negative and Coulomb friction μ removes at
     /// most μ|Δv_n| of the tangential velocity (μ = 0 slips; a large μ sticks).
     pub fn grid_update(&mut self, dt: f64, boundary: &Boundary<'_>) {
         let dx = self.dx;
+        let held = &self.held;
         self.nodes
             .par_chunks_mut(BLOCK_NODES)
             .zip(self.blocks.par_iter())
-            .for_each(|(nodes, &key)| {
+            .enumerate()
+            .for_each(|(slot, (nodes, &key))| {
                 let origin = key_block(key).map(|c| c << BLOCK_SHIFT);
                 for k in 0..BLOCK {
                     for j in 0..BLOCK {
@@ -354,8 +393,14 @@ impl SparseGrid {
                             if node[0] <= 0.0 {
                                 continue;
                             }
+                            let index = slot * BLOCK_NODES + cube_index(i, j, k, BLOCK);
                             let mut v =
                                 [0, 1, 2].map(|a| node[1 + a] / node[0] + dt * boundary.gravity[a]);
+                            if let Some(h) = held.get(index)
+                                && h[0] >= HELD_MASS_SHARE * node[0]
+                            {
+                                v = [h[1] / h[0], h[2] / h[0], h[3] / h[0]];
+                            }
                             let x = [
                                 (origin[0] + i as i64) as f64 * dx,
                                 (origin[1] + j as i64) as f64 * dx,
@@ -373,9 +418,13 @@ impl SparseGrid {
 
     /// Grid to particle (APIC; Hu et al. 2018 Eq. 12–13): v_p = Σ_i w_ip v_i,
     /// C_p = D⁻¹ Σ_i w_ip v_i (x_i − x_p)ᵀ, x_p ← x_p + Δt v_p, F_p ← (I + Δt C_p) F_p.
+    /// With `flip` = Some(α) (after [`SparseGrid::keep_velocity`]) the particle velocity
+    /// is the PIC/FLIP blend α (v_p + Σ_i w_ip (v_i − v̄_i)) + (1 − α) Σ_i w_ip v_i and
+    /// x_p moves with the PIC velocity.
     pub fn g2p(
         &self,
         dt: f64,
+        flip: Option<f64>,
         position: &mut [[f64; 3]],
         velocity: &mut [[f64; 3]],
         affine: &mut [Mat3],
@@ -397,6 +446,7 @@ impl SparseGrid {
                 let origin = key_block(bin.key).map(|b| b << BLOCK_SHIFT);
                 let local = [0, 1, 2].map(|a| (s.base[a] - origin[a]) as usize);
                 let mut new_v = [0.0; 3];
+                let mut increment = [0.0; 3];
                 let mut b = [[0.0; 3]; 3];
                 for k in 0..3 {
                     for j in 0..3 {
@@ -404,19 +454,26 @@ impl SparseGrid {
                             let l = [local[0] + i, local[1] + j, local[2] + k];
                             let o = l.map(|c| c >> BLOCK_SHIFT);
                             let slot = bin.neighbours[o[0] + 2 * o[1] + 4 * o[2]] as usize;
-                            let node = &self.nodes[slot * BLOCK_NODES
+                            let index = slot * BLOCK_NODES
                                 + cube_index(
                                     l[0] & (BLOCK - 1),
                                     l[1] & (BLOCK - 1),
                                     l[2] & (BLOCK - 1),
                                     BLOCK,
-                                )];
+                                );
+                            let node = &self.nodes[index];
                             let w = s.w[0][i] * s.w[1][j] * s.w[2][k];
                             let d = [
                                 (i as f64 - s.fx[0]) * dx,
                                 (j as f64 - s.fx[1]) * dx,
                                 (k as f64 - s.fx[2]) * dx,
                             ];
+                            if flip.is_some() {
+                                let before = self.previous[index];
+                                for a in 0..3 {
+                                    increment[a] += w * (node[1 + a] - before[a]);
+                                }
+                            }
                             for a in 0..3 {
                                 let wv = w * node[1 + a];
                                 new_v[a] += wv;
@@ -435,7 +492,12 @@ impl SparseGrid {
                 for a in 0..3 {
                     x[a] += dt * new_v[a];
                 }
-                *v = new_v;
+                *v = match flip {
+                    Some(alpha) => {
+                        [0, 1, 2].map(|a| alpha * (v[a] + increment[a]) + (1.0 - alpha) * new_v[a])
+                    }
+                    None => new_v,
+                };
                 *c = new_c;
                 *f = grown;
             });
@@ -444,7 +506,9 @@ impl SparseGrid {
 
 /// The boundary condition of collider `c` on a node at `x` with velocity `v`: nodes on
 /// or below the ground, or inside a sphere or box, get a non-negative normal velocity
-/// relative to the collider and Coulomb friction on the tangential part.
+/// relative to the collider and Coulomb friction on the tangential part: `friction = 0`
+/// slips, a finite μ rubs, `friction = inf` sticks (the node takes the collider's
+/// velocity, separating or not).
 fn collide(c: &Collider, x: [f64; 3], v: &mut [f64; 3]) {
     let normal = match c.shape {
         ColliderShape::Ground => (x[1] <= c.center[1]).then_some([0.0, 1.0, 0.0]),
@@ -453,6 +517,11 @@ fn collide(c: &Collider, x: [f64; 3], v: &mut [f64; 3]) {
     let Some(n) = normal else {
         return;
     };
+    if c.friction == f64::INFINITY {
+        // Sticky: the node moves with the collider.
+        *v = c.velocity;
+        return;
+    }
     let rel = [0, 1, 2].map(|a| v[a] - c.velocity[a]);
     let vn = rel[0] * n[0] + rel[1] * n[1] + rel[2] * n[2];
     if vn >= 0.0 {

@@ -1,12 +1,18 @@
 //! The material point method: MLS-MPM (Lyu 2021 ch. 3; Hu et al. 2018) behind the
 //! [`Model`] interface, stepping itself ([`Stepping::Own`]).
 //!
-//! One step is `sort → stress → p2g → grid_update → g2p` on a sparse grid of
-//! spacing Δx (the smallest `resolution` of the scene's bodies): see [`grid`] for the
-//! blocks and the deterministic scatter, [`constitutive`] for the energies,
-//! [`plasticity`] for the impact models of ch. 7 (J2 with Johnson–Cook hardening,
-//! Mie–Grüneisen; their return maps and pressures, not yet wired into the step). Transfers
-//! are APIC with quadratic B-splines; time stepping is explicit.
+//! One step is `sort → stress → p2g → grid_update → g2p → plasticity` on a sparse grid
+//! of spacing Δx (the smallest `resolution` of the scene's bodies): see [`grid`] for
+//! the blocks and the deterministic scatter, [`constitutive`] for the energies (fixed
+//! corotated, Neo-Hookean, stable Neo-Hookean), [`plasticity`] for the plastic flows
+//! (J2 with Johnson–Cook hardening, snow, Drucker–Prager) and the shock model's
+//! Mie–Grüneisen pressure. Transfers are APIC with quadratic B-splines by default, a
+//! PIC/FLIP blend on request (`[mpm] transfer`); time stepping is explicit.
+//!
+//! **Shock model** (Lyu §7.2.2): the Cauchy stress is the deviatoric part of the stable
+//! Neo-Hookean one plus −p I, with p of Eq. 7.4 from J_p and the particle's internal
+//! energy density e_p, which the stress stage integrates by Eq. 7.3 (Δe = Δt sym(C):σ,
+//! with the stress and C of the step's start; e⁰ = 0).
 //!
 //! **Time step.** The world's step is bounded by the elastic wave: Δt ≤
 //! [`ELASTIC_COURANT`] Δx / c_p with c_p = √((λ + 2μ)/ρ) of the stiffest material
@@ -37,8 +43,10 @@ use crate::cache::checkpoint::{Decoder, Encoder};
 use crate::error::{Result, SimError};
 use crate::model::{Environment, Model, ParticleColumns, Points, PointsMut, Stepping};
 use crate::scene::Scene;
+use crate::scene::{MpmElasticity, MpmPlasticity, MpmTransfer};
 use constitutive::{Elastic, IDENTITY, Mat3, mul_transpose};
 use grid::{Boundary, D_INVERSE_FACTOR, SparseGrid};
+use plasticity::{FlowInput, Plasticity};
 
 pub use seed::{PARTICLES_PER_CELL_AXIS, SEED_JITTER};
 
@@ -68,8 +76,13 @@ pub struct MpmParticles {
     pub deformation: Vec<Mat3>,
     /// APIC affine velocity matrices C_p (1/s).
     pub affine: Vec<Mat3>,
-    /// Equivalent plastic strain ε^p (0 for elastic materials).
+    /// Equivalent plastic strain ε^p (0 for elastic materials; for snow and
+    /// Drucker–Prager the accumulated plastic Hencky strain, see
+    /// [`plasticity::Plasticity::project`]).
     pub plastic: Vec<f64>,
+    /// Internal energy density change e_p − e⁰ (J/m³, Eq. 7.3): one entry a particle
+    /// when any material uses the shock model, else empty.
+    pub internal_energy: Vec<f64>,
 }
 
 impl MpmParticles {
@@ -91,15 +104,88 @@ pub struct MpmMaterial {
     pub density: f64,
     /// Elastic energy and Lamé parameters.
     pub elastic: Elastic,
+    /// The shock model's Mie–Grüneisen pressure (Eq. 7.4), replacing the elastic one.
+    pub eos: Option<plasticity::MieGruneisen>,
+    /// Plastic flow.
+    pub plasticity: Plasticity,
+}
+
+impl MpmMaterial {
+    /// The fastest signal: the P-wave speed √((λ + 2μ)/ρ), or with a Mie–Grüneisen
+    /// pressure √(c₀² + 4μ/(3ρ)) if faster (bulk modulus ρ₀c₀² at rest; a strongly
+    /// compressed shock material is stiffer still, which `dt_safety` covers).
+    pub fn wave_speed(&self) -> f64 {
+        let elastic = self.elastic.p_wave_speed(self.density);
+        match &self.eos {
+            Some(eos) => elastic.max(
+                (eos.sound_speed * eos.sound_speed + 4.0 * self.elastic.mu / (3.0 * self.density))
+                    .sqrt(),
+            ),
+            None => elastic,
+        }
+    }
+
+    /// The Kirchhoff stress τ = P Fᵀ = J σ of a particle with deformation gradient `f`
+    /// and internal energy density change `energy` (shock model only).
+    pub fn kirchhoff(&self, f: &Mat3, energy: f64) -> Mat3 {
+        let tau = mul_transpose(&self.elastic.first_piola(f), f);
+        let Some(eos) = &self.eos else {
+            return tau;
+        };
+        let j = constitutive::determinant(f);
+        let mut shock = plasticity::deviatoric(&tau);
+        let pressure = j * eos.pressure(j, energy);
+        for (a, row) in shock.iter_mut().enumerate() {
+            row[a] -= pressure;
+        }
+        shock
+    }
+}
+
+impl MpmMaterial {
+    /// The constitutive model's id in the particle cache's `constitutive` column:
+    /// elasticity (0 fixed corotated, 1 Neo-Hookean, 2 stable Neo-Hookean, 3 shock)
+    /// plus 10 × plasticity (0 none, 1 J2/Johnson–Cook, 2 snow, 3 Drucker–Prager).
+    pub fn id(&self) -> u32 {
+        let elastic = match (self.elastic.energy, self.eos.is_some()) {
+            (_, true) | (MpmElasticity::Shock, _) => 3,
+            (MpmElasticity::FixedCorotated, _) => 0,
+            (MpmElasticity::NeoHookean, _) => 1,
+            (MpmElasticity::StableNeoHookean, _) => 2,
+        };
+        let plastic = match self.plasticity {
+            Plasticity::None => 0,
+            Plasticity::JohnsonCook(_) => 1,
+            Plasticity::Snow { .. } => 2,
+            Plasticity::DruckerPrager { .. } => 3,
+        };
+        elastic + 10 * plastic
+    }
+}
+
+/// How velocities move between particles and grid (`[mpm] transfer`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Transfer {
+    /// APIC (Jiang et al. 2015): C_p carries the affine velocity.
+    Apic,
+    /// PIC/FLIP: v_p ← α (v_p + Σ_i w_ip (v_i − v̄_i)) + (1 − α) Σ_i w_ip v_i with v̄_i
+    /// the grid velocity before forces; C_p is kept only as the velocity gradient that
+    /// grows F.
+    PicFlip {
+        /// FLIP's share α.
+        flip_ratio: f64,
+    },
 }
 
 /// Wall time of the stages (s).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 struct StageTimes {
     sort: f64,
+    stress: f64,
     p2g: f64,
     grid: f64,
     g2p: f64,
+    plasticity: f64,
 }
 
 /// The MLS-MPM model of a scene's bodies on one sparse grid.
@@ -111,8 +197,12 @@ pub struct Mpm {
     pub materials: Vec<MpmMaterial>,
     /// The grid.
     pub grid: SparseGrid,
+    /// The velocity transfer.
+    pub transfer: Transfer,
     /// Scratch: each particle's affine momentum A_p of [`SparseGrid::p2g`].
     momentum_affine: Vec<Mat3>,
+    /// Scratch: the anchored particles of this step and their anchors' velocities.
+    held: Vec<(u32, [f64; 3])>,
     times: StageTimes,
 }
 
@@ -125,7 +215,9 @@ impl Mpm {
             particles,
             materials,
             grid: SparseGrid::new(dx),
+            transfer: Transfer::Apic,
             momentum_affine: vec![[[0.0; 3]; 3]; n],
+            held: Vec::new(),
             times: StageTimes::default(),
         }
     }
@@ -134,26 +226,72 @@ impl Mpm {
     /// from each body's shape with the scene's seed, each body's angular velocity in
     /// C (the velocities are the caller's).
     pub fn from_scene(scene: &Scene) -> Result<Mpm> {
-        let particles = seed::seed(scene)?;
-        let materials = scene
+        let mut particles = seed::seed(scene)?;
+        let materials: Vec<MpmMaterial> = scene
             .bodies
             .iter()
             .map(|b| {
                 let spec = &scene.materials[&b.material];
                 let m = crate::material::Material::from_spec(spec);
-                let energy = spec.mpm.clone().unwrap_or_default().elasticity;
+                let mpm = spec.mpm.clone().unwrap_or_default();
                 MpmMaterial {
                     density: spec.density,
-                    elastic: Elastic::from_young(energy, m.youngs_modulus(), m.poisson_ratio()),
+                    elastic: Elastic::from_young(
+                        mpm.elasticity,
+                        m.youngs_modulus(),
+                        m.poisson_ratio(),
+                    ),
+                    eos: mpm.bulk_sound_speed.map(|c| plasticity::MieGruneisen {
+                        density: spec.density,
+                        sound_speed: c,
+                        slope: mpm.shock_slope,
+                        gamma: mpm.gruneisen,
+                    }),
+                    plasticity: match mpm.plasticity {
+                        MpmPlasticity::None => Plasticity::None,
+                        MpmPlasticity::JohnsonCook {
+                            yield_stress,
+                            hardening,
+                            exponent,
+                            rate_coefficient,
+                            reference_rate,
+                        } => Plasticity::JohnsonCook(plasticity::JohnsonCook {
+                            a: yield_stress,
+                            b: hardening,
+                            n: exponent,
+                            c: rate_coefficient,
+                            reference_rate,
+                        }),
+                        MpmPlasticity::Snow {
+                            critical_compression,
+                            critical_stretch,
+                        } => Plasticity::Snow {
+                            critical_compression,
+                            critical_stretch,
+                        },
+                        MpmPlasticity::DruckerPrager { friction_angle } => {
+                            Plasticity::drucker_prager(friction_angle)
+                        }
+                    },
                 }
             })
             .collect();
+        if materials.iter().any(|m| m.eos.is_some()) {
+            particles.internal_energy = vec![0.0; particles.len()];
+        }
         let dx = scene
             .bodies
             .iter()
             .map(|b| b.resolution)
             .fold(f64::INFINITY, f64::min);
         let mut model = Mpm::new(particles, materials, dx);
+        let settings = scene.mpm.unwrap_or_default();
+        model.transfer = match settings.transfer {
+            MpmTransfer::Apic => Transfer::Apic,
+            MpmTransfer::PicFlip => Transfer::PicFlip {
+                flip_ratio: settings.flip_ratio,
+            },
+        };
         for (p, c) in model.particles.affine.iter_mut().enumerate() {
             let w = scene.bodies[model.particles.body[p] as usize].angular_velocity;
             *c = [[0.0, -w[2], w[1]], [w[2], 0.0, -w[0]], [-w[1], w[0], 0.0]];
@@ -170,44 +308,152 @@ impl Mpm {
             .reduce(|| 0.0, f64::max)
     }
 
-    /// One explicit MLS-MPM step of length `dt`.
+    /// Sets each anchored particle's velocity target for the step ending at `time`
+    /// (the anchor's motion at its seeding position); the step then moves the nodes
+    /// the anchored particles hold with them (anchors act on the grid).
+    pub fn hold(&mut self, anchors: &[crate::contact::Anchor], time: f64) {
+        self.held.clear();
+        for anchor in anchors.iter().filter(|a| time <= a.until) {
+            for &p in &anchor.particles {
+                let p = p as usize;
+                let (_, v) = anchor.motion(self.particles.reference[p], time);
+                self.held.push((p as u32, v));
+            }
+        }
+    }
+
+    /// One explicit MLS-MPM step of length `dt`: `sort → stress → p2g → grid_update →
+    /// g2p → plasticity`.
     pub fn step(&mut self, dt: f64, boundary: &Boundary<'_>) {
         let t0 = Instant::now();
-        let p = &mut self.particles;
-        self.grid.rebuild(&p.position);
+        self.grid.rebuild(&self.particles.position);
+        if self.held.is_empty() {
+            self.grid.release_held();
+        } else {
+            // A P2G of the anchored particles alone, at their anchors' velocities.
+            let p = &self.particles;
+            let mut mass = vec![0.0; p.len()];
+            let mut velocity = vec![[0.0; 3]; p.len()];
+            for &(i, v) in &self.held {
+                mass[i as usize] = p.mass[i as usize];
+                velocity[i as usize] = v;
+            }
+            let zero = vec![[[0.0; 3]; 3]; p.len()];
+            self.grid.p2g(&p.position, &mass, &velocity, &zero);
+            self.grid.keep_held();
+        }
         let t1 = Instant::now();
-        let dx = self.grid.dx;
-        let d_inv = D_INVERSE_FACTOR / (dx * dx);
-        let materials = &self.materials;
-        self.momentum_affine
-            .par_iter_mut()
-            .enumerate()
-            .with_min_len(256)
-            .for_each(|(i, a)| {
-                let elastic = &materials[p.body[i] as usize].elastic;
-                let f = &p.deformation[i];
-                let stress = mul_transpose(&elastic.first_piola(f), f);
-                let scale = dt * p.volume[i] * d_inv;
-                let (m, c) = (p.mass[i], &p.affine[i]);
-                *a = [0, 1, 2].map(|r| [0, 1, 2].map(|s| m * c[r][s] - scale * stress[r][s]));
-            });
+        self.stress(dt);
+        let t2 = Instant::now();
+        let p = &self.particles;
+        let flip = match self.transfer {
+            Transfer::Apic => None,
+            Transfer::PicFlip { flip_ratio } => {
+                // The grid velocity before forces, v̄_i, from a P2G of momentum alone.
+                let zero = vec![[[0.0; 3]; 3]; p.len()];
+                self.grid.p2g(&p.position, &p.mass, &p.velocity, &zero);
+                self.grid.keep_velocity();
+                Some(flip_ratio)
+            }
+        };
         self.grid
             .p2g(&p.position, &p.mass, &p.velocity, &self.momentum_affine);
-        let t2 = Instant::now();
-        self.grid.grid_update(dt, boundary);
         let t3 = Instant::now();
+        self.grid.grid_update(dt, boundary);
+        let t4 = Instant::now();
+        let p = &mut self.particles;
         self.grid.g2p(
             dt,
+            flip,
             &mut p.position,
             &mut p.velocity,
             &mut p.affine,
             &mut p.deformation,
         );
-        let t4 = Instant::now();
+        let t5 = Instant::now();
+        self.plasticity();
+        let t6 = Instant::now();
         self.times.sort += (t1 - t0).as_secs_f64();
-        self.times.p2g += (t2 - t1).as_secs_f64();
-        self.times.grid += (t3 - t2).as_secs_f64();
-        self.times.g2p += (t4 - t3).as_secs_f64();
+        self.times.stress += (t2 - t1).as_secs_f64();
+        self.times.p2g += (t3 - t2).as_secs_f64();
+        self.times.grid += (t4 - t3).as_secs_f64();
+        self.times.g2p += (t5 - t4).as_secs_f64();
+        self.times.plasticity += (t6 - t5).as_secs_f64();
+    }
+
+    /// Each particle's affine momentum A_p = m_p C_p − Δt V_p⁰ D⁻¹ τ_p (MLS-MPM, Hu et
+    /// al. 2018 Eq. 16–17; τ = P Fᵀ), without m_p C_p under PIC/FLIP; the shock
+    /// model's internal energy advances by Eq. 7.3 with the same stress.
+    fn stress(&mut self, dt: f64) {
+        let p = &mut self.particles;
+        let d_inv = D_INVERSE_FACTOR / (self.grid.dx * self.grid.dx);
+        let materials = &self.materials;
+        let affine_share = match self.transfer {
+            Transfer::Apic => 1.0,
+            Transfer::PicFlip { .. } => 0.0,
+        };
+        let (deformation, volume, mass, affine, body) =
+            (&p.deformation, &p.volume, &p.mass, &p.affine, &p.body);
+        let kernel = |i: usize, a: &mut Mat3, e: Option<&mut f64>| {
+            let material = &materials[body[i] as usize];
+            let f = &deformation[i];
+            let tau = material.kirchhoff(f, e.as_deref().copied().unwrap_or(0.0));
+            if let Some(e) = e {
+                let j = constitutive::determinant(f);
+                let sigma = tau.map(|row| row.map(|x| x / j));
+                *e += plasticity::internal_energy_increment(dt, &affine[i], &sigma);
+            }
+            let scale = dt * volume[i] * d_inv;
+            let (m, c) = (affine_share * mass[i], &affine[i]);
+            *a = [0, 1, 2].map(|r| [0, 1, 2].map(|s| m * c[r][s] - scale * tau[r][s]));
+        };
+        if p.internal_energy.is_empty() {
+            self.momentum_affine
+                .par_iter_mut()
+                .enumerate()
+                .with_min_len(256)
+                .for_each(|(i, a)| kernel(i, a, None));
+        } else {
+            self.momentum_affine
+                .par_iter_mut()
+                .zip(p.internal_energy.par_iter_mut())
+                .enumerate()
+                .with_min_len(256)
+                .for_each(|(i, (a, e))| kernel(i, a, Some(e)));
+        }
+    }
+
+    /// Projects each plastic particle's grown deformation gradient onto its material's
+    /// admissible set and accumulates ε^p ([`Plasticity::project`]).
+    fn plasticity(&mut self) {
+        if self
+            .materials
+            .iter()
+            .all(|m| m.plasticity == Plasticity::None)
+        {
+            return;
+        }
+        let p = &mut self.particles;
+        let materials = &self.materials;
+        let (body, affine) = (&p.body, &p.affine);
+        p.deformation
+            .par_iter_mut()
+            .zip(p.plastic.par_iter_mut())
+            .enumerate()
+            .with_min_len(256)
+            .for_each(|(i, (f, plastic))| {
+                let material = &materials[body[i] as usize];
+                if material.plasticity == Plasticity::None {
+                    return;
+                }
+                let input = FlowInput {
+                    mu: material.elastic.mu,
+                    lambda: material.elastic.lambda,
+                    rate: plasticity::equivalent_strain_rate(&affine[i]),
+                    plastic_strain: *plastic,
+                };
+                *plastic += material.plasticity.project(f, &input);
+            });
     }
 
     /// Total linear momentum Σ m_p v_p (kg m/s), summed in particle order.
@@ -304,6 +550,7 @@ impl Model for Mpm {
             gravity: environment.gravity,
             colliders: environment.colliders,
         };
+        self.hold(environment.anchors, environment.time);
         self.step(dt, &boundary);
         Ok(0)
     }
@@ -317,7 +564,7 @@ impl Model for Mpm {
         let (elastic, stiffest) = (0..p.len())
             .map(|i| {
                 let m = &self.materials[p.body[i] as usize];
-                (ELASTIC_COURANT * dx / m.elastic.p_wave_speed(m.density), i)
+                (ELASTIC_COURANT * dx / m.wave_speed(), i)
             })
             .fold((f64::INFINITY, 0), |a, b| if b.0 < a.0 { b } else { a });
         let (speed, fastest) = (0..p.len())
@@ -343,13 +590,19 @@ impl Model for Mpm {
             .sum()
     }
 
-    /// Σ_p V_p⁰ ψ(F_p).
+    /// Σ_p V_p⁰ ψ(F_p) of the elastic part; a shock material counts its stable
+    /// Neo-Hookean energy plus the work it took in, J_p V_p⁰ (e_p − e⁰).
     fn strain_energy(&self) -> f64 {
         let p = &self.particles;
         (0..p.len())
             .map(|i| {
-                let elastic = &self.materials[p.body[i] as usize].elastic;
-                p.volume[i] * elastic.energy_density(&p.deformation[i])
+                let material = &self.materials[p.body[i] as usize];
+                let f = &p.deformation[i];
+                let taken = match material.eos {
+                    Some(_) => constitutive::determinant(f) * p.internal_energy[i],
+                    None => 0.0,
+                };
+                p.volume[i] * (material.elastic.energy_density(f) + taken)
             })
             .sum()
     }
@@ -364,13 +617,22 @@ impl Model for Mpm {
             plastic: p.plastic.iter().map(|&e| e as f32).collect(),
             body: p.body.clone(),
             fragment: p.body.clone(),
-            extra: vec![(
-                "J".to_string(),
-                p.deformation
-                    .iter()
-                    .map(|f| constitutive::determinant(f) as f32)
-                    .collect(),
-            )],
+            extra: vec![
+                (
+                    "J".to_string(),
+                    p.deformation
+                        .iter()
+                        .map(|f| constitutive::determinant(f) as f32)
+                        .collect(),
+                ),
+                (
+                    "constitutive".to_string(),
+                    p.body
+                        .iter()
+                        .map(|&b| self.materials[b as usize].id() as f32)
+                        .collect(),
+                ),
+            ],
         }
     }
 
@@ -381,6 +643,7 @@ impl Model for Mpm {
         out.put_f64_slice(&flatten(&p.deformation));
         out.put_f64_slice(&flatten(&p.affine));
         out.put_f64_slice(&p.plastic);
+        out.put_f64_slice(&p.internal_energy);
     }
 
     fn restore(&mut self, input: &mut Decoder<'_>) -> Result<()> {
@@ -393,15 +656,19 @@ impl Model for Mpm {
         let c = input.take_f64_slice("MPM affine matrices", 9 * n)?;
         unflatten(&c, &mut p.affine);
         p.plastic = input.take_f64_slice("MPM plastic strains", n)?;
+        let energies = p.internal_energy.len();
+        p.internal_energy = input.take_f64_slice("MPM internal energies", energies)?;
         Ok(())
     }
 
     fn stage_times(&self) -> Vec<(&'static str, f64)> {
         vec![
             ("mpm sort", self.times.sort),
+            ("stress", self.times.stress),
             ("p2g", self.times.p2g),
             ("grid", self.times.grid),
             ("g2p", self.times.g2p),
+            ("plasticity", self.times.plasticity),
         ]
     }
 
@@ -428,6 +695,7 @@ fn at_rest(
         deformation: vec![IDENTITY; n],
         affine: vec![[[0.0; 3]; 3]; n],
         plastic: vec![0.0; n],
+        internal_energy: Vec::new(),
     }
 }
 
