@@ -27,7 +27,16 @@ pub enum CacheError {
         /// The underlying error.
         source: std::io::Error,
     },
-    /// A cache file does not have the expected layout (or a checkpoint is damaged).
+    /// A checkpoint is damaged, of another version, or does not fit the scene: bad
+    /// input to `--resume` (exit code 2), never resumed from.
+    #[error("{path}: {message}")]
+    Checkpoint {
+        /// The checkpoint file.
+        path: PathBuf,
+        /// What is wrong with it and how to rerun.
+        message: String,
+    },
+    /// A cache file does not have the expected layout.
     #[error("{path}: {message}")]
     Format {
         /// The file.
@@ -54,10 +63,21 @@ impl CacheError {
         }
     }
 
-    /// Whether the error is bad input from the user (a scene file), rather than a
-    /// failed run or a damaged cache.
+    /// A checkpoint that cannot be resumed from.
+    pub fn checkpoint(path: impl Into<PathBuf>, message: impl Into<String>) -> Self {
+        CacheError::Checkpoint {
+            path: path.into(),
+            message: message.into(),
+        }
+    }
+
+    /// Whether the error is bad input from the user (a scene file, a checkpoint given
+    /// to `--resume`), rather than a failed run or a damaged cache.
     pub fn is_bad_input(&self) -> bool {
-        matches!(self, CacheError::Scene { .. })
+        matches!(
+            self,
+            CacheError::Scene { .. } | CacheError::Checkpoint { .. }
+        )
     }
 }
 

@@ -9,7 +9,9 @@ use perifrac_cache::{CacheError, Layout};
 use perifrac_sim::SimError;
 use perifrac_sim::family;
 use perifrac_sim::geometry::discretize::discretize;
-use perifrac_sim::memory::{BYTES_PER_PARTICLE, estimate_memory};
+use perifrac_sim::memory::{
+    MemoryEstimate, SETUP_BYTES_PER_BOND, estimate_before_meshing, estimate_memory,
+};
 use perifrac_sim::run::{self, Progress, RunOptions};
 
 use crate::args::RunConfig;
@@ -244,6 +246,7 @@ pub fn simulate(
 /// `perifrac check`: validates the scene and prints its cost.
 pub fn check(path: &Path) -> Result<(), Failure> {
     let scene = Scene::load(path)?;
+    check_memory(&estimate_before_meshing(&scene)?)?;
     let disc = discretize(&scene)?;
     let delta: Vec<f64> = disc
         .body
@@ -275,16 +278,18 @@ pub fn check(path: &Path) -> Result<(), Failure> {
     check_memory(&estimate)?;
     let bonds = family::count_bonds(&disc.position, &disc.body, &delta)?;
     let particles = disc.position.len();
-    let memory = bonds * estimate.bytes_per_bond + particles * BYTES_PER_PARTICLE;
+    let memory = MemoryEstimate::new(&scene, particles as f64, bonds as f64, 0.0).bytes;
     println!("  particles: {particles}");
     println!(
         "  bonds:     {bonds} directed ({:.1} per particle)",
         bonds as f64 / particles.max(1) as f64
     );
     println!(
-        "  memory:    {:.1} MiB ({} bytes a bond)",
-        memory as f64 / (1 << 20) as f64,
-        estimate.bytes_per_bond
+        "  memory:    {:.1} MiB at the peak of set-up ({} bytes a bond during the run, {} more \
+         while the families are built)",
+        memory / (1 << 20) as f64,
+        estimate.bytes_per_bond,
+        SETUP_BYTES_PER_BOND
     );
     let mut prepared = run::prepare_discretized(&scene, disc)?;
     let (stable, dt) = (prepared.stable_dt, prepared.world.dt);

@@ -15,7 +15,7 @@ use crate::cache::manifest::Manifest;
 use crate::cache::{Layout, write_atomic};
 use crate::error::{Result, SimError};
 use crate::geometry::discretize::discretize;
-use crate::memory::estimate_memory;
+use crate::memory::{estimate_before_meshing, estimate_memory};
 use crate::scene::Scene;
 
 /// Options of a run.
@@ -25,8 +25,9 @@ pub struct RunOptions {
     pub frames: Option<usize>,
     /// Continue from the checkpoint in the output directory.
     pub resume: bool,
-    /// Refuse a scene whose estimated memory ([`crate::memory::estimate_memory`]) is
-    /// above this many bytes, before any bond is built.
+    /// Refuse a scene whose estimated peak memory is above this many bytes: before
+    /// meshing ([`crate::memory::estimate_before_meshing`]), and again from the
+    /// meshes before any bond is built ([`crate::memory::estimate_memory`]).
     pub memory_limit: Option<u64>,
 }
 
@@ -63,6 +64,9 @@ pub fn run(
     let layout = Layout::new(out);
     layout.create()?;
     write_atomic(&layout.scene(), scene.to_toml().as_bytes())?;
+    if let Some(limit) = options.memory_limit {
+        estimate_before_meshing(scene)?.refuse_above(limit)?;
+    }
     let disc = discretize(scene)?;
     if let Some(limit) = options.memory_limit {
         estimate_memory(scene, &disc).refuse_above(limit)?;
@@ -91,10 +95,15 @@ pub fn run_prepared(
     }
     let mut frames = frames::Frames::new(scene, layout, &prepared, options, start, progress);
     if options.resume && layout.checkpoint().is_file() {
+        let expected = resume::Expected {
+            scene_hash: scene_hash(scene),
+            steps_per_frame: prepared.steps_per_frame,
+            frame_count: scene.frame_count(),
+        };
         let from = resume::restore(
             layout,
             &mut prepared.world,
-            scene_hash(scene),
+            expected,
             scene.output.writes_tets(),
         )?;
         frames.resume_from(from);
