@@ -246,7 +246,8 @@ pub fn simulate(
 /// `perifrac check`: validates the scene and prints its cost.
 pub fn check(path: &Path) -> Result<(), Failure> {
     let scene = Scene::load(path)?;
-    check_memory(&estimate_before_meshing(&scene)?)?;
+    let before = estimate_before_meshing(&scene)?;
+    check_memory(&before)?;
     let disc = discretize(&scene)?;
     let delta: Vec<f64> = disc
         .body
@@ -290,6 +291,12 @@ pub fn check(path: &Path) -> Result<(), Failure> {
         memory / (1 << 20) as f64,
         estimate.bytes_per_bond,
         SETUP_BYTES_PER_BOND
+    );
+    println!(
+        "             {:.1} MiB as estimated before meshing ({:.0} particles, {:.3e} bonds)",
+        before.bytes / (1 << 20) as f64,
+        before.particles,
+        before.bonds
     );
     let mut prepared = run::prepare_discretized(&scene, disc)?;
     let (stable, dt) = (prepared.stable_dt, prepared.world.dt);

@@ -61,12 +61,12 @@ pub fn run(
     progress: &mut dyn FnMut(Progress),
 ) -> Result<Manifest> {
     let start = Instant::now();
-    let layout = Layout::new(out);
-    layout.create()?;
-    write_atomic(&layout.scene(), scene.to_toml().as_bytes())?;
     if let Some(limit) = options.memory_limit {
         estimate_before_meshing(scene)?.refuse_above(limit)?;
     }
+    let layout = Layout::new(out);
+    layout.create()?;
+    write_atomic(&layout.scene(), scene.to_toml().as_bytes())?;
     let disc = discretize(scene)?;
     if let Some(limit) = options.memory_limit {
         estimate_memory(scene, &disc).refuse_above(limit)?;
