@@ -161,7 +161,9 @@ fn too_large_demo_variants_are_refused_before_meshing() {
         Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/scenes/demo.toml"),
     )
     .expect("demo scene");
-    let huge = demo.replace("resolution = 0.016", "resolution = 0.0016\nhorizon = 3.0");
+    let huge = demo
+        .replace("resolution = 0.016", "resolution = 0.0016")
+        .replace("horizon = 1.45", "horizon = 3.0");
     assert_ne!(huge, demo, "the demo's resolution line");
     let scene = write_scene(dir.path(), &huge);
     for command in ["check", "run"] {

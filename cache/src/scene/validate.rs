@@ -51,7 +51,7 @@ pub(super) fn validate(scene: &Scene) -> Check {
     )?;
     positive(&["scene", "fps"], s.fps, "frames per second")?;
     let frames = s.duration * s.fps;
-    if !(frames <= MAX_FRAMES) {
+    if frames.is_nan() || frames > MAX_FRAMES {
         return Err(issue(
             &["scene", "duration"],
             format!(

@@ -252,7 +252,7 @@ fn time_step(scene: &Scene, stable: (f64, usize)) -> Result<(f64, usize)> {
     let frame_time = scene.frame_time();
     let steps_per_frame = (frame_time / dt).ceil().max(1.0);
     let total = steps_per_frame * scene.frame_count() as f64;
-    if !(total <= MAX_STEPS) {
+    if total.is_nan() || total > MAX_STEPS {
         return Err(SimError::Refused(format!(
             "the run would take {total:e} steps of {dt:e} s ({steps_per_frame:e} a frame); at \
              most {MAX_STEPS:e} (2^53, where the step count stops being exact in the time): use \
