@@ -484,8 +484,8 @@ impl World {
                 let mut center = c.center;
                 if c.shape != ColliderShape::Ground {
                     for _ in 0..steps {
-                        for a in 0..3 {
-                            center[a] += c.velocity[a] * self.dt;
+                        for (x, v) in center.iter_mut().zip(c.velocity) {
+                            *x += v * self.dt;
                         }
                     }
                 }

@@ -236,7 +236,6 @@ const MAX_STEPS: f64 = 9_007_199_254_740_992.0;
 /// The time step (a multiple of the frame time) and the steps per frame: the scene's
 /// `dt`, refused above the stable bound unless `force_dt`, or `dt_safety` × the bound;
 /// a run of more than [`MAX_STEPS`] steps is refused.
-
 fn time_step(scene: &Scene, stable: (f64, usize)) -> Result<(f64, usize)> {
     let dt = match scene.scene.dt {
         Some(dt) if dt > stable.0 && !scene.scene.force_dt => {
