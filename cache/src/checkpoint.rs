@@ -33,8 +33,10 @@ pub const FORMAT_VERSION: u32 = 1;
 /// Bytes before the payload: magic, version, four u64, time, payload length.
 const HEADER_LEN: usize = 8 + 4 + 4 * 8 + 8 + 8;
 
-/// What `--resume` tells the user to do with a checkpoint it cannot use.
-const RERUN: &str = "run again without --resume (or with --force)";
+/// What `--resume` tells the user to do with a checkpoint it cannot use: only one
+/// checkpoint is kept (a new one replaces the old by an atomic rename), so the run
+/// starts again from its first frame.
+pub const RERUN: &str = "rerun from frame 1: run again without --resume (or with --force)";
 
 /// A checkpoint: where the run was, and the model's state as bytes.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -73,7 +75,7 @@ impl Checkpoint {
     /// Decodes the bytes of the checkpoint file `path` (named in errors): refuses a
     /// wrong magic or version, a truncated file, trailing bytes and a bad checksum.
     pub fn decode(bytes: &[u8], path: &Path) -> Result<Checkpoint> {
-        let fail = |message: String| CacheError::format(path, message);
+        let fail = |message: String| CacheError::checkpoint(path, message);
         if bytes.get(..MAGIC.len()) != Some(MAGIC.as_slice()) {
             let what = if bytes.starts_with(b"PFCKPT") {
                 "a checkpoint of another perifrac version"
@@ -242,7 +244,7 @@ impl<'a> Decoder<'a> {
 
     /// A failure reading `field`.
     pub fn error(&self, field: &str, message: impl std::fmt::Display) -> CacheError {
-        CacheError::format(
+        CacheError::checkpoint(
             self.path,
             format!("checkpoint field '{field}': {message}; {RERUN}"),
         )
@@ -369,11 +371,46 @@ impl<'a> Decoder<'a> {
             .collect()
     }
 
+    /// Reads an f64 and refuses a NaN or an infinity.
+    pub fn take_finite_f64(&mut self, field: &str) -> Result<f64> {
+        let v = self.take_f64(field)?;
+        if !v.is_finite() {
+            return Err(self.error(field, format!("{v} is not a finite number")));
+        }
+        Ok(v)
+    }
+
+    /// Reads a slice of `len` f64 and refuses a NaN or an infinity (naming the
+    /// first and its index).
+    pub fn take_finite_f64_slice(&mut self, field: &str, len: usize) -> Result<Vec<f64>> {
+        let values = self.take_f64_slice(field, len)?;
+        if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+            return Err(self.error(
+                field,
+                format!("value {} at {i} is not a finite number", values[i]),
+            ));
+        }
+        Ok(values)
+    }
+
+    /// Reads a slice of `len` 3-vectors and refuses a NaN or an infinity in any
+    /// component (naming the first vector and its index).
+    pub fn take_finite_f64x3_slice(&mut self, field: &str, len: usize) -> Result<Vec<[f64; 3]>> {
+        let values = self.take_f64x3_slice(field, len)?;
+        if let Some(i) = values.iter().position(|v| !v.iter().all(|c| c.is_finite())) {
+            return Err(self.error(
+                field,
+                format!("{:?} at {i} is not a finite vector", values[i]),
+            ));
+        }
+        Ok(values)
+    }
+
     /// Ends decoding; refuses bytes left over (a payload of another layout).
     pub fn finish(self) -> Result<()> {
         match self.remaining() {
             0 => Ok(()),
-            n => Err(CacheError::format(
+            n => Err(CacheError::checkpoint(
                 self.path,
                 format!(
                     "{n} bytes left after the last field: the checkpoint was written by \

@@ -40,7 +40,16 @@ pub enum CacheError {
         /// or empty.
         hint: String,
     },
-    /// A cache file does not have the expected layout (or a checkpoint is damaged).
+    /// A checkpoint is damaged, of another version, or does not fit the scene: bad
+    /// input to `--resume` (exit code 2), never resumed from.
+    #[error("{path}: {message}")]
+    Checkpoint {
+        /// The checkpoint file.
+        path: PathBuf,
+        /// What is wrong with it and how to rerun.
+        message: String,
+    },
+    /// A cache file does not have the expected layout.
     #[error("{path}: {message}")]
     Format {
         /// The file.
@@ -67,11 +76,22 @@ impl CacheError {
         }
     }
 
-    /// Whether the error is bad input (a scene file, or a cache file or checkpoint
-    /// that is damaged or not what it should be: exit code 2 from every command),
-    /// rather than a failed run (I/O).
+    /// A checkpoint that cannot be resumed from.
+    pub fn checkpoint(path: impl Into<PathBuf>, message: impl Into<String>) -> Self {
+        CacheError::Checkpoint {
+            path: path.into(),
+            message: message.into(),
+        }
+    }
+
+    /// Whether the error is bad input (a scene file, a checkpoint given to `--resume`,
+    /// or a cache file that is damaged or not what it should be: exit code 2 from
+    /// every command), rather than a failed run (I/O).
     pub fn is_bad_input(&self) -> bool {
-        matches!(self, CacheError::Scene { .. } | CacheError::Format { .. })
+        matches!(
+            self,
+            CacheError::Scene { .. } | CacheError::Format { .. } | CacheError::Checkpoint { .. }
+        )
     }
 
     /// Whether the error is a write that failed for lack of space.

@@ -10,7 +10,9 @@ use perifrac_cache::{CacheError, Layout};
 use perifrac_sim::SimError;
 use perifrac_sim::family;
 use perifrac_sim::geometry::discretize::discretize;
-use perifrac_sim::memory::{BYTES_PER_PARTICLE, estimate_memory};
+use perifrac_sim::memory::{
+    MemoryEstimate, SETUP_BYTES_PER_BOND, estimate_before_meshing, estimate_memory,
+};
 use perifrac_sim::run::{self, Plan, Progress, RunOptions};
 
 use crate::args::RunConfig;
@@ -435,6 +437,8 @@ pub fn simulate(
 /// `perifrac check`: validates the scene and prints its cost.
 pub fn check(path: &Path) -> Result<(), Failure> {
     let scene = Scene::load(path)?;
+    let before = estimate_before_meshing(&scene)?;
+    check_memory(&before)?;
     let disc = discretize(&scene)?;
     let delta: Vec<f64> = disc
         .body
@@ -466,16 +470,24 @@ pub fn check(path: &Path) -> Result<(), Failure> {
     check_memory(&estimate)?;
     let bonds = family::count_bonds(&disc.position, &disc.body, &delta)?;
     let particles = disc.position.len();
-    let memory = bonds * estimate.bytes_per_bond + particles * BYTES_PER_PARTICLE;
+    let memory = MemoryEstimate::new(&scene, particles as f64, bonds as f64, 0.0).bytes;
     println!("  particles: {particles}");
     println!(
         "  bonds:     {bonds} directed ({:.1} per particle)",
         bonds as f64 / particles.max(1) as f64
     );
     println!(
-        "  memory:    {:.1} MiB ({} bytes a bond)",
-        memory as f64 / (1 << 20) as f64,
-        estimate.bytes_per_bond
+        "  memory:    {:.1} MiB at the peak of set-up ({} bytes a bond during the run, {} more \
+         while the families are built)",
+        memory / (1 << 20) as f64,
+        estimate.bytes_per_bond,
+        SETUP_BYTES_PER_BOND
+    );
+    println!(
+        "             {:.1} MiB as estimated before meshing ({:.0} particles, {:.3e} bonds)",
+        before.bytes / (1 << 20) as f64,
+        before.particles,
+        before.bonds
     );
     let mut prepared = run::prepare_discretized(&scene, disc)?;
     let (stable, dt) = (prepared.stable_dt, prepared.world.dt);

@@ -81,6 +81,47 @@ impl Bonds {
         self.offsets[i]..self.offsets[i + 1]
     }
 
+    /// Directed bonds whose [`BROKEN`] bit is set.
+    pub fn broken_count(&self) -> u64 {
+        self.neighbours
+            .iter()
+            .filter(|&&nb| nb & BROKEN != 0)
+            .count() as u64
+    }
+
+    /// Checks the neighbour words a checkpoint stores against these bonds (the ones
+    /// the scene builds, cracks cut): each bond points at the same particle, and a
+    /// bond the scene starts broken is still broken (bonds never heal). Returns what
+    /// is wrong with the first bond that fails.
+    pub fn check_restored(&self, stored: &[u32]) -> std::result::Result<(), String> {
+        if stored.len() != self.neighbours.len() {
+            return Err(format!(
+                "{} bonds in the checkpoint, the scene has {}",
+                stored.len(),
+                self.neighbours.len()
+            ));
+        }
+        let bad = self
+            .neighbours
+            .iter()
+            .zip(stored)
+            .position(|(&scene, &saved)| {
+                scene & INDEX != saved & INDEX || (scene & BROKEN != 0 && saved & BROKEN == 0)
+            });
+        match bad {
+            None => Ok(()),
+            Some(k) if self.neighbours[k] & INDEX != stored[k] & INDEX => Err(format!(
+                "bond {k} points at particle {} where the scene has {}",
+                stored[k] & INDEX,
+                self.neighbours[k] & INDEX
+            )),
+            Some(k) => Err(format!(
+                "bond {k} is intact but the scene cuts it before the first step (bonds \
+                 never heal)"
+            )),
+        }
+    }
+
     /// For each directed bond i→j, the index of the bond j→i.
     pub fn reverse_index(&self) -> Vec<u32> {
         let n = self.offsets.len() - 1;

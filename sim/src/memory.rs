@@ -2,10 +2,16 @@
 //! refuse a scene is the caller's policy (the CLI compares it with what the machine
 //! has); the estimate is the simulator's.
 
+use rayon::prelude::*;
+
 use crate::error::{Result, SimError};
 use crate::family;
 use crate::geometry::discretize::Discretization;
-use crate::scene::Scene;
+use crate::geometry::mesh::{MeshSdf, TriMesh};
+use crate::geometry::sdf::Sdf;
+use crate::geometry::shape::{placement, to_sdf};
+use crate::geometry::stuffing::lattice_size;
+use crate::scene::{ModelKind, Scene, ShapeSpec};
 
 /// Bytes per particle of state and scratch (positions, velocities, reference data,
 /// θ, forces, accelerations, masses, flags).
@@ -20,22 +26,114 @@ pub struct MemoryEstimate {
     pub bonds: f64,
     /// Bytes a bond takes (more with plasticity).
     pub bytes_per_bond: usize,
-    /// Total bytes of the run's state.
+    /// Points of the mesher's lattices (0 once the scene is meshed).
+    pub lattice_points: f64,
+    /// Bytes at the run's peak (set-up, or the mesher's lattice if larger).
     pub bytes: f64,
 }
 
-/// Estimates the memory of a discretized scene: a particle's family holds about
-/// V_H / (mean particle volume) − 1 bonds (fewer near surfaces).
+/// Samples a grid of this many points a side over a body's bounds to measure the
+/// fraction of its bounding box that is inside (the shape's volume) before meshing.
+const VOLUME_SAMPLES: usize = 40;
+
+/// Bytes the mesher holds a lattice point at its peak: the SDF value (f64), the
+/// point's vertex (u32), the warped flag and the cut table around the surface.
+pub const BYTES_PER_LATTICE_POINT: f64 = 8.0 + 4.0 + 1.0;
+
+/// Estimates, before any body is meshed or sampled, what the run will need at its
+/// peak: each body's particles from its shape's volume (an SDF sampled on a
+/// coarse grid, the mesh file read for mesh bodies) and the lattice spacing (an
+/// interior BCC cube of side h holds 12 tets), its lattice points, its bonds per
+/// particle from the horizon. Cheap (no lattice, no particles), so a scene too
+/// large for the machine is refused before the mesher allocates.
+pub fn estimate_before_meshing(scene: &Scene) -> Result<MemoryEstimate> {
+    let mut particles = 0.0;
+    let mut bonds = 0.0;
+    let mut lattice = 0.0;
+    let smallest = scene
+        .bodies
+        .iter()
+        .map(|b| b.resolution)
+        .fold(f64::INFINITY, f64::min);
+    for b in &scene.bodies {
+        let error = |message: String| SimError::Mesh {
+            body: b.name.clone(),
+            message,
+        };
+        if b.model == ModelKind::Membrane {
+            let n = crate::membrane::sheet::particle_count(b).map_err(error)?;
+            let h = b.resolution;
+            let cutoff = b.membrane.as_ref().map_or(1.5, |m| m.cutoff) * h;
+            let density = 1.0 / (h * h * 3f64.sqrt() / 2.0);
+            particles += n;
+            bonds += n * (std::f64::consts::PI * cutoff * cutoff * density - 1.0).max(0.0);
+            continue;
+        }
+        let sdf: Box<dyn Sdf> = match (&b.shape, placement(&b.shape)) {
+            (ShapeSpec::Mesh { path, .. }, Some(placement)) => {
+                let surface = TriMesh::load(&scene.base_dir.join(path), &placement)
+                    .map_err(|e| error(e.to_string()))?;
+                Box::new(MeshSdf::new(&surface))
+            }
+            (shape, _) => to_sdf(shape, &scene.base_dir).map_err(error)?,
+        };
+        let (h, points) = lattice_size(sdf.as_ref(), b.resolution);
+        lattice += points;
+        let volume = inside_volume(sdf.as_ref());
+        if b.model == ModelKind::Mpm {
+            // Eight particles a cell of the grid spacing (the smallest resolution).
+            particles += 8.0 * volume / smallest.powi(3);
+            continue;
+        }
+        let tets = TETS_PER_CUBE * volume / h.powi(3);
+        particles += tets;
+        if !b.model.is_fem() && tets > 0.0 {
+            let family = crate::pd::family_volume(b.delta()) / (volume / tets);
+            bonds += tets * (family - 1.0).max(0.0);
+        }
+    }
+    Ok(MemoryEstimate::new(scene, particles, bonds, lattice))
+}
+
+/// Tets an interior BCC lattice cube holds, plus what the boundary stencils add
+/// (measured over the shapes of `estimates_before_meshing_match_the_mesh`).
+const TETS_PER_CUBE: f64 = 12.0;
+
+/// The volume inside `sdf`: its bounding box times the fraction of a
+/// [`VOLUME_SAMPLES`]³ grid of cell centres that is inside.
+fn inside_volume(sdf: &dyn Sdf) -> f64 {
+    let (min, max) = sdf.bounds();
+    let n = VOLUME_SAMPLES;
+    let step = [0, 1, 2].map(|k| (max[k] - min[k]) / n as f64);
+    let inside: usize = (0..n * n)
+        .into_par_iter()
+        .map(|ij| {
+            let (i, j) = (ij / n, ij % n);
+            (0..n)
+                .filter(|&k| {
+                    let p = [
+                        min[0] + (i as f64 + 0.5) * step[0],
+                        min[1] + (j as f64 + 0.5) * step[1],
+                        min[2] + (k as f64 + 0.5) * step[2],
+                    ];
+                    sdf.distance(p) < 0.0
+                })
+                .count()
+        })
+        .sum();
+    let box_volume = step.iter().product::<f64>() * (n * n * n) as f64;
+    box_volume * inside as f64 / (n * n * n) as f64
+}
+
+/// Estimates the memory of a discretized scene from its meshes (the particles and
+/// volumes known): a particle's family holds about V_H / (mean particle volume) − 1
+/// bonds (fewer near surfaces).
 pub fn estimate_memory(scene: &Scene, disc: &Discretization) -> MemoryEstimate {
-    let plastic = scene
-        .materials
-        .values()
-        .any(|m| (m.yield_psi0.is_some() || m.yield_stretch.is_some()) && m.plastic_limit > 0.0);
-    let bytes_per_bond = family::BYTES_PER_BOND + if plastic { 12 } else { 0 };
     let bonds: f64 = scene
         .bodies
         .iter()
         .enumerate()
+        .filter(|(_, spec)| !spec.model.is_fem() && spec.model != ModelKind::Mpm)
         .map(|(b, spec)| {
             let mesh = &disc.meshes[b];
             let count = mesh.tets.len() as f64;
@@ -47,12 +145,34 @@ pub fn estimate_memory(scene: &Scene, disc: &Discretization) -> MemoryEstimate {
             count * (family - 1.0).max(0.0)
         })
         .sum();
-    let particles = disc.position.len();
-    MemoryEstimate {
-        particles,
-        bonds,
-        bytes_per_bond,
-        bytes: bonds * bytes_per_bond as f64 + (particles * BYTES_PER_PARTICLE) as f64,
+    MemoryEstimate::new(scene, disc.position.len() as f64, bonds, 0.0)
+}
+
+/// Bytes a directed bond takes at the peak of set-up on top of what it keeps for
+/// the run: the families as found (u32, with the growth of each family's vector),
+/// the rest lengths and correction weights per family before they are joined
+/// (f64 + 2 f32), and the reverse index built for the coefficients (u32).
+/// Calibrated against the peak resident memory (docs/memory.md).
+pub const SETUP_BYTES_PER_BOND: usize = 26;
+
+impl MemoryEstimate {
+    /// The estimate of `particles` and `bonds` (directed) of `scene`'s models, with
+    /// `lattice` mesher points (0 once meshed).
+    pub fn new(scene: &Scene, particles: f64, bonds: f64, lattice: f64) -> MemoryEstimate {
+        let plastic = scene.materials.values().any(|m| {
+            (m.yield_psi0.is_some() || m.yield_stretch.is_some()) && m.plastic_limit > 0.0
+        });
+        let bytes_per_bond = family::BYTES_PER_BOND + if plastic { 12 } else { 0 };
+        let peak_per_bond = (bytes_per_bond + SETUP_BYTES_PER_BOND) as f64;
+        let run = bonds * peak_per_bond + particles * BYTES_PER_PARTICLE as f64;
+        let mesh = lattice * BYTES_PER_LATTICE_POINT + particles * BYTES_PER_PARTICLE as f64;
+        MemoryEstimate {
+            particles: particles.round() as usize,
+            bonds,
+            bytes_per_bond,
+            lattice_points: lattice,
+            bytes: run.max(mesh),
+        }
     }
 }
 
@@ -73,5 +193,44 @@ impl MemoryEstimate {
             )));
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use super::*;
+    use crate::geometry::discretize::discretize;
+
+    /// The estimate from the shapes alone against the meshed scene: particles and
+    /// bonds within 15% for a box, a sphere, a cylinder and a CSG difference.
+    #[test]
+    fn estimates_before_meshing_match_the_mesh() {
+        for shape in [
+            r#"{ type = "box", center = [0, 0, 0], size = [0.3, 0.2, 0.05] }"#,
+            r#"{ type = "sphere", center = [0, 0, 0], radius = 0.1 }"#,
+            r#"{ type = "cylinder", center = [0, 0, 0], radius = 0.08, height = 0.1, axis = "y" }"#,
+            r#"{ type = "difference", base = { type = "box", center = [0, 0, 0], size = [0.2, 0.2, 0.1] }, minus = { type = "sphere", center = [0, 0.1, 0], radius = 0.08 } }"#,
+        ] {
+            let text = format!(
+                "[materials.m]\ndensity = 1000.0\nyoungs_modulus = 1e6\npoisson_ratio = 0.3\n\
+                 [[body]]\nmaterial = \"m\"\nresolution = 0.012\nshape = {shape}\n"
+            );
+            let scene = Scene::parse(&text, Path::new("m.toml"), Path::new(".")).expect("scene");
+            let before = estimate_before_meshing(&scene).expect("estimate");
+            let after = estimate_memory(&scene, &discretize(&scene).expect("meshes"));
+            let particles = before.particles as f64 / after.particles as f64;
+            let bonds = before.bonds / after.bonds;
+            assert!(
+                (particles - 1.0).abs() < 0.15 && (bonds - 1.0).abs() < 0.15,
+                "{shape}: particles {} estimated, {} meshed; bonds {:.3e} / {:.3e}",
+                before.particles,
+                after.particles,
+                before.bonds,
+                after.bonds
+            );
+            assert!(before.lattice_points > after.particles as f64 / 12.0);
+        }
     }
 }

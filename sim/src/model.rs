@@ -163,10 +163,19 @@ pub trait Model: Any + Debug + Send + Sync {
         0
     }
 
+    /// Directed bonds whose broken bit is set (cut before the first step or broken
+    /// since); a resume checks the checkpoint's count of broken bonds against it.
+    fn broken_bonds(&self) -> u64 {
+        0
+    }
+
     /// Writes the model's saved state (not scratch) into a checkpoint.
     fn save(&self, out: &mut Encoder);
 
-    /// Restores the saved state written by [`Model::save`] for the same scene.
+    /// Restores the saved state written by [`Model::save`] for the same scene,
+    /// checking everything before the model uses it (lengths against the scene,
+    /// indices in range, values finite where they must be): a checkpoint that passes
+    /// its checksum but is wrong is refused through [`Decoder::error`], never panics.
     fn restore(&mut self, input: &mut Decoder<'_>) -> Result<()>;
 
     /// Wall time of each of the model's stages so far (s), by name.

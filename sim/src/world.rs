@@ -13,7 +13,7 @@ use perifrac_math::dot;
 use rayon::prelude::*;
 
 use crate::cache::checkpoint::{Decoder, Encoder};
-use crate::contact::{self, Anchor, Collider};
+use crate::contact::{self, Anchor, Collider, ColliderShape};
 use crate::error::{Result, SimError};
 use crate::model::{Environment, Model, ParticleColumns, Stepping};
 
@@ -437,8 +437,17 @@ impl World {
         out.put_f64x3_slice(&colliders);
     }
 
-    /// Restores what [`World::save`] wrote, at `time` after `steps` steps.
-    pub fn restore(&mut self, input: &mut Decoder<'_>, time: f64, steps: u64) -> Result<()> {
+    /// Restores what [`World::save`] wrote, at `time` after `steps` steps with
+    /// `broken_bonds` bonds broken since the first step (the checkpoint's header):
+    /// every value is checked before use, and the bonds the models restore must
+    /// have broken exactly `broken_bonds` since set-up.
+    pub fn restore(
+        &mut self,
+        input: &mut Decoder<'_>,
+        time: f64,
+        steps: u64,
+        broken_bonds: u64,
+    ) -> Result<()> {
         let models = input.take_u64("models")?;
         if models != self.parts.len() as u64 {
             return Err(input
@@ -448,13 +457,47 @@ impl World {
                 )
                 .into());
         }
+        let cut_at_setup: u64 = self.parts.iter().map(|p| p.model.broken_bonds()).sum();
         for part in &mut self.parts {
-            part.acceleration = input.take_f64x3_slice("acceleration", part.acceleration.len())?;
+            part.acceleration =
+                input.take_finite_f64x3_slice("acceleration", part.acceleration.len())?;
             part.model.restore(input)?;
         }
-        self.anchor_work = input.take_f64("anchor work")?;
-        let colliders = input.take_f64x3_slice("colliders", 2 * self.colliders.len())?;
-        for (c, cv) in self.colliders.iter_mut().zip(colliders.chunks_exact(2)) {
+        let broken: u64 = self.parts.iter().map(|p| p.model.broken_bonds()).sum();
+        if broken - cut_at_setup != broken_bonds {
+            let message = format!(
+                "{} bonds broke since the first step, the header says {broken_bonds}",
+                broken - cut_at_setup
+            );
+            return Err(input.error("bonds", message).into());
+        }
+        self.anchor_work = input.take_finite_f64("anchor work")?;
+        let colliders = input.take_finite_f64x3_slice("colliders", 2 * self.colliders.len())?;
+        for (i, (c, cv)) in self
+            .colliders
+            .iter_mut()
+            .zip(colliders.chunks_exact(2))
+            .enumerate()
+        {
+            // A kinematic collider's motion is the scene's: replay it to check.
+            if c.mass.is_none() {
+                let mut center = c.center;
+                if c.shape != ColliderShape::Ground {
+                    for _ in 0..steps {
+                        for (x, v) in center.iter_mut().zip(c.velocity) {
+                            *x += v * self.dt;
+                        }
+                    }
+                }
+                if cv[0] != center || cv[1] != c.velocity {
+                    let message = format!(
+                        "kinematic collider {i} is at {:?} moving at {:?}; after {steps} steps \
+                         the scene puts it at {center:?} moving at {:?}",
+                        cv[0], cv[1], c.velocity
+                    );
+                    return Err(input.error("colliders", message).into());
+                }
+            }
             (c.center, c.velocity) = (cv[0], cv[1]);
         }
         self.time = time;

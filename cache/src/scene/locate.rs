@@ -4,6 +4,21 @@ use std::ops::Range;
 
 use toml::de::{DeTable, DeValue};
 
+/// `text` with every control character (a raw byte of the input echoed into a
+/// message: a terminal escape, a carriage return, a newline inside a name) written
+/// as a Rust escape (`\u{1b}`, `\r`, `\n`), so a message is one line of plain text.
+pub(crate) fn escape_controls(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        if c.is_control() {
+            out.extend(c.escape_default());
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
 /// 1-based line and column of byte `offset` in `text`.
 pub(super) fn line_column(text: &str, offset: usize) -> (usize, usize) {
     let offset = offset.min(text.len());

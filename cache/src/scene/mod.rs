@@ -902,7 +902,23 @@ fn default_vdb_min_fragment_particles() -> usize {
 impl Scene {
     /// Reads, resolves and validates a scene file.
     pub fn load(path: &Path) -> Result<Scene> {
-        let text = std::fs::read_to_string(path).map_err(|e| CacheError::io(path, e))?;
+        let bytes = std::fs::read(path).map_err(|e| CacheError::io(path, e))?;
+        let text = String::from_utf8(bytes).map_err(|e| {
+            let at = e.utf8_error().valid_up_to();
+            let valid = std::str::from_utf8(&e.as_bytes()[..at]).unwrap_or_default();
+            let (line, column) = locate::line_column(valid, at);
+            CacheError::Scene {
+                file: path.to_path_buf(),
+                line,
+                column,
+                key: locate::key_at(valid, at),
+                message: format!(
+                    "byte {at} (0x{:02x}) is not UTF-8: a scene file is UTF-8 text; save it \
+                     as UTF-8",
+                    e.as_bytes()[at]
+                ),
+            }
+        })?;
         let base_dir = path
             .parent()
             .map(Path::to_path_buf)
@@ -923,8 +939,8 @@ impl Scene {
                 file: file.to_path_buf(),
                 line,
                 column,
-                key,
-                message: e.message().trim().to_string(),
+                key: locate::escape_controls(&key),
+                message: locate::escape_controls(e.message().trim()),
             }
         })?;
         scene.base_dir = base_dir.to_path_buf();
@@ -940,8 +956,8 @@ impl Scene {
                 file: file.to_path_buf(),
                 line,
                 column,
-                key: issue.path.join("."),
-                message: issue.message,
+                key: locate::escape_controls(&issue.path.join(".")),
+                message: locate::escape_controls(&issue.message),
             }
         })?;
         scene.output.tets = Some(scene.output.writes_tets());
@@ -977,6 +993,9 @@ impl Scene {
         (self.scene.duration * self.scene.fps).round().max(1.0) as usize
     }
 }
+
+#[cfg(test)]
+mod value_tests;
 
 #[cfg(test)]
 mod tests {

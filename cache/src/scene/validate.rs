@@ -50,6 +50,16 @@ pub(super) fn validate(scene: &Scene) -> Check {
         "the duration in seconds",
     )?;
     positive(&["scene", "fps"], s.fps, "frames per second")?;
+    let frames = s.duration * s.fps;
+    if frames.is_nan() || frames > MAX_FRAMES {
+        return Err(issue(
+            &["scene", "duration"],
+            format!(
+                "duration × fps = {frames:e} frames; a cache holds at most {MAX_FRAMES:e} \
+                 (a file a frame): shorten the duration or lower fps"
+            ),
+        ));
+    }
     finite3(&["scene", "gravity"], s.gravity)?;
     if let Some(dt) = s.dt {
         positive(&["scene", "dt"], dt, "the time step in seconds")?;
@@ -100,6 +110,10 @@ pub(super) fn validate(scene: &Scene) -> Check {
     }
     Ok(())
 }
+
+/// The most frames a scene may write (duration × fps): each is at least one file,
+/// and the frame number is part of every file name and counter.
+pub const MAX_FRAMES: f64 = 1e7;
 
 /// Radius of a sphere with the volume of a cube of side 1: (3/(4π))^(1/3), a
 /// particle's volume-equivalent sphere radius in particle spacings. The `vdb`
@@ -277,6 +291,18 @@ fn body(scene: &Scene, i: &str, b: &BodySpec) -> Check {
             &["body", i, "anchor", &k, "angular_velocity"],
             a.angular_velocity,
         )?;
+        if let Some(center) = a.center {
+            finite3(&["body", i, "anchor", &k, "center"], center)?;
+        }
+        if a.until.is_nan() || a.until < 0.0 {
+            return Err(issue(
+                &["body", i, "anchor", &k, "until"],
+                format!(
+                    "the release time must be ≥ 0 s (or inf: never released), got {}",
+                    a.until
+                ),
+            ));
+        }
     }
     for (k, c) in b.cracks.iter().enumerate() {
         let k = k.to_string();
@@ -287,6 +313,7 @@ fn body(scene: &Scene, i: &str, b: &BodySpec) -> Check {
                 "the crack normal must be a finite non-zero vector",
             ));
         }
+        finite3(&["body", i, "crack", &k, "point"], c.point)?;
         shape(scene, &["body", i, "crack", &k, "region"], &c.region)?;
     }
     Ok(())

@@ -386,6 +386,11 @@ impl EmbeddedMesh {
                 self.original
             )));
         }
+        if let Some(v) = parent[..self.original].iter().position(|&p| p != NO_PARENT) {
+            return Err(SimError::Refused(format!(
+                "the split tet mesh to resume from gives original vertex {v} a parent"
+            )));
+        }
         let vertices = parent.len() as u32;
         let mut reference = self.reference[..self.original].to_vec();
         for (v, &p) in parent.iter().enumerate().skip(self.original) {

@@ -175,9 +175,17 @@ impl Model for Fem {
 
     fn restore(&mut self, input: &mut Decoder<'_>) -> Result<()> {
         let m = &mut self.model;
-        m.position = input.take_f64x3_slice("positions", m.len())?;
-        m.velocity = input.take_f64x3_slice("velocities", m.len())?;
-        let rotation = input.take_f64_slice("rotations", 4 * m.rotation.len())?;
+        m.position = input.take_finite_f64x3_slice("positions", m.len())?;
+        m.velocity = input.take_finite_f64x3_slice("velocities", m.len())?;
+        let rotation = input.take_finite_f64_slice("rotations", 4 * m.rotation.len())?;
+        // The warm starts are unit quaternions; anything else is not a rotation.
+        if let Some(e) = rotation
+            .chunks_exact(4)
+            .position(|q| (q.iter().map(|c| c * c).sum::<f64>() - 1.0).abs() > 1e-9)
+        {
+            let message = format!("tet {e}'s rotation is not a unit quaternion");
+            return Err(input.error("rotations", message).into());
+        }
         for (q, r) in m.rotation.iter_mut().zip(rotation.chunks_exact(4)) {
             q.copy_from_slice(r);
         }

@@ -177,6 +177,16 @@ pub fn random_rotation(seed: u64, stream: u64) -> [[f64; 3]; 3] {
     ]
 }
 
+/// The lattice spacing [`stuff`] uses for `edge_length`, and the number of points
+/// of its lattice around `sdf`'s bounds (a float: it may be huge), known before
+/// anything is allocated. An interior lattice cube of side h holds twelve
+/// tetrahedra of volume h³/12.
+pub fn lattice_size(sdf: &dyn Sdf, edge_length: f64) -> (f64, f64) {
+    let h = edge_length / MEAN_EDGE_PER_SPACING;
+    let (min, max) = sdf.bounds();
+    (h, Lattice::size(min, max, h).1)
+}
+
 /// [`stuff`], also returning how many near-zero-volume tetrahedra were dropped.
 fn stuff_counted(sdf: &dyn Sdf, edge_length: f64) -> Result<(TetMesh, usize), MeshError> {
     if !(edge_length.is_finite() && edge_length > 0.0) {

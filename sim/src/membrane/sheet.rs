@@ -86,6 +86,18 @@ fn placement(shape: &ShapeSpec) -> Result<Placement, String> {
     }
 }
 
+/// The number of particles [`sample`] places, computed without placing them (for
+/// the memory estimate before a run).
+pub fn particle_count(body: &BodySpec) -> Result<f64, String> {
+    let p = placement(&body.shape)?;
+    let h = body.resolution;
+    let row = h * 3f64.sqrt() / 2.0;
+    Ok(match p.outline {
+        Outline::Rectangle([a, b]) => (a / h).round().max(1.0) * (b / row).round().max(1.0),
+        Outline::Disc(radius) => std::f64::consts::PI * radius * radius / (h * row),
+    })
+}
+
 /// Samples the sheet of a membrane body at its `resolution` (the spacing h).
 pub fn sample(body: &BodySpec) -> Result<Sheet, String> {
     let p = placement(&body.shape)?;

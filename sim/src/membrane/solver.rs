@@ -17,7 +17,6 @@ use super::MembraneModel;
 use crate::cache::checkpoint::{Decoder, Encoder};
 use crate::cache::sheet::SheetFrame;
 use crate::error::Result;
-use crate::family::INDEX;
 use crate::model::{Model, ParticleColumns, Points, PointsMut};
 
 /// A [`MembraneModel`] behind the model interface.
@@ -180,25 +179,23 @@ impl Model for Membrane {
         out.put_f64_slice(&[m.elapsed]);
     }
 
+    fn broken_bonds(&self) -> u64 {
+        self.model.bonds.broken_count()
+    }
+
     fn restore(&mut self, input: &mut Decoder<'_>) -> Result<()> {
         let m = &mut self.model;
         let n = m.len();
-        m.position = input.take_f64x3_slice("positions", n)?;
-        m.velocity = input.take_f64x3_slice("velocities", n)?;
+        m.position = input.take_finite_f64x3_slice("positions", n)?;
+        m.velocity = input.take_finite_f64x3_slice("velocities", n)?;
         // Only the broken bit may differ from the bonds this scene builds.
         let neighbours = input.take_u32_slice("bonds", m.bonds.len())?;
-        let scene = &m.bonds.neighbours;
-        if let Some(k) = (0..scene.len()).find(|&k| neighbours[k] & INDEX != scene[k] & INDEX) {
-            let message = format!(
-                "bond {k} points at particle {} where the scene has {}",
-                neighbours[k] & INDEX,
-                scene[k] & INDEX
-            );
-            return Err(input.error("bonds", message).into());
-        }
+        m.bonds
+            .check_restored(&neighbours)
+            .map_err(|message| input.error("bonds", message))?;
         m.bonds.neighbours = neighbours;
-        m.quantity = input.take_f64_slice("diffused quantity", n)?;
-        m.elapsed = input.take_f64_slice("diffusion time", 1)?[0];
+        m.quantity = input.take_finite_f64_slice("diffused quantity", n)?;
+        m.elapsed = input.take_finite_f64_slice("diffusion time", 1)?[0];
         m.update_damage();
         Ok(())
     }

@@ -649,15 +649,19 @@ impl Model for Mpm {
     fn restore(&mut self, input: &mut Decoder<'_>) -> Result<()> {
         let p = &mut self.particles;
         let n = p.len();
-        p.position = input.take_f64x3_slice("MPM positions", n)?;
-        p.velocity = input.take_f64x3_slice("MPM velocities", n)?;
-        let f = input.take_f64_slice("MPM deformation gradients", 9 * n)?;
+        p.position = input.take_finite_f64x3_slice("MPM positions", n)?;
+        p.velocity = input.take_finite_f64x3_slice("MPM velocities", n)?;
+        let f = input.take_finite_f64_slice("MPM deformation gradients", 9 * n)?;
         unflatten(&f, &mut p.deformation);
-        let c = input.take_f64_slice("MPM affine matrices", 9 * n)?;
+        let c = input.take_finite_f64_slice("MPM affine matrices", 9 * n)?;
         unflatten(&c, &mut p.affine);
-        p.plastic = input.take_f64_slice("MPM plastic strains", n)?;
+        p.plastic = input.take_finite_f64_slice("MPM plastic strains", n)?;
+        if let Some(i) = p.plastic.iter().position(|&e| e < 0.0) {
+            let message = format!("particle {i} has a negative plastic strain");
+            return Err(input.error("MPM plastic strains", message).into());
+        }
         let energies = p.internal_energy.len();
-        p.internal_energy = input.take_f64_slice("MPM internal energies", energies)?;
+        p.internal_energy = input.take_finite_f64_slice("MPM internal energies", energies)?;
         Ok(())
     }
 

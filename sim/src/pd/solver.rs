@@ -183,25 +183,23 @@ impl Model for Peridynamics {
         }
     }
 
+    fn broken_bonds(&self) -> u64 {
+        self.model.bonds.broken_count()
+    }
+
     fn restore(&mut self, input: &mut Decoder<'_>) -> Result<()> {
         let m = &mut self.model;
         let n = m.len();
-        m.particles.position = input.take_f64x3_slice("positions", n)?;
-        m.particles.velocity = input.take_f64x3_slice("velocities", n)?;
+        m.particles.position = input.take_finite_f64x3_slice("positions", n)?;
+        m.particles.velocity = input.take_finite_f64x3_slice("velocities", n)?;
         // Only the broken bit may differ from the bonds this scene builds.
         let neighbours = input.take_u32_slice("bonds", m.bonds.len())?;
-        let scene = &m.bonds.neighbours;
-        if let Some(k) = (0..scene.len()).find(|&k| neighbours[k] & INDEX != scene[k] & INDEX) {
-            let message = format!(
-                "bond {k} points at particle {} where the scene has {}",
-                neighbours[k] & INDEX,
-                scene[k] & INDEX
-            );
-            return Err(input.error("bonds", message).into());
-        }
+        m.bonds
+            .check_restored(&neighbours)
+            .map_err(|message| input.error("bonds", message))?;
         m.bonds.neighbours = neighbours;
         if let Some(p) = &mut m.plastic {
-            p.extension = input.take_f64_slice("plastic extensions", p.extension.len())?;
+            p.extension = input.take_finite_f64_slice("plastic extensions", p.extension.len())?;
         }
         m.update_damage();
         m.update_yielded();

@@ -17,7 +17,7 @@ use crate::cache::manifest::Manifest;
 use crate::cache::{Layout, write_atomic};
 use crate::error::{Result, SimError};
 use crate::geometry::discretize::discretize;
-use crate::memory::estimate_memory;
+use crate::memory::{estimate_before_meshing, estimate_memory};
 use crate::scene::Scene;
 
 /// Options of a run.
@@ -27,8 +27,9 @@ pub struct RunOptions {
     pub frames: Option<usize>,
     /// Continue from the checkpoint in the output directory.
     pub resume: bool,
-    /// Refuse a scene whose estimated memory ([`crate::memory::estimate_memory`]) is
-    /// above this many bytes, before any bond is built.
+    /// Refuse a scene whose estimated peak memory is above this many bytes: before
+    /// meshing ([`crate::memory::estimate_before_meshing`]), and again from the
+    /// meshes before any bond is built ([`crate::memory::estimate_memory`]).
     pub memory_limit: Option<u64>,
     /// Asked from outside to stop (the CLI asks on SIGINT, SIGTERM, SIGHUP): the run
     /// finishes the frame it is on, writes it and a checkpoint, marks the manifest
@@ -89,6 +90,9 @@ pub fn run(
     progress: &mut dyn FnMut(Progress),
 ) -> Result<Manifest> {
     let start = Instant::now();
+    if let Some(limit) = options.memory_limit {
+        estimate_before_meshing(scene)?.refuse_above(limit)?;
+    }
     let layout = Layout::new(out);
     if options.resume
         && let resume::Plan::Complete(manifest) = resume::plan(&layout, scene, options)?
@@ -141,10 +145,15 @@ pub fn run_prepared(
     if let Some(earlier) = earlier
         && layout.checkpoint().is_file()
     {
+        let expected = resume::Expected {
+            scene_hash: scene_hash(scene),
+            steps_per_frame: prepared.steps_per_frame,
+            frame_count: scene.frame_count(),
+        };
         let from = resume::restore(
             layout,
             &mut prepared.world,
-            scene_hash(scene),
+            expected,
             scene.output.writes_tets(),
             *earlier,
         )?;

@@ -4,7 +4,7 @@
 //! frames already on disk, and the last split tet mesh the vertex numbering.
 
 use super::RunOptions;
-use crate::cache::checkpoint::{Checkpoint, Decoder};
+use crate::cache::checkpoint::{Checkpoint, Decoder, RERUN};
 use crate::cache::manifest::{Manifest, Status};
 use crate::cache::vtu::TetFrame;
 use crate::cache::{CacheError, Layout};
@@ -94,35 +94,59 @@ pub struct Resumed {
     pub manifest: Manifest,
 }
 
+/// The run a checkpoint must belong to: the scene's hash and clock.
+#[derive(Debug, Clone, Copy)]
+pub struct Expected {
+    /// [`super::scene_hash`] of the scene.
+    pub scene_hash: u64,
+    /// Steps between frames.
+    pub steps_per_frame: usize,
+    /// Frames of the whole scene after the initial one.
+    pub frame_count: usize,
+}
+
 /// Restores `world` (built from the same scene) from the checkpoint in `layout`; with
 /// `tets`, the split tet mesh from the last frame written before the checkpoint.
-/// `earlier` is the cache's manifest (read by [`plan`]).
+/// `expected` is the scene's hash and clock, `earlier` the cache's manifest (read by
+/// [`plan`]).
 pub fn restore(
     layout: &Layout,
     world: &mut World,
-    scene_hash: u64,
+    expected: Expected,
     tets: bool,
     earlier: Manifest,
 ) -> Result<Resumed> {
     let path = layout.checkpoint();
     let checkpoint = Checkpoint::read(&path)?;
     let mut input = Decoder::new(&checkpoint.payload, &path);
-    if checkpoint.scene_hash != scene_hash {
-        return Err(CacheError::format(
+    if checkpoint.scene_hash != expected.scene_hash {
+        return Err(CacheError::checkpoint(
             &path,
-            "the checkpoint was written for a different scene (or different settings); run without --resume",
+            format!(
+                "the checkpoint was written for a different scene (or different settings); {RERUN}"
+            ),
         )
         .into());
     }
-    world.restore(&mut input, checkpoint.time, checkpoint.steps)?;
+    check_clock(&checkpoint, world.dt, expected)
+        .map_err(|message| CacheError::checkpoint(&path, format!("{message}; {RERUN}")))?;
+    world.restore(
+        &mut input,
+        checkpoint.time,
+        checkpoint.steps,
+        checkpoint.broken_bonds,
+    )?;
     input.finish()?;
     let frame = checkpoint.frame as usize;
     if tets {
         // The topology written at the checkpoint's frame keeps the vertex numbering
         // of the frames already on disk.
-        let last = TetFrame::read(&layout.tets(frame))?;
+        let file = layout.tets(frame);
+        let last = TetFrame::read(&file)?;
         for part in &mut world.parts {
-            part.model.restore_tet_frame(last.clone())?;
+            part.model
+                .restore_tet_frame(last.clone())
+                .map_err(|e| CacheError::checkpoint(&file, format!("{e}; {RERUN}")))?;
         }
     }
     if earlier.frames() < frame {
@@ -142,4 +166,34 @@ pub fn restore(
         broken_bonds: checkpoint.broken_bonds,
         manifest,
     })
+}
+
+/// Checks the checkpoint's clock against the scene's: the frame within the run, the
+/// steps those frames take (a checkpoint written between frames has the steps of its
+/// last whole frame and fewer than one frame's more), and the time those steps reach,
+/// to the bit (the world's time is steps × dt).
+fn check_clock(checkpoint: &Checkpoint, dt: f64, expected: Expected) -> Result<(), String> {
+    let Checkpoint {
+        frame, steps, time, ..
+    } = *checkpoint;
+    let last = expected.frame_count as u64 + 1;
+    if frame == 0 || frame > last {
+        return Err(format!(
+            "it is at frame {frame}, the scene has frames 1 to {last}"
+        ));
+    }
+    let per_frame = expected.steps_per_frame.max(1) as u64;
+    let first = (frame - 1) * per_frame;
+    if steps < first || steps - first >= per_frame {
+        return Err(format!(
+            "it is at frame {frame} after {steps} steps, where the scene takes {first} steps \
+             to that frame ({per_frame} a frame)"
+        ));
+    }
+    if time.to_bits() != (steps as f64 * dt).to_bits() {
+        return Err(format!(
+            "its time {time:e} s is not {steps} steps of {dt:e} s"
+        ));
+    }
+    Ok(())
 }

@@ -251,8 +251,13 @@ fn mpm_part(scene: &Scene, disc: &mut Discretization) -> Result<Part> {
     Ok(Part::new(Box::new(model), anchors))
 }
 
+/// The most steps a run may take: the world's time is steps × dt, exact in the step
+/// count up to 2^53.
+const MAX_STEPS: f64 = 9_007_199_254_740_992.0;
+
 /// The time step (a multiple of the frame time) and the steps per frame: the scene's
-/// `dt`, refused above the stable bound unless `force_dt`, or `dt_safety` × the bound.
+/// `dt`, refused above the stable bound unless `force_dt`, or `dt_safety` × the bound;
+/// a run of more than [`MAX_STEPS`] steps is refused.
 fn time_step(scene: &Scene, stable: (f64, usize)) -> Result<(f64, usize)> {
     let dt = match scene.scene.dt {
         Some(dt) if dt > stable.0 && !scene.scene.force_dt => {
@@ -266,7 +271,16 @@ fn time_step(scene: &Scene, stable: (f64, usize)) -> Result<(f64, usize)> {
         None => scene.scene.dt_safety * stable.0,
     };
     let frame_time = scene.frame_time();
-    let steps_per_frame = (frame_time / dt).ceil().max(1.0) as usize;
+    let steps_per_frame = (frame_time / dt).ceil().max(1.0);
+    let total = steps_per_frame * scene.frame_count() as f64;
+    if total.is_nan() || total > MAX_STEPS {
+        return Err(SimError::Refused(format!(
+            "the run would take {total:e} steps of {dt:e} s ({steps_per_frame:e} a frame); at \
+             most {MAX_STEPS:e} (2^53, where the step count stops being exact in the time): use \
+             a larger dt or a shorter duration"
+        )));
+    }
+    let steps_per_frame = steps_per_frame as usize;
     Ok((frame_time / steps_per_frame as f64, steps_per_frame))
 }
 

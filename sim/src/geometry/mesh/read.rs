@@ -60,6 +60,20 @@ pub(super) fn read(path: &Path) -> Result<TriMesh, MeshFileError> {
     })
 }
 
+/// Most vertices plus faces a mesh file may hold: 2×10⁷, about 1 GB as read. A
+/// surface that fine is far below any resolution the mesher can fill (its lattice
+/// stops at 2×10⁸ points), and the bound keeps a damaged or hostile file (a huge
+/// count in a header, a node that is its own child) from allocating without limit.
+pub const MAX_MESH_ELEMENTS: usize = 20_000_000;
+
+/// The refusal of a mesh above [`MAX_MESH_ELEMENTS`].
+fn too_large(format: &str) -> String {
+    format!(
+        "more than {MAX_MESH_ELEMENTS} vertices and faces: decimate the mesh (a body's \
+         surface needs no more detail than its resolution) ({format})"
+    )
+}
+
 /// Positions and polygons as read, before any check.
 struct Polygons {
     vertices: Vec<[f64; 3]>,
@@ -84,6 +98,13 @@ fn read_obj(path: &Path) -> Result<Polygons, String> {
         vertices: Vec::new(),
         faces: Vec::new(),
     };
+    let elements = models.iter().fold(0usize, |n, m| {
+        n.saturating_add(m.mesh.positions.len() / 3)
+            .saturating_add(m.mesh.face_arities.len().max(m.mesh.indices.len() / 3))
+    });
+    if elements > MAX_MESH_ELEMENTS {
+        return Err(too_large("OBJ"));
+    }
     for model in models {
         let m = model.mesh;
         let offset = out.vertices.len() as u64;
@@ -112,6 +133,7 @@ fn read_obj(path: &Path) -> Result<Polygons, String> {
 fn read_ply(path: &Path) -> Result<Polygons, String> {
     use ply_rs::parser::Parser;
     use ply_rs::ply::{DefaultElement, Property};
+    check_ply_counts(path)?;
     let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
     let mut reader = std::io::BufReader::new(file);
     let ply = Parser::<DefaultElement>::new()
@@ -170,6 +192,66 @@ fn read_ply(path: &Path) -> Result<Polygons, String> {
     Ok(Polygons { vertices, faces })
 }
 
+/// Checks a PLY header's element counts before the parser allocates for them: each
+/// element needs at least a byte a property (binary) or two (ASCII: a digit and a
+/// separator) after the header, so a count the file cannot hold is refused, and the
+/// total is bounded by [`MAX_MESH_ELEMENTS`].
+fn check_ply_counts(path: &Path) -> Result<(), String> {
+    use std::io::{BufRead, Read};
+    let size = std::fs::metadata(path).map_err(|e| e.to_string())?.len();
+    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    let mut reader = std::io::BufReader::new(file);
+    let (mut header, mut line) = (0u64, Vec::new());
+    let mut ascii = false;
+    let mut elements: Vec<(String, u64, u64)> = Vec::new();
+    loop {
+        line.clear();
+        let n = reader
+            .by_ref()
+            .take(4096)
+            .read_until(b'\n', &mut line)
+            .map_err(|e| e.to_string())?;
+        if n == 0 || header > 1 << 20 {
+            return Err("the header has no end_header line (PLY)".into());
+        }
+        header += n as u64;
+        let text = String::from_utf8_lossy(&line);
+        let words: Vec<&str> = text.split_whitespace().collect();
+        match words.as_slice() {
+            ["end_header"] => break,
+            ["format", format, ..] => ascii = *format == "ascii",
+            ["element", name, count] => {
+                let count = count
+                    .parse::<u64>()
+                    .map_err(|_| format!("element '{name}' has count '{count}' (PLY)"))?;
+                elements.push((name.to_string(), count, 0));
+            }
+            ["property", ..] => {
+                if let Some(e) = elements.last_mut() {
+                    e.2 += 1;
+                }
+            }
+            _ => {}
+        }
+    }
+    let body = size.saturating_sub(header);
+    let mut total = 0u64;
+    for (name, count, properties) in &elements {
+        let least = properties.max(&1) * if ascii { 2 } else { 1 };
+        if count.saturating_mul(least) > body {
+            return Err(format!(
+                "the header declares {count} '{name}' elements but only {body} bytes follow it: \
+                 the file is truncated or its header is damaged (PLY)"
+            ));
+        }
+        total = total.saturating_add(*count);
+    }
+    if total > MAX_MESH_ELEMENTS as u64 {
+        return Err(too_large("PLY"));
+    }
+    Ok(())
+}
+
 fn read_gltf(path: &Path) -> Result<Polygons, String> {
     let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
     let gltf = gltf::Gltf::from_slice(&bytes).map_err(|e| format!("{e} (glTF)"))?;
@@ -224,11 +306,20 @@ fn read_gltf(path: &Path) -> Result<Polygons, String> {
     }
     let mut stack: Vec<(gltf::Node, [[f64; 4]; 4])> =
         roots.into_iter().rev().map(|n| (n, identity)).collect();
-    let mut visited = 0usize;
+    // glTF's node hierarchy is a forest (§3.5.3: no node is the child of two nodes,
+    // no cycles): each node is visited once, so neither the walk nor the vertices it
+    // adds can grow past the file's own nodes and meshes.
+    let mut visited = vec![false; gltf.nodes().len()];
     while let Some((node, parent)) = stack.pop() {
-        visited += 1;
-        if visited > 1_000_000 {
-            return Err("the node hierarchy has a cycle".into());
+        match visited.get_mut(node.index()) {
+            Some(seen) if !*seen => *seen = true,
+            _ => {
+                return Err(format!(
+                    "node {} is reached twice: the node hierarchy has a cycle or a shared \
+                     child, and glTF requires a tree (glTF)",
+                    node.index()
+                ));
+            }
         }
         let local = node.transform().matrix().map(|c| c.map(f64::from));
         let world = mat4_mul(parent, local);
@@ -260,6 +351,19 @@ fn add_mesh(
                 mesh.index(),
                 primitive.mode()
             ));
+        }
+        // Bound what this primitive adds before reading it (its accessors' counts).
+        let count = |a: Option<gltf::Accessor>| a.map_or(0, |a| a.count());
+        let adds = count(primitive.get(&gltf::Semantic::Positions))
+            .saturating_add(count(primitive.indices()));
+        if out
+            .vertices
+            .len()
+            .saturating_add(out.faces.len())
+            .saturating_add(adds)
+            > MAX_MESH_ELEMENTS
+        {
+            return Err(too_large("glTF"));
         }
         let reader = primitive.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
         let offset = out.vertices.len() as u64;

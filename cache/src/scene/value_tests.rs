@@ -1,0 +1,116 @@
+//! Values that used to pass validation (issue 17): a duration whose frame count
+//! wraps, infinite anchor centres and crack points, NaN release times, a file that
+//! is not UTF-8, raw control bytes echoed into messages.
+
+use std::path::Path;
+
+use super::Scene;
+use crate::CacheError;
+
+const GOOD: &str = "[scene]\nname = \"t\"\n[materials.m]\ndensity = 1000.0\n\
+    youngs_modulus = 1e6\npoisson_ratio = 0.3\n[[body]]\nmaterial = \"m\"\n\
+    resolution = 0.1\nshape = { type = \"box\", center = [0, 0, 0], size = [1, 1, 1] }\n";
+
+/// The scene error of `text`: (line, column, key, message).
+fn error(text: &str) -> (usize, usize, String, String) {
+    match Scene::parse(text, Path::new("bad.toml"), Path::new(".")) {
+        Err(CacheError::Scene {
+            line,
+            column,
+            key,
+            message,
+            ..
+        }) => (line, column, key, message),
+        other => panic!("expected a scene error, got {other:?}"),
+    }
+}
+
+#[test]
+fn a_duration_beyond_the_frame_limit_is_refused() {
+    for duration in ["1e300", "5e5"] {
+        let text = GOOD.replace("name = \"t\"", &format!("duration = {duration}\nfps = 24"));
+        let (line, _, key, message) = error(&text);
+        assert_eq!((line, key.as_str()), (2, "scene.duration"), "{message}");
+        assert!(
+            message.contains("frames") && message.contains("at most"),
+            "{message}"
+        );
+    }
+    let inf = GOOD.replace("name = \"t\"", "duration = inf");
+    let (_, _, key, message) = error(&inf);
+    assert!(
+        key == "scene.duration" && message.contains("finite"),
+        "{message}"
+    );
+    let ok = GOOD.replace("name = \"t\"", "duration = 4e5\nfps = 24");
+    let scene = Scene::parse(&ok, Path::new("ok.toml"), Path::new(".")).expect("9.6e6 frames");
+    assert_eq!(scene.frame_count(), 9_600_000);
+}
+
+#[test]
+fn infinite_anchor_centres_and_crack_points_are_refused() {
+    let anchor = format!(
+        "{GOOD}[[body.anchor]]\nregion = {{ type = \"sphere\", center = [0, 0, 0], radius = 0.2 }}\n\
+         center = [-inf, 0, 0]\n"
+    );
+    let (line, _, key, message) = error(&anchor);
+    assert_eq!(
+        (line, key.as_str()),
+        (13, "body.0.anchor.0.center"),
+        "{message}"
+    );
+    assert!(message.contains("finite"), "{message}");
+    let until = anchor.replace("center = [-inf, 0, 0]", "until = nan");
+    let (_, _, key, message) = error(&until);
+    assert_eq!(key, "body.0.anchor.0.until", "{message}");
+    let until = anchor.replace("center = [-inf, 0, 0]", "until = -1.0");
+    assert_eq!(error(&until).2, "body.0.anchor.0.until");
+    let crack = format!(
+        "{GOOD}[[body.crack]]\npoint = [0, -inf, 0]\nnormal = [1, 0, 0]\n\
+         region = {{ type = \"box\", center = [0, 0, 0], size = [1, 1, 1] }}\n"
+    );
+    let (line, _, key, message) = error(&crack);
+    assert_eq!(
+        (line, key.as_str()),
+        (12, "body.0.crack.0.point"),
+        "{message}"
+    );
+}
+
+#[test]
+fn a_file_that_is_not_utf8_is_refused_with_its_position() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("latin1.toml");
+    // "name = "café"" in Latin-1: é is the single byte 0xe9.
+    let mut bytes = GOOD.replace("name = \"t\"", "name = \"caf").into_bytes();
+    let at = bytes.iter().position(|&b| b == b'f').unwrap() + 1;
+    bytes.insert(at, 0xe9);
+    std::fs::write(&path, &bytes).expect("write");
+    let e = Scene::load(&path).expect_err("not UTF-8");
+    assert!(e.is_bad_input(), "{e}");
+    let m = e.to_string();
+    assert!(
+        m.contains("latin1.toml:2:12:") && m.contains(&format!("byte {at} (0xe9) is not UTF-8")),
+        "{m}"
+    );
+}
+
+#[test]
+fn control_bytes_of_the_input_are_escaped_in_messages() {
+    // A terminal escape in a key and a carriage return in a material name.
+    let (_, _, key, message) =
+        error(&GOOD.replace("density = 1000.0", "density = 1000.0\n\"x\\u001b[2J\" = 1"));
+    let shown = format!("{key}: {message}");
+    assert!(!shown.chars().any(char::is_control), "{shown:?}");
+    assert!(shown.contains("\\u{1b}[2J"), "{shown}");
+    let (_, _, key, message) = error(&GOOD.replace("material = \"m\"", "material = \"m\\r\""));
+    let shown = format!("{key}: {message}");
+    assert!(!shown.chars().any(char::is_control), "{shown:?}");
+    assert!(shown.contains("m\\r"), "{shown}");
+    let raw = GOOD.replace("resolution = 0.1", "resolution = 0.1\u{7}");
+    let (_, _, key, message) = error(&raw);
+    assert!(
+        !format!("{key}{message}").chars().any(char::is_control),
+        "{message:?}"
+    );
+}
