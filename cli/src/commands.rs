@@ -33,7 +33,7 @@ impl From<SimError> for Failure {
     fn from(e: SimError) -> Failure {
         let code = match &e {
             SimError::Cache(c) if c.is_bad_input() => 2,
-            SimError::Refused(_) | SimError::Mesh { .. } => 2,
+            SimError::Refused(_) | SimError::Mesh { .. } | SimError::Collider { .. } => 2,
             _ => 1,
         };
         Failure {
@@ -288,9 +288,27 @@ pub fn check(path: &Path) -> Result<(), Failure> {
     );
     let mut prepared = run::prepare_discretized(&scene, disc)?;
     let (stable, dt) = (prepared.stable_dt, prepared.world.dt);
+    prepared.world.reset_times();
     print_cost(&scene, stable, dt, prepared.steps_per_frame, || {
         prepared.world.step()
-    })
+    })?;
+    print_contact(&prepared.world);
+    Ok(())
+}
+
+/// Particle contact's pairs and share of the timed steps, when the scene has it.
+fn print_contact(world: &perifrac_sim::world::World) {
+    let Some(contact) = &world.contact else {
+        println!("  particle contact: off");
+        return;
+    };
+    let total: f64 = world.stage_times().iter().map(|(_, t)| t).sum::<f64>() + world.other_time;
+    println!(
+        "  particle contact: {} particles, stable dt {:.3e} s, {:.0}% of the step time",
+        contact.len(),
+        contact.stable_time_step().0,
+        100.0 * contact.time / total.max(f64::MIN_POSITIVE)
+    );
 }
 
 /// The stable step, the step count and the run time estimated from three timed steps.
@@ -338,7 +356,10 @@ fn check_fem(
     );
     let mut prepared = run::prepare_discretized(scene, disc)?;
     let (stable, dt) = (prepared.stable_dt, prepared.world.dt);
+    prepared.world.reset_times();
     print_cost(scene, stable, dt, prepared.steps_per_frame, || {
         prepared.world.step()
-    })
+    })?;
+    print_contact(&prepared.world);
+    Ok(())
 }

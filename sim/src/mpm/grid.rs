@@ -446,14 +446,15 @@ impl SparseGrid {
 /// or below the ground, or inside a sphere or box, get a non-negative normal velocity
 /// relative to the collider and Coulomb friction on the tangential part.
 fn collide(c: &Collider, x: [f64; 3], v: &mut [f64; 3]) {
-    let normal = match c.shape {
+    let normal = match &c.shape {
         ColliderShape::Ground => (x[1] <= c.center[1]).then_some([0.0, 1.0, 0.0]),
         _ => c.penetration(x).map(|(n, _)| n),
     };
     let Some(n) = normal else {
         return;
     };
-    let rel = [0, 1, 2].map(|a| v[a] - c.velocity[a]);
+    let cv = c.velocity_at(x);
+    let rel = [0, 1, 2].map(|a| v[a] - cv[a]);
     let vn = rel[0] * n[0] + rel[1] * n[1] + rel[2] * n[2];
     if vn >= 0.0 {
         return;
@@ -465,5 +466,5 @@ fn collide(c: &Collider, x: [f64; 3], v: &mut [f64; 3]) {
     } else {
         0.0
     };
-    *v = [0, 1, 2].map(|a| c.velocity[a] + keep * t[a]);
+    *v = [0, 1, 2].map(|a| cv[a] + keep * t[a]);
 }

@@ -10,6 +10,7 @@ use crate::cache::Layout;
 use crate::cache::checkpoint::{Checkpoint, Encoder};
 use crate::cache::manifest::{BodyInfo, Manifest, Timings};
 use crate::cache::ply::ParticleFrame;
+use crate::contact::ColliderShape;
 use crate::error::{Result, SimError};
 use crate::scene::Scene;
 use crate::world::World;
@@ -65,6 +66,7 @@ impl<'a> Frames<'a> {
         self.broken_total = from.broken_bonds;
         self.manifest.frame_times = from.frame_times;
         self.manifest.collider_centers = from.collider_centers;
+        self.manifest.collider_rotations = from.collider_rotations;
     }
 
     /// Steps `world` through the remaining frames.
@@ -100,6 +102,15 @@ impl<'a> Frames<'a> {
             self.manifest
                 .collider_centers
                 .push(world.colliders.iter().map(|c| c.center).collect());
+            if world
+                .colliders
+                .iter()
+                .any(|c| matches!(c.shape, ColliderShape::Mesh(_)))
+            {
+                self.manifest
+                    .collider_rotations
+                    .push(world.colliders.iter().map(|c| c.orientation()).collect());
+            }
             self.manifest.status = if frame <= frames {
                 "running".into()
             } else if frames == scene.frame_count() {

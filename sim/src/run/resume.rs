@@ -20,6 +20,9 @@ pub struct Resumed {
     pub frame_times: Vec<f64>,
     /// The collider centres of the frames on disk (from the manifest).
     pub collider_centers: Vec<Vec<[f64; 3]>>,
+    /// The collider rotations of the frames on disk (from the manifest; scenes with
+    /// mesh colliders).
+    pub collider_rotations: Vec<Vec<[f64; 4]>>,
 }
 
 /// Restores `world` (built from the same scene) from the checkpoint in `layout`; with
@@ -46,13 +49,15 @@ pub fn restore(layout: &Layout, world: &mut World, scene_hash: u64, tets: bool) 
             part.model.restore_tet_frame(last.clone())?;
         }
     }
-    let (frame_times, collider_centers) = match Manifest::read(&layout.manifest()) {
-        Ok(old) => (
-            old.frame_times.into_iter().take(frame).collect(),
-            old.collider_centers.into_iter().take(frame).collect(),
-        ),
-        Err(_) => (Vec::new(), Vec::new()),
-    };
+    let (frame_times, collider_centers, collider_rotations) =
+        match Manifest::read(&layout.manifest()) {
+            Ok(old) => (
+                old.frame_times.into_iter().take(frame).collect(),
+                old.collider_centers.into_iter().take(frame).collect(),
+                old.collider_rotations.into_iter().take(frame).collect(),
+            ),
+            Err(_) => (Vec::new(), Vec::new(), Vec::new()),
+        };
     if frame_times.len() != frame {
         return Err(CacheError::format(
             layout.manifest(),
@@ -68,5 +73,6 @@ pub fn restore(layout: &Layout, world: &mut World, scene_hash: u64, tets: bool) 
         broken_bonds: checkpoint.broken_bonds,
         frame_times,
         collider_centers,
+        collider_rotations,
     })
 }
