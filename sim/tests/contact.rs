@@ -340,10 +340,15 @@ fn shattered_plate_fragments_do_not_overlap() {
         figures.push((close, n, fragments));
     }
     let (close, n, fragments) = figures[1];
+    let (before, ..) = figures[0];
     assert!(fragments > 3, "the plate shatters: {fragments} fragments");
     assert!(
         (close as f64) < 0.01 * n as f64,
         "{close} close pairs from different fragments of {n} particles"
+    );
+    assert!(
+        close < before,
+        "contact separates fragments: {close} close pairs with it, {before} without"
     );
 }
 
