@@ -39,6 +39,7 @@
 pub mod law;
 pub mod sheet;
 mod solver;
+pub mod source;
 #[cfg(test)]
 mod tests;
 
@@ -49,6 +50,7 @@ use rayon::prelude::*;
 
 pub use law::Law;
 pub use solver::Membrane;
+pub use source::{Effect, Source};
 
 use crate::error::{Result, SimError};
 use crate::family::{self, BROKEN, Bonds, INDEX};
@@ -144,8 +146,10 @@ pub struct MembraneModel {
     pub weight: Vec<f64>,
     /// The diffused quantity θ_i (Eq. 25).
     pub quantity: Vec<f64>,
-    /// Particles whose θ is held at its value (fixed-value boundaries).
-    pub held: Vec<bool>,
+    /// Sources and sinks of θ (Eq. 8's S; [`source`]).
+    pub sources: Vec<Source>,
+    /// Time the diffusion has been stepped (s), for the sources' start and stop.
+    pub elapsed: f64,
     /// Damage φ_i = 1 − intact/initial bonds.
     pub damage: Vec<f64>,
     /// Bonds of each particle before the run.
@@ -191,7 +195,8 @@ impl MembraneModel {
             bonds,
             weight,
             quantity: vec![0.0; n],
-            held: vec![false; n],
+            sources: Vec::new(),
+            elapsed: 0.0,
             damage: vec![0.0; n],
             initial_bonds,
             force: vec![[0.0; 3]; n],
@@ -227,6 +232,13 @@ impl MembraneModel {
             .map(|i| disc.volume[i] / bodies[disc.body[i] as usize].thickness)
             .collect();
         let mut model = MembraneModel::new(disc.position.clone(), area, disc.body.clone(), bodies)?;
+        for (theta, &b) in model.quantity.iter_mut().zip(&model.body) {
+            *theta = scene.bodies[b as usize]
+                .membrane
+                .as_ref()
+                .map_or(0.0, |m| m.quantity);
+        }
+        model.sources = source::of_scene(scene, &model.reference, &model.body)?;
         let cracks = &Cracks::of_scene(scene)?;
         let (x, body, bonds) = (&model.reference, &model.body, &model.bonds);
         let cut: Vec<bool> = (0..model.len())
@@ -345,24 +357,33 @@ impl MembraneModel {
     }
 
     /// One forward Euler step of the diffusion (Eq. 26, first line, with γ* of
-    /// Eq. 28): θ_i ← θ_i + Δt θ̇_i, except where θ is held.
+    /// Eq. 28): θ_i ← θ_i + Δt θ̇_i, then the sources active at the step's start
+    /// ([`source`]): a rate adds Δt × rate, a value holds θ (sources in scene order, so
+    /// a later value wins).
     pub fn diffuse(&mut self, dt: f64) {
-        if self.bodies.iter().all(|b| b.conductivity == 0.0) {
+        let conducts = self.bodies.iter().any(|b| b.conductivity != 0.0);
+        if !conducts && self.sources.is_empty() {
             return;
         }
         let t = Instant::now();
-        let rate = self.quantity_rate();
-        let held = &self.held;
-        self.quantity
-            .par_iter_mut()
-            .zip(rate.par_iter())
-            .enumerate()
-            .with_min_len(1024)
-            .for_each(|(i, (theta, r))| {
-                if !held[i] {
-                    *theta += dt * r;
+        if conducts {
+            let rate = self.quantity_rate();
+            self.quantity
+                .par_iter_mut()
+                .zip(rate.par_iter())
+                .with_min_len(1024)
+                .for_each(|(theta, r)| *theta += dt * r);
+        }
+        for source in self.sources.iter().filter(|s| s.active(self.elapsed)) {
+            for &i in &source.particles {
+                let theta = &mut self.quantity[i as usize];
+                match source.effect {
+                    Effect::Rate(rate) => *theta += dt * rate,
+                    Effect::Value(value) => *theta = value,
                 }
-            });
+            }
+        }
+        self.elapsed += dt;
         self.times.diffusion += t.elapsed().as_secs_f64();
     }
 

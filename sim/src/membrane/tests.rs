@@ -4,6 +4,8 @@
 
 use std::path::Path;
 
+use perifrac_math::dist;
+
 use super::*;
 use crate::geometry::discretize::discretize;
 use crate::run::prepare;
@@ -142,8 +144,14 @@ fn diffusion_on_a_strip_matches_the_analytic_solution() {
     order.sort_by(|&a, &b| m.reference[a][0].total_cmp(&m.reference[b][0]));
     let (first, last) = (order[0], order[n - 1]);
     m.quantity[first] = 1.0;
-    m.held[first] = true;
-    m.held[last] = true;
+    for (end, value) in [(first, 1.0), (last, 0.0)] {
+        m.sources.push(Source {
+            particles: vec![end as u32],
+            effect: Effect::Value(value),
+            start: 0.0,
+            until: f64::INFINITY,
+        });
+    }
     let x0 = m.reference[first][0];
     let length = m.reference[last][0] - x0;
     // Eq. 25 on a chain is the second difference with D = k W / (ρ C): the second
@@ -400,8 +408,139 @@ fn bad_membrane_keys_name_the_key() {
             ),
             "body.1.model",
         ),
+        (
+            format!("{good}[[body.membrane.source]]\nrate = 1\nvalue = 2\n"),
+            "body.0.membrane.source.0",
+        ),
+        (
+            format!("{good}[[body.membrane.source]]\nrate = 1\nstart = 2\nuntil = 1\n"),
+            "body.0.membrane.source.0.until",
+        ),
+        (
+            format!(
+                "{good}[[body.membrane.source]]\nvalue = 1\nscatter = {{ count = 0, radius = 0.1 }}\n"
+            ),
+            "body.0.membrane.source.0.scatter.count",
+        ),
+        (
+            format!("{good}[body.membrane]\nquantity = inf\n"),
+            "body.0.membrane.quantity",
+        ),
     ];
     for (text, expected) in cases {
         assert_eq!(key(&text), expected);
+    }
+}
+
+/// A 0.4 m × 0.3 m sheet without conduction, with the sources of `sources` (TOML).
+fn sheet_with_sources(sources: &str) -> Scene {
+    scene(
+        "{ type = \"slab\", center = [0, 0, 0], size = [0.4, 0.001, 0.3] }",
+        "",
+        sources,
+    )
+}
+
+#[test]
+fn sources_act_inside_their_region_and_time_window() {
+    let s = sheet_with_sources(
+        "[body.membrane]\nquantity = 0.5\n\
+         [[body.membrane.source]]\nregion = { type = \"sphere\", center = [0.1, 0, 0], radius = 0.05 }\n\
+         rate = 2.0\nstart = 0.01\nuntil = 0.03\n\
+         [[body.membrane.source]]\nregion = { type = \"sphere\", center = [-0.1, 0, 0], radius = 0.05 }\n\
+         value = -1.0\n",
+    );
+    let mut m = model(&s);
+    let dt = 0.001;
+    for _ in 0..50 {
+        m.diffuse(dt);
+    }
+    let (mut heated, mut held) = (0, 0);
+    for i in 0..m.len() {
+        let x = m.reference[i];
+        let theta = m.quantity[i];
+        let near = |c: f64| ((x[0] - c).powi(2) + x[1] * x[1] + x[2] * x[2]).sqrt() <= 0.05;
+        if near(0.1) {
+            // Active for the 20 steps that start in [0.01, 0.03) s.
+            assert!(
+                (theta - (0.5 + 2.0 * 0.02)).abs() < 1e-12,
+                "θ = {theta} at {x:?}"
+            );
+            heated += 1;
+        } else if near(-0.1) {
+            assert_eq!(theta, -1.0);
+            held += 1;
+        } else {
+            assert_eq!(theta, 0.5, "θ moved outside the sources at {x:?}");
+        }
+    }
+    // A disc of radius 0.05 m on a triangular lattice of 0.02 m: about 22 particles.
+    assert!(
+        (15..30).contains(&heated),
+        "{heated} particles in the first source"
+    );
+    assert!((15..30).contains(&held), "{held} particles in the second");
+}
+
+#[test]
+fn a_rate_source_adds_exactly_its_quantity_while_conduction_conserves() {
+    let mut s = sheet_with_sources(
+        "[[body.membrane.source]]\nregion = { type = \"box\", center = [0.15, 0, 0], size = [0.1, 0.1, 0.3] }\nrate = 3.0\n",
+    );
+    s.materials.get_mut("film").expect("film").membrane = Some(MembraneMaterialSpec {
+        diffusion_conductivity: 0.3,
+        ..Default::default()
+    });
+    let mut m = model(&s);
+    let b = &m.bodies[0];
+    let per_step: f64 = m.sources[0]
+        .particles
+        .iter()
+        .map(|&i| b.density * b.capacity * m.area[i as usize] * 3.0)
+        .sum();
+    let dt = 0.7 * m.stable_time_step().0;
+    let steps = 400;
+    for _ in 0..steps {
+        m.diffuse(dt);
+    }
+    let expected = per_step * dt * steps as f64;
+    let total = m.total_quantity();
+    assert!(
+        ((total - expected) / expected).abs() < 1e-10,
+        "Σ ρCAθ = {total}, the source put in {expected}"
+    );
+    let far = (0..m.len())
+        .min_by(|&a, &b| m.reference[a][0].total_cmp(&m.reference[b][0]))
+        .expect("particles");
+    assert!(
+        m.quantity[far] > 0.0,
+        "conduction carried θ across the sheet"
+    );
+}
+
+#[test]
+fn scattered_sources_follow_the_scene_seed() {
+    let text = "[[body.membrane.source]]\nvalue = 1.0\nscatter = { count = 4, radius = 0.03 }\n";
+    let spots = |seed: u64| {
+        let mut s = sheet_with_sources(text);
+        s.scene.seed = seed;
+        model(&s).sources[0].particles.clone()
+    };
+    let (a, again, other) = (spots(1), spots(1), spots(2));
+    assert_eq!(a, again, "the same seed places the same spots");
+    assert_ne!(a, other, "another seed places other spots");
+    // Four spots of radius 0.03 m (about 9 particles each), possibly overlapping.
+    assert!(
+        (6..=40).contains(&a.len()),
+        "{} particles in 4 spots",
+        a.len()
+    );
+    let m = model(&sheet_with_sources(text));
+    let x = |i: u32| m.reference[i as usize];
+    // Every particle is within 0.06 m (a spot's diameter) of another one of its spot:
+    // the spots are discs, not a scatter of single particles.
+    for &i in &a {
+        let near = a.iter().filter(|&&j| dist(x(i), x(j)) <= 0.06).count();
+        assert!(near >= 4, "particle {i} is nearly alone in its spot");
     }
 }
