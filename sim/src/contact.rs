@@ -90,6 +90,34 @@ impl MeshCollider {
     }
 }
 
+impl MeshCollider {
+    /// The fastest any point of the mesh moves over its keyframes (m/s): |Ṫ| + |ω| ×
+    /// the farthest corner of its bounds from the pivot, over the segments.
+    pub fn max_speed(&self) -> f64 {
+        let reach = (0..8)
+            .map(|c| {
+                let corner = [0, 1, 2].map(|k| {
+                    if c >> k & 1 == 1 {
+                        self.hi[k]
+                    } else {
+                        self.lo[k]
+                    }
+                });
+                norm(sub(corner, self.pivot))
+            })
+            .fold(0.0f64, f64::max);
+        self.keyframes
+            .windows(2)
+            .map(|w| {
+                let span = w[1].0 - w[0].0;
+                let v = norm(sub(w[1].1, w[0].1)) / span;
+                let spin = (w[1].2 * w[0].2.inverse()).angle() / span;
+                v + spin * reach
+            })
+            .fold(0.0f64, f64::max)
+    }
+}
+
 /// A rigid collider: kinematic (infinite mass) or dynamic.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Collider {
@@ -589,7 +617,9 @@ pub fn energy_budget(
         .fold(0.0f64, |m, x| m.max(norm(*x)));
     let mut fastest = 0.0f64;
     for c in colliders {
-        if c.mass.is_none() {
+        if let ColliderShape::Mesh(mesh) = &c.shape {
+            fastest = fastest.max(mesh.max_speed());
+        } else if c.mass.is_none() {
             fastest = fastest.max(norm(c.velocity));
         }
     }

@@ -64,14 +64,15 @@ fn closest(p: &Prepared, a: u32, b: u32, density: f64) -> f64 {
 fn body_velocity(p: &Prepared, b: u32) -> [f64; 3] {
     let m = model(p);
     let (points, body) = (m.points(), m.point_bodies());
-    let (mut mv, mut mass) = ([0.0; 3], 0.0);
-    for i in (0..body.len()).filter(|&i| body[i] == b) {
-        for a in 0..3 {
-            mv[a] += points.mass[i] * points.velocity[i][a];
-        }
-        mass += points.mass[i];
-    }
-    mv.map(|x| x / mass)
+    let members: Vec<usize> = (0..body.len()).filter(|&i| body[i] == b).collect();
+    let mass: f64 = members.iter().map(|&i| points.mass[i]).sum();
+    [0, 1, 2].map(|a| {
+        members
+            .iter()
+            .map(|&i| points.mass[i] * points.velocity[i][a])
+            .sum::<f64>()
+            / mass
+    })
 }
 
 const SPHERES: &str = r#"

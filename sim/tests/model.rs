@@ -187,7 +187,7 @@ fn springs_world(scene: &Scene) -> Prepared {
     let steps_per_frame = (scene.frame_time() / (0.5 * stable.0)).ceil() as usize;
     let world = World::new(
         vec![Part::new(Box::new(model), anchors)],
-        contact::colliders(&scene).expect("colliders"),
+        contact::colliders(scene).expect("colliders"),
         WorldSettings {
             gravity: scene.scene.gravity,
             dt: scene.frame_time() / steps_per_frame as f64,
