@@ -545,3 +545,60 @@ transforms = "poses.txt"
         .to_string();
     assert!(err.contains("poses.txt:2"), "{err}");
 }
+
+/// Measurement, not a check (`cargo test -p perifrac-sim --test contact -- --ignored
+/// --nocapture demo_contact_share`): the demo's glass wall hit by the rigid sphere and
+/// by the peridynamic steel ball, the first 1,000 steps (the impact and the first
+/// fragments); particle contact's share of the step time, broken bonds and the ball's
+/// speed.
+#[test]
+#[ignore]
+fn demo_contact_share() {
+    for name in ["demo.toml", "demo-deformable-ball.toml"] {
+        let scene = Scene::load(&scenes_dir().join(name)).expect("scene");
+        let mut p = run::prepare(&scene).expect("prepares");
+        p.world.reset_times();
+        let start = std::time::Instant::now();
+        let mut broken = 0;
+        for _ in 0..1000 {
+            broken += p.world.step().expect("steps");
+        }
+        let wall = start.elapsed().as_secs_f64();
+        let contact = p.world.contact.as_ref().map_or(0.0, |c| c.time);
+        let builds = p.world.contact.as_ref().map_or(0, |c| c.builds);
+        let ball = if p.world.colliders.len() > 1 {
+            p.world.colliders[1].velocity[2]
+        } else {
+            body_velocity(&p, 1)[2]
+        };
+        eprintln!(
+            "{name}: dt {:.3e} s, 1000 steps in {wall:.1} s; particle contact {contact:.1} s = {:.1}% of the step time \
+             ({builds} list builds); {broken} bonds broken; ball at {ball:.1} m/s at t = {:.2} ms",
+            p.world.dt,
+            100.0 * contact / wall,
+            p.world.time * 1e3
+        );
+    }
+}
+
+/// Bad `[contact]` keys are refused with the key and the allowed range.
+#[test]
+fn bad_contact_keys_are_refused() {
+    let bad = |extra: &str| {
+        let text = format!("{SPHERES}\n[contact]\n{extra}\n");
+        Scene::parse(&text, Path::new("s.toml"), Path::new("."))
+            .expect_err("refused")
+            .to_string()
+    };
+    let e = bad("distance = 2.0");
+    assert!(
+        e.contains("contact.distance") && e.contains("(0, 1.5]"),
+        "{e}"
+    );
+    let e = bad("damping = -0.1");
+    assert!(e.contains("contact.damping"), "{e}");
+    let e = bad("friction = -1.0");
+    assert!(e.contains("contact.friction"), "{e}");
+    let e = bad("particle = true");
+    assert!(e.contains("particle"), "{e}");
+}
