@@ -471,6 +471,12 @@ pub struct MembraneSpec {
     /// in [1, 4]. Default 1.5 (Han §6).
     #[serde(default = "default_membrane_cutoff")]
     pub cutoff: f64,
+    /// The formulation: `"bond"`, Han's bond-based micro-springs (Eq. 18–24: Poisson
+    /// ratio fixed at 1/3), or `"state"`, an ordinary state-based sheet in plane
+    /// stress that takes the material's Poisson ratio (linear law only). Default
+    /// `"bond"`.
+    #[serde(default)]
+    pub membrane_model: MembraneFormulation,
     /// The diffused quantity θ everywhere at the start (temperature, solvent,
     /// moisture, in the material's unit). Default 0.
     #[serde(default)]
@@ -480,10 +486,22 @@ pub struct MembraneSpec {
     pub sources: Vec<SourceSpec>,
 }
 
+/// The formulation of a membrane body (`[body.membrane] membrane_model`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MembraneFormulation {
+    /// Bond-based micro-springs (Han Eq. 18–24).
+    #[default]
+    Bond,
+    /// Ordinary state-based peridynamics in the plane of the sheet (plane stress).
+    State,
+}
+
 impl Default for MembraneSpec {
     fn default() -> Self {
         MembraneSpec {
             cutoff: default_membrane_cutoff(),
+            membrane_model: MembraneFormulation::Bond,
             quantity: 0.0,
             sources: Vec::new(),
         }

@@ -1,8 +1,8 @@
 //! Range checks on a parsed scene: each problem is reported with its dotted key.
 
 use super::{
-    BodySpec, ColliderSpec, MaterialSpec, MembraneSpec, ModelKind, Scene, ShapeSpec, SurfaceMethod,
-    VdbSpec,
+    BodySpec, ColliderSpec, MaterialSpec, MembraneFormulation, MembraneLaw, MembraneSpec,
+    ModelKind, Scene, ShapeSpec, SurfaceMethod, VdbSpec,
 };
 
 /// One problem: where (dotted path) and what, with the fix.
@@ -455,6 +455,20 @@ fn membrane(scene: &Scene) -> Check {
             sources(scene, &i, spec)?;
         }
         let m = &scene.materials[&b.material];
+        let state = b
+            .membrane
+            .as_ref()
+            .is_some_and(|s| s.membrane_model == MembraneFormulation::State);
+        let law = m.membrane.as_ref().map(|s| s.law).unwrap_or_default();
+        if state && law != MembraneLaw::Linear {
+            return Err(issue(
+                &["materials", &b.material, "membrane", "law"],
+                format!(
+                    "body {i} uses membrane_model = \"state\", which is linear elastic: remove \
+                     law (the rubber and elastoplastic laws are bond laws, membrane_model = \"bond\")"
+                ),
+            ));
+        }
         let unsupported = [
             ("yield_psi0", m.yield_psi0.is_some()),
             ("yield_stretch", m.yield_stretch.is_some()),
