@@ -28,6 +28,12 @@ pub struct Manifest {
     /// is `collider_centers[k - 1]`. The previews draw dynamic colliders from it.
     #[serde(default)]
     pub collider_centers: Vec<Vec<[f64; 3]>>,
+    /// Rotation of each collider (scene order) at each written frame, a unit
+    /// quaternion [x, y, z, w] (identity for all but moving mesh colliders), written
+    /// when the scene has a mesh collider: a mesh collider is its placed mesh moved to
+    /// x ↦ centre + R (x − pivot), with the pivot of the scene.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub collider_rotations: Vec<Vec<[f64; 4]>>,
     /// Particles.
     pub particles: usize,
     /// Directed bonds.
@@ -200,6 +206,7 @@ impl Manifest {
     pub fn truncate_to_frame(&mut self, frame: usize) {
         self.frame_times.truncate(frame);
         self.collider_centers.truncate(frame);
+        self.collider_rotations.truncate(frame);
         self.files.retain(|name, _| match frame_of(name) {
             Some(k) => k <= frame,
             None => true,

@@ -196,9 +196,9 @@ fn throughput(particles: usize, steps: usize, out: &Path, quiet: bool) -> Result
     let mut table = String::new();
     let _ = writeln!(
         table,
-        "| wall | particles | bonds | bytes/bond | setup (s) | s/step | bond-updates/s | dilatation + plasticity | forces + fracture | other |"
+        "| wall | particles | bonds | bytes/bond | setup (s) | s/step | bond-updates/s | dilatation + plasticity | forces + fracture | particle contact | other |"
     );
-    let _ = writeln!(table, "|---|---|---|---|---|---|---|---|---|---|");
+    let _ = writeln!(table, "|---|---|---|---|---|---|---|---|---|---|---|");
     for kind in ["elastic", "plastic", "glass"] {
         let text = wall_scene(kind, particles);
         let scene = Scene::parse(
@@ -220,16 +220,18 @@ fn throughput(particles: usize, steps: usize, out: &Path, quiet: bool) -> Result
         let per_step = wall / steps as f64;
         let updates = m.bonds.len() as f64 / per_step;
         let st = m.times;
+        let contact = p.world.contact.as_ref().map(|c| c.time);
         let stage = |s: f64| format!("{:.0}%", 100.0 * s / wall);
         let _ = writeln!(
             table,
-            "| {kind} | {} | {} | {:.1} | {setup:.1} | {per_step:.3} | {updates:.3e} | {} | {} | {} |",
+            "| {kind} | {} | {} | {:.1} | {setup:.1} | {per_step:.3} | {updates:.3e} | {} | {} | {} | {} |",
             m.len(),
             m.bonds.len(),
             m.bond_bytes() as f64 / m.bonds.len() as f64,
             stage(st.dilatation),
             stage(st.forces),
-            stage(wall - st.dilatation - st.forces),
+            contact.map_or("off".to_string(), stage),
+            stage(wall - st.dilatation - st.forces - contact.unwrap_or(0.0)),
         );
         if !quiet {
             eprintln!(

@@ -46,7 +46,7 @@ impl From<SimError> for Failure {
     fn from(e: SimError) -> Failure {
         let code = match &e {
             SimError::Cache(c) if c.is_bad_input() => EXIT_INPUT,
-            SimError::Refused(_) | SimError::Mesh { .. } => EXIT_INPUT,
+            SimError::Refused(_) | SimError::Mesh { .. } | SimError::Collider { .. } => EXIT_INPUT,
             SimError::Interrupted { .. } => EXIT_INTERRUPTED,
             _ => EXIT_FAILED,
         };
@@ -491,9 +491,27 @@ pub fn check(path: &Path) -> Result<(), Failure> {
     );
     let mut prepared = run::prepare_discretized(&scene, disc)?;
     let (stable, dt) = (prepared.stable_dt, prepared.world.dt);
+    prepared.world.reset_times();
     print_cost(&scene, stable, dt, prepared.steps_per_frame, || {
         prepared.world.step()
-    })
+    })?;
+    print_contact(&prepared.world);
+    Ok(())
+}
+
+/// Particle contact's pairs and share of the timed steps, when the scene has it.
+fn print_contact(world: &perifrac_sim::world::World) {
+    let Some(contact) = &world.contact else {
+        println!("  particle contact: off");
+        return;
+    };
+    let total: f64 = world.stage_times().iter().map(|(_, t)| t).sum::<f64>() + world.other_time;
+    println!(
+        "  particle contact: {} particles, stable dt {:.3e} s, {:.0}% of the step time",
+        contact.len(),
+        contact.stable_time_step().0,
+        100.0 * contact.time / total.max(f64::MIN_POSITIVE)
+    );
 }
 
 /// The stable step, the step count and the run time estimated from three timed steps.
@@ -541,7 +559,10 @@ fn check_fem(
     );
     let mut prepared = run::prepare_discretized(scene, disc)?;
     let (stable, dt) = (prepared.stable_dt, prepared.world.dt);
+    prepared.world.reset_times();
     print_cost(scene, stable, dt, prepared.steps_per_frame, || {
         prepared.world.step()
-    })
+    })?;
+    print_contact(&prepared.world);
+    Ok(())
 }

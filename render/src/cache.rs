@@ -135,6 +135,7 @@ impl Cache {
                         center, velocity, ..
                     } => std::array::from_fn(|k| (center[k] + velocity[k] * time) as f32),
                     ColliderSpec::Ground { height, .. } => [0.0, *height as f32, 0.0],
+                    ColliderSpec::Mesh { translation, .. } => translation.map(|v| v as f32),
                 }
             })
             .collect()
@@ -146,7 +147,9 @@ impl Cache {
             match c {
                 ColliderSpec::Sphere { radius, .. } => g.push_sphere(center, *radius as f32, color),
                 ColliderSpec::Box { size, .. } => g.push_box(center, size.map(|v| v as f32), color),
-                ColliderSpec::Ground { .. } => {}
+                // Mesh colliders are not drawn: the render stage has no mesh reader
+                // (their poses are in the manifest for other tools).
+                ColliderSpec::Ground { .. } | ColliderSpec::Mesh { .. } => {}
             }
         }
     }

@@ -9,16 +9,20 @@
 //! Anchors hold the points inside a region of the scene at a prescribed rigid motion
 //! until their release time.
 
-use perifrac_math::{dot, norm, sub};
+use std::sync::Arc;
+
+use perifrac_math::{UnitQuaternion, Vector3, dot, from_vector, mat_vec, norm, sub};
 use rayon::prelude::*;
 
 use crate::error::{Result, SimError};
-use crate::geometry::shape::to_sdf;
+use crate::geometry::mesh::{MeshSdf, TriMesh};
+use crate::geometry::sdf::Sdf;
+use crate::geometry::shape::{placement, to_sdf};
 use crate::model::Points;
-use crate::scene::{ColliderSpec, Scene};
+use crate::scene::{ColliderSpec, KeyframeSpec, Scene};
 
 /// A collider's shape.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum ColliderShape {
     /// The plane y = `center[1]`, solid below.
     Ground,
@@ -26,6 +30,92 @@ pub enum ColliderShape {
     Sphere(f64),
     /// An axis-aligned box with these half extents.
     Box([f64; 3]),
+    /// A closed triangle mesh moved rigidly (shared, never changed).
+    Mesh(Arc<MeshCollider>),
+}
+
+/// A mesh collider: the placed mesh's exact signed distance and its rigid motion, x ↦
+/// pivot + R(t)(x − pivot) + T(t), with T and R interpolated between keyframes
+/// (linearly, and by slerp: a constant angular velocity within a segment).
+#[derive(Debug)]
+pub struct MeshCollider {
+    sdf: MeshSdf,
+    /// Bounds of the placed mesh, for a quick rejection.
+    lo: [f64; 3],
+    hi: [f64; 3],
+    /// Centre of rotation (m).
+    pub pivot: [f64; 3],
+    /// (time, translation, rotation) at increasing times; empty for a static mesh.
+    keyframes: Vec<(f64, [f64; 3], UnitQuaternion<f64>)>,
+}
+
+impl PartialEq for MeshCollider {
+    fn eq(&self, other: &Self) -> bool {
+        std::ptr::eq(self, other)
+    }
+}
+
+/// The rotation of a keyframe: degrees about x, then y, then z (R = Rz Ry Rx).
+fn euler(rotation_deg: [f64; 3]) -> UnitQuaternion<f64> {
+    let [x, y, z] = rotation_deg.map(f64::to_radians);
+    UnitQuaternion::from_axis_angle(&Vector3::z_axis(), z)
+        * UnitQuaternion::from_axis_angle(&Vector3::y_axis(), y)
+        * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), x)
+}
+
+impl MeshCollider {
+    /// The pose at time `t`: translation T, rotation R, and the velocity of the frame
+    /// (Ṫ and the angular velocity ω of the segment).
+    pub fn pose(&self, t: f64) -> ([f64; 3], UnitQuaternion<f64>, [f64; 3], [f64; 3]) {
+        let keys = &self.keyframes;
+        let still = |k: &(f64, [f64; 3], UnitQuaternion<f64>)| (k.1, k.2, [0.0; 3], [0.0; 3]);
+        match keys.iter().position(|k| k.0 > t) {
+            None => keys.last().map_or(
+                ([0.0; 3], UnitQuaternion::identity(), [0.0; 3], [0.0; 3]),
+                still,
+            ),
+            Some(0) => still(&keys[0]),
+            Some(k) => {
+                let (a, b) = (&keys[k - 1], &keys[k]);
+                let span = b.0 - a.0;
+                let s = (t - a.0) / span;
+                let translation = [0, 1, 2].map(|i| a.1[i] + s * (b.1[i] - a.1[i]));
+                let rotation = a.2.slerp(&b.2, s);
+                let velocity = [0, 1, 2].map(|i| (b.1[i] - a.1[i]) / span);
+                let relative = b.2 * a.2.inverse();
+                let spin = relative.scaled_axis() / span;
+                (translation, rotation, velocity, from_vector(&spin))
+            }
+        }
+    }
+}
+
+impl MeshCollider {
+    /// The fastest any point of the mesh moves over its keyframes (m/s): |Ṫ| + |ω| ×
+    /// the farthest corner of its bounds from the pivot, over the segments.
+    pub fn max_speed(&self) -> f64 {
+        let reach = (0..8)
+            .map(|c| {
+                let corner = [0, 1, 2].map(|k| {
+                    if c >> k & 1 == 1 {
+                        self.hi[k]
+                    } else {
+                        self.lo[k]
+                    }
+                });
+                norm(sub(corner, self.pivot))
+            })
+            .fold(0.0f64, f64::max);
+        self.keyframes
+            .windows(2)
+            .map(|w| {
+                let span = w[1].0 - w[0].0;
+                let v = norm(sub(w[1].1, w[0].1)) / span;
+                let spin = (w[1].2 * w[0].2.inverse()).angle() / span;
+                v + spin * reach
+            })
+            .fold(0.0f64, f64::max)
+    }
 }
 
 /// A rigid collider: kinematic (infinite mass) or dynamic.
@@ -43,61 +133,219 @@ pub struct Collider {
     pub gravity: bool,
     /// Coulomb friction coefficient μ.
     pub friction: f64,
+    /// Rotation from the placed pose (rows; the identity except for moving meshes).
+    pub rotation: [[f64; 3]; 3],
+    /// Angular velocity (rad/s; zero except for rotating meshes).
+    pub angular_velocity: [f64; 3],
+    /// The collider's clock (s): where a mesh is on its keyframes.
+    pub time: f64,
+}
+
+const IDENTITY: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+
+/// The colliders of a scene, mesh files read and transform files parsed; an error
+/// names the collider, the file and the line.
+pub fn colliders(scene: &Scene) -> Result<Vec<Collider>> {
+    scene
+        .colliders
+        .iter()
+        .enumerate()
+        .map(|(i, spec)| Collider::from_spec(spec, scene, i))
+        .collect()
+}
+
+/// The keyframes of a per-frame transforms file: line k (from 0, comments and blank
+/// lines skipped) is the pose at t = k × `frame_time`.
+fn read_transforms(
+    path: &std::path::Path,
+    frame_time: f64,
+) -> std::result::Result<Vec<KeyframeSpec>, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let mut out = Vec::new();
+    for (n, line) in text.lines().enumerate() {
+        let line = line.split('#').next().unwrap_or("").trim();
+        if line.is_empty() {
+            continue;
+        }
+        let values: Vec<f64> = line
+            .split_whitespace()
+            .map(str::parse::<f64>)
+            .collect::<std::result::Result<_, _>>()
+            .map_err(|e| {
+                format!(
+                    "{}:{}: {e}: a line is `tx ty tz rx ry rz` (m, degrees)",
+                    path.display(),
+                    n + 1
+                )
+            })?;
+        if values.len() != 6 || !values.iter().all(|v| v.is_finite()) {
+            return Err(format!(
+                "{}:{}: a line is six finite numbers `tx ty tz rx ry rz` (m, degrees), got {}",
+                path.display(),
+                n + 1,
+                values.len()
+            ));
+        }
+        out.push(KeyframeSpec {
+            time: out.len() as f64 * frame_time,
+            translation: [values[0], values[1], values[2]],
+            rotation: [values[3], values[4], values[5]],
+        });
+    }
+    if out.is_empty() {
+        return Err(format!(
+            "{}: no poses: one line `tx ty tz rx ry rz` an output frame",
+            path.display()
+        ));
+    }
+    Ok(out)
 }
 
 impl Collider {
-    /// Builds a collider from its scene entry.
-    pub fn from_spec(spec: &ColliderSpec) -> Collider {
-        match *spec {
-            ColliderSpec::Ground { height, friction } => Collider {
-                shape: ColliderShape::Ground,
-                center: [0.0, height, 0.0],
-                velocity: [0.0; 3],
-                mass: None,
-                gravity: false,
+    /// Builds collider `index` of `scene` from its entry; mesh files are read relative
+    /// to the scene.
+    pub fn from_spec(spec: &ColliderSpec, scene: &Scene, index: usize) -> Result<Collider> {
+        let still = |shape, center, velocity, mass, gravity, friction| Collider {
+            shape,
+            center,
+            velocity,
+            mass,
+            gravity,
+            friction,
+            rotation: IDENTITY,
+            angular_velocity: [0.0; 3],
+            time: 0.0,
+        };
+        Ok(match spec {
+            &ColliderSpec::Ground { height, friction } => still(
+                ColliderShape::Ground,
+                [0.0, height, 0.0],
+                [0.0; 3],
+                None,
+                false,
                 friction,
-            },
-            ColliderSpec::Sphere {
+            ),
+            &ColliderSpec::Sphere {
                 center,
                 radius,
                 velocity,
                 mass,
                 gravity,
                 friction,
-            } => Collider {
-                shape: ColliderShape::Sphere(radius),
+            } => still(
+                ColliderShape::Sphere(radius),
                 center,
                 velocity,
                 mass,
                 gravity,
                 friction,
-            },
-            ColliderSpec::Box {
+            ),
+            &ColliderSpec::Box {
                 center,
                 size,
                 velocity,
                 mass,
                 gravity,
                 friction,
-            } => Collider {
-                shape: ColliderShape::Box([size[0] / 2.0, size[1] / 2.0, size[2] / 2.0]),
+            } => still(
+                ColliderShape::Box([size[0] / 2.0, size[1] / 2.0, size[2] / 2.0]),
                 center,
                 velocity,
                 mass,
                 gravity,
                 friction,
-            },
+            ),
+            ColliderSpec::Mesh {
+                path,
+                pivot,
+                keyframes,
+                transforms,
+                friction,
+                ..
+            } => {
+                let fail = |message: String| SimError::Collider { index, message };
+                let shape = spec.mesh_shape().ok_or_else(|| fail("not a mesh".into()))?;
+                let placed = placement(&shape).unwrap_or_default();
+                let surface = TriMesh::load(&scene.base_dir.join(path), &placed)
+                    .map_err(|e| fail(e.to_string()))?;
+                let sdf = MeshSdf::new(&surface);
+                let (lo, hi) = sdf.bounds();
+                let pivot = pivot.unwrap_or([0, 1, 2].map(|k| 0.5 * (lo[k] + hi[k])));
+                let keys = match transforms {
+                    Some(file) => read_transforms(&scene.base_dir.join(file), scene.frame_time())
+                        .map_err(fail)?,
+                    None => keyframes.clone(),
+                };
+                let mesh = MeshCollider {
+                    sdf,
+                    lo,
+                    hi,
+                    pivot,
+                    keyframes: keys
+                        .iter()
+                        .map(|k| (k.time, k.translation, euler(k.rotation)))
+                        .collect(),
+                };
+                let mut collider = still(
+                    ColliderShape::Mesh(Arc::new(mesh)),
+                    pivot,
+                    [0.0; 3],
+                    None,
+                    false,
+                    *friction,
+                );
+                collider.set_time(0.0);
+                collider
+            }
+        })
+    }
+
+    /// Moves a mesh collider to its pose at time `t` (other colliders keep theirs).
+    pub fn set_time(&mut self, t: f64) {
+        self.time = t;
+        let ColliderShape::Mesh(mesh) = &self.shape else {
+            return;
+        };
+        let (translation, rotation, velocity, spin) = mesh.pose(t);
+        self.center = [0, 1, 2].map(|k| mesh.pivot[k] + translation[k]);
+        let r = rotation.to_rotation_matrix();
+        self.rotation = [0, 1, 2].map(|i| [0, 1, 2].map(|j| r[(i, j)]));
+        self.velocity = velocity;
+        self.angular_velocity = spin;
+    }
+
+    /// The rotation of a mesh collider as a unit quaternion [x, y, z, w] (the identity
+    /// for the others), for the manifest.
+    pub fn orientation(&self) -> [f64; 4] {
+        let r = perifrac_math::Rotation3::from_matrix_unchecked(perifrac_math::to_matrix(
+            self.rotation,
+        ));
+        let q = UnitQuaternion::from_rotation_matrix(&r);
+        [q.i, q.j, q.k, q.w]
+    }
+
+    /// The velocity of the collider's material at `p`: v + ω × (p − centre).
+    pub fn velocity_at(&self, p: [f64; 3]) -> [f64; 3] {
+        if !matches!(self.shape, ColliderShape::Mesh(_)) {
+            return self.velocity;
         }
+        let r = sub(p, self.center);
+        let w = self.angular_velocity;
+        [
+            self.velocity[0] + w[1] * r[2] - w[2] * r[1],
+            self.velocity[1] + w[2] * r[0] - w[0] * r[2],
+            self.velocity[2] + w[0] * r[1] - w[1] * r[0],
+        ]
     }
 
     /// If `p` is inside, the outward normal and the penetration depth.
     pub fn penetration(&self, p: [f64; 3]) -> Option<([f64; 3], f64)> {
-        match self.shape {
+        match &self.shape {
             ColliderShape::Ground => {
                 let depth = self.center[1] - p[1];
                 (depth > 0.0).then_some(([0.0, 1.0, 0.0], depth))
             }
-            ColliderShape::Sphere(radius) => {
+            &ColliderShape::Sphere(radius) => {
                 let d = sub(p, self.center);
                 let l = norm(d);
                 if l >= radius {
@@ -110,7 +358,7 @@ impl Collider {
                 };
                 Some((n, radius - l))
             }
-            ColliderShape::Box(half) => {
+            &ColliderShape::Box(half) => {
                 let mut best: Option<([f64; 3], f64)> = None;
                 for axis in 0..3 {
                     let d = p[axis] - self.center[axis];
@@ -125,6 +373,28 @@ impl Collider {
                     }
                 }
                 best
+            }
+            ColliderShape::Mesh(mesh) => {
+                // The point in the placed mesh's frame: pivot + Rᵀ(p − centre).
+                let d = sub(p, self.center);
+                let r = &self.rotation;
+                let local = [0, 1, 2]
+                    .map(|k| mesh.pivot[k] + r[0][k] * d[0] + r[1][k] * d[1] + r[2][k] * d[2]);
+                if (0..3).any(|k| local[k] < mesh.lo[k] || local[k] > mesh.hi[k]) {
+                    return None;
+                }
+                let depth = -mesh.sdf.distance(local);
+                if depth <= 0.0 {
+                    return None;
+                }
+                let out = sub(mesh.sdf.closest_point(local), local);
+                let l = norm(out);
+                let n = if l > 0.0 {
+                    out.map(|x| x / l)
+                } else {
+                    [0.0, 1.0, 0.0]
+                };
+                Some((mat_vec(self.rotation, n), depth))
             }
         }
     }
@@ -167,11 +437,8 @@ pub fn resolve(
                 for a in 0..3 {
                     p[a] += depth * n[a];
                 }
-                let rel = [
-                    v[0] - col.velocity[0],
-                    v[1] - col.velocity[1],
-                    v[2] - col.velocity[2],
-                ];
+                let cv = col.velocity_at(*p);
+                let rel = [v[0] - cv[0], v[1] - cv[1], v[2] - cv[2]];
                 let vn = dot(rel, n);
                 if vn >= 0.0 {
                     continue;
@@ -184,9 +451,9 @@ pub fn resolve(
                     0.0
                 };
                 let new = [
-                    col.velocity[0] + keep * tangential[0],
-                    col.velocity[1] + keep * tangential[1],
-                    col.velocity[2] + keep * tangential[2],
+                    cv[0] + keep * tangential[0],
+                    cv[1] + keep * tangential[1],
+                    cv[2] + keep * tangential[2],
                 ];
                 let dv = [new[0] - v[0], new[1] - v[1], new[2] - v[2]];
                 *v = new;
@@ -203,16 +470,21 @@ pub fn resolve(
     impulses
 }
 
-/// Moves the colliders by one step: dynamic ones take their impulses and gravity.
+/// Moves the colliders by one step: dynamic ones take their impulses and gravity,
+/// meshes go to their pose at the new time.
 pub fn advance(colliders: &mut [Collider], impulses: &[[f64; 3]], gravity: [f64; 3], dt: f64) {
     for (c, j) in colliders.iter_mut().zip(impulses) {
+        if matches!(c.shape, ColliderShape::Mesh(_)) {
+            c.set_time(c.time + dt);
+            continue;
+        }
         if let Some(m) = c.mass {
             let g = if c.gravity { gravity } else { [0.0; 3] };
             for a in 0..3 {
                 c.velocity[a] += j[a] / m + g[a] * dt;
             }
         }
-        if c.shape != ColliderShape::Ground {
+        if !matches!(c.shape, ColliderShape::Ground) {
             for a in 0..3 {
                 c.center[a] += c.velocity[a] * dt;
             }
@@ -345,7 +617,9 @@ pub fn energy_budget(
         .fold(0.0f64, |m, x| m.max(norm(*x)));
     let mut fastest = 0.0f64;
     for c in colliders {
-        if c.mass.is_none() {
+        if let ColliderShape::Mesh(mesh) = &c.shape {
+            fastest = fastest.max(mesh.max_speed());
+        } else if c.mass.is_none() {
             fastest = fastest.max(norm(c.velocity));
         }
     }
@@ -413,12 +687,29 @@ pub fn anchors(
 mod tests {
     use super::*;
 
+    fn test_scene() -> Scene {
+        let text = "[scene]\n[materials.m]\ndensity = 1.0\nbulk_modulus = 1.0\nshear_modulus = 1.0\n\
+                    [[body]]\nmaterial = \"m\"\nresolution = 0.1\nshape = { type = \"sphere\", center = [0, 0, 0], radius = 1 }\n";
+        Scene::parse(
+            text,
+            std::path::Path::new("t.toml"),
+            std::path::Path::new("."),
+        )
+        .expect("scene")
+    }
+
     #[test]
     fn ground_stops_and_frictions() {
-        let ground = Collider::from_spec(&ColliderSpec::Ground {
-            height: 0.0,
-            friction: 0.5,
-        });
+        let scene = test_scene();
+        let ground = Collider::from_spec(
+            &ColliderSpec::Ground {
+                height: 0.0,
+                friction: 0.5,
+            },
+            &scene,
+            0,
+        )
+        .expect("ground");
         let mut p = vec![[0.0, -0.01, 0.0]];
         let mut v = vec![[1.0, -1.0, 0.0]];
         resolve(&[ground], &mut p, &mut v, &[1.0], &[false]);
@@ -440,7 +731,7 @@ mod tests {
             gravity: false,
             friction: 0.0,
         };
-        let mut cols = vec![Collider::from_spec(&spec)];
+        let mut cols = vec![Collider::from_spec(&spec, &test_scene(), 0).expect("sphere")];
         let mut p = vec![[0.9, 0.0, 0.0]];
         let mut v = vec![[0.0; 3]];
         let j = resolve(&cols, &mut p, &mut v, &[2.0], &[false]);

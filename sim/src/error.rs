@@ -25,6 +25,14 @@ pub enum SimError {
         /// What went wrong.
         message: String,
     },
+    /// A collider could not be built (its mesh or transforms file).
+    #[error("collider {index}: {message}")]
+    Collider {
+        /// The collider's index in the scene (`[[collider]]` order, from 0).
+        index: usize,
+        /// What went wrong, with the file and line.
+        message: String,
+    },
     /// The run would not fit in memory or is otherwise not runnable as asked.
     #[error("{0}")]
     Refused(String),

@@ -35,6 +35,7 @@ pub mod membrane;
 pub mod memory;
 pub mod model;
 pub mod mpm;
+pub mod particle_contact;
 pub mod pd;
 pub mod run;
 pub mod world;

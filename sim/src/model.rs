@@ -17,6 +17,7 @@ use crate::cache::sheet::SheetFrame;
 use crate::cache::vtu::TetFrame;
 use crate::contact::{Anchor, Collider};
 use crate::error::Result;
+use crate::family::Bonds;
 
 /// A model's points, read-only.
 #[derive(Debug, Clone, Copy)]
@@ -64,6 +65,18 @@ pub struct ParticleColumns {
     /// Further columns the model adds (name, one value a particle), written after the
     /// standard ones.
     pub extra: Vec<(String, Vec<f32>)>,
+}
+
+/// What particle contact ([`crate::particle_contact`]) needs of a model's points.
+#[derive(Debug, Clone, Copy)]
+pub struct ContactPoints<'a> {
+    /// Volume of each point (m³); its particle spacing is V^{1/3}.
+    pub volume: &'a [f64],
+    /// The model's bonds: two points joined by an intact bond do not touch.
+    pub bonds: Option<&'a Bonds>,
+    /// Whether points of one body that no intact bond joins touch (fragments, crack
+    /// faces); without, only points of different bodies do.
+    pub self_contact: bool,
 }
 
 /// How a model's points are advanced in time.
@@ -156,6 +169,12 @@ pub trait Model: Any + Debug + Send + Sync {
     /// points' positions unless the particles are not the points.
     fn particle_positions(&self) -> Vec<[f64; 3]> {
         self.points().position.to_vec()
+    }
+
+    /// The points' data for particle contact, or `None` when they take no part in it
+    /// (the default).
+    fn contact_points(&self) -> Option<ContactPoints<'_>> {
+        None
     }
 
     /// Bonds the model holds (directed), for the manifest.

@@ -2,8 +2,10 @@
 //! with anchors, rigid colliders, damping and the blow-up detector, written once over
 //! [`Model`].
 //!
-//! One step is the list of stages `kick → drift → anchors → forces → kick → anchors →
-//! damping → contact`, each model's forces timed by the model, the rest by the world.
+//! One step is the list of stages `kick → drift → anchors → forces → particle contact →
+//! kick → anchors → damping → collider contact`, each model's forces timed by the
+//! model, particle contact ([`ParticleContact`], when the scene has it) and the rest by
+//! the world.
 //! Every model shares the world's time step: the smallest of their stable steps.
 
 use std::any::Any;
@@ -16,6 +18,7 @@ use crate::cache::checkpoint::{Decoder, Encoder};
 use crate::contact::{self, Anchor, Collider, ColliderShape};
 use crate::error::{Result, SimError};
 use crate::model::{Environment, Model, ParticleColumns, Stepping};
+use crate::particle_contact::ParticleContact;
 
 /// A model in the world with its anchors and the integrator's per-point state.
 #[derive(Debug)]
@@ -134,6 +137,8 @@ pub struct World {
     /// Seconds spent outside the models' stages (integration, anchors, contact,
     /// damping).
     pub other_time: f64,
+    /// Contact between the models' particles, when the scene has it.
+    pub contact: Option<ParticleContact>,
     /// Energy scale for blow-up detection (J).
     energy_budget: f64,
     /// Growth factor over the budget that counts as a blow-up.
@@ -153,6 +158,7 @@ impl World {
             steps: 0,
             anchor_work: 0.0,
             other_time: 0.0,
+            contact: None,
             energy_budget: 0.0,
             energy_growth: settings.energy_growth,
         };
@@ -217,10 +223,6 @@ impl World {
                     model_time += t.elapsed().as_secs_f64();
                     part.model
                         .accelerations(self.gravity, &mut part.acceleration);
-                    self.anchor_work += part.anchor_power() * dt;
-                    kick(part, dt, false);
-                    part.apply_anchors(time);
-                    part.model.damp(dt, &part.anchored);
                 }
                 Stepping::Own => {
                     let t = Instant::now();
@@ -234,6 +236,15 @@ impl World {
                     model_time += t.elapsed().as_secs_f64();
                     part.apply_anchors(time);
                 }
+            }
+        }
+        let contact_time = self.particle_contact();
+        for part in &mut self.parts {
+            if part.model.stepping() == Stepping::Verlet {
+                self.anchor_work += part.anchor_power() * dt;
+                kick(part, dt, false);
+                part.apply_anchors(time);
+                part.model.damp(dt, &part.anchored);
             }
         }
         self.time = time;
@@ -258,8 +269,49 @@ impl World {
         if self.steps % 16 == 0 {
             self.check_blowup()?;
         }
-        self.other_time += t0.elapsed().as_secs_f64() - model_time;
+        self.other_time += t0.elapsed().as_secs_f64() - model_time - contact_time;
         Ok(broken)
+    }
+
+    /// Adds the particle-contact forces (if the scene has particle contact) to the
+    /// Verlet parts' accelerations, a += F/m; returns the seconds it took.
+    fn particle_contact(&mut self) -> f64 {
+        let Some(contact) = &mut self.contact else {
+            return 0.0;
+        };
+        let t = Instant::now();
+        let models: Vec<&dyn Model> = self.parts.iter().map(|p| p.model.as_ref()).collect();
+        contact.compute(&models);
+        for (p, part) in self.parts.iter_mut().enumerate() {
+            if part.model.stepping() != Stepping::Verlet {
+                continue;
+            }
+            let force = contact.force(p);
+            if force.is_empty() {
+                continue;
+            }
+            let mass = part.model.points().mass;
+            part.acceleration
+                .par_iter_mut()
+                .zip(force.par_iter())
+                .zip(mass.par_iter())
+                .with_min_len(1024)
+                .for_each(|((a, f), m)| {
+                    for k in 0..3 {
+                        a[k] += f[k] / m;
+                    }
+                });
+        }
+        let elapsed = t.elapsed().as_secs_f64();
+        contact.time += elapsed;
+        elapsed
+    }
+
+    /// Turns particle contact on: its forces at the current state join the
+    /// accelerations of the first half kick.
+    pub fn set_particle_contact(&mut self, contact: ParticleContact) {
+        self.contact = Some(contact);
+        self.particle_contact();
     }
 
     /// The first model of type `T`, for measurements and tests that read a model's own
@@ -409,12 +461,18 @@ impl World {
                 }
             }
         }
+        if let Some(contact) = &self.contact {
+            out.push(("particle contact", contact.time));
+        }
         out
     }
 
     /// Sets every stage timer back to zero (benchmarks).
     pub fn reset_times(&mut self) {
         self.other_time = 0.0;
+        if let Some(contact) = &mut self.contact {
+            contact.time = 0.0;
+        }
         for part in &mut self.parts {
             part.model.reset_stage_times();
         }
@@ -499,9 +557,13 @@ impl World {
                 }
             }
             (c.center, c.velocity) = (cv[0], cv[1]);
+            c.set_time(time);
         }
         self.time = time;
         self.steps = steps;
+        if let Some(contact) = &mut self.contact {
+            contact.invalidate();
+        }
         for part in &mut self.parts {
             part.anchored.iter_mut().for_each(|a| *a = false);
             for anchor in &part.anchors {

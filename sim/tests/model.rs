@@ -11,7 +11,7 @@ use perifrac_sim::cache::Layout;
 use perifrac_sim::cache::checkpoint::{Decoder, Encoder};
 use perifrac_sim::cache::manifest::{Manifest, Timings};
 use perifrac_sim::cache::ply::ParticleFrame;
-use perifrac_sim::contact::{self, Collider};
+use perifrac_sim::contact;
 use perifrac_sim::error::Result;
 use perifrac_sim::geometry::discretize::discretize;
 use perifrac_sim::model::{Model, ParticleColumns, Points, PointsMut};
@@ -187,7 +187,7 @@ fn springs_world(scene: &Scene) -> Prepared {
     let steps_per_frame = (scene.frame_time() / (0.5 * stable.0)).ceil() as usize;
     let world = World::new(
         vec![Part::new(Box::new(model), anchors)],
-        scene.colliders.iter().map(Collider::from_spec).collect(),
+        contact::colliders(scene).expect("colliders"),
         WorldSettings {
             gravity: scene.scene.gravity,
             dt: scene.frame_time() / steps_per_frame as f64,

@@ -91,8 +91,9 @@ pub(super) fn validate(scene: &Scene) -> Check {
     fem(scene)?;
     membrane(scene)?;
     for (i, c) in scene.colliders.iter().enumerate() {
-        collider(&i.to_string(), c)?;
+        collider(scene, &i.to_string(), c)?;
     }
+    contact(scene)?;
     vdb(&scene.output.vdb)?;
     if scene.output.tets == Some(false) && scene.output.surface == SurfaceMethod::Embedded {
         return Err(issue(
@@ -846,7 +847,64 @@ fn shape(scene: &Scene, path: &[&str], s: &ShapeSpec) -> Check {
     Ok(())
 }
 
-fn collider(i: &str, c: &ColliderSpec) -> Check {
+fn contact(scene: &Scene) -> Check {
+    let c = &scene.contact;
+    let p = |key: &'static str| ["contact", key];
+    positive(
+        &p("stiffness"),
+        c.stiffness,
+        "the contact stiffness (a multiple of the bond micromodulus)",
+    )?;
+    if !(c.distance.is_finite() && c.distance > 0.0 && c.distance <= 1.5) {
+        return Err(issue(
+            &p("distance"),
+            format!(
+                "the contact distance must be in (0, 1.5] particle spacings (0.9 is usual), got {}",
+                c.distance
+            ),
+        ));
+    }
+    if !(c.damping.is_finite() && (0.0..=1.0).contains(&c.damping)) {
+        return Err(issue(
+            &p("damping"),
+            format!(
+                "the damping ratio must be in [0, 1] (1 is critical), got {}",
+                c.damping
+            ),
+        ));
+    }
+    if !(c.friction.is_finite() && c.friction >= 0.0) {
+        return Err(issue(
+            &p("friction"),
+            format!("friction must be ≥ 0, got {}", c.friction),
+        ));
+    }
+    if scene.particle_contact() {
+        if let Some(b) = scene
+            .bodies
+            .iter()
+            .position(|b| matches!(b.model, ModelKind::Membrane | ModelKind::Mpm))
+        {
+            if c.particles == Some(true) {
+                return Err(issue(
+                    &p("particles"),
+                    format!(
+                        "body {} is a {} and its particles take no part in particle contact (MPM collides through its grid; membranes have no volume): set particles = false",
+                        scene.bodies[b].name,
+                        if scene.bodies[b].model == ModelKind::Mpm {
+                            "MPM body"
+                        } else {
+                            "membrane"
+                        }
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+fn collider(scene: &Scene, i: &str, c: &ColliderSpec) -> Check {
     let p = |key: &'static str| ["collider", i, key];
     let friction = match c {
         ColliderSpec::Ground { height, friction } => {
@@ -889,6 +947,54 @@ fn collider(i: &str, c: &ColliderSpec) -> Check {
             }
             if let Some(m) = mass {
                 positive(&p("mass"), *m, "the mass (kg)")?;
+            }
+            *friction
+        }
+        ColliderSpec::Mesh {
+            pivot,
+            keyframes,
+            transforms,
+            friction,
+            ..
+        } => {
+            if let Some(shape_spec) = c.mesh_shape() {
+                shape(scene, &["collider", i], &shape_spec)?;
+            }
+            if let Some(pivot) = pivot {
+                finite3(&p("pivot"), *pivot)?;
+            }
+            if transforms.is_some() && !keyframes.is_empty() {
+                return Err(issue(
+                    &p("transforms"),
+                    "a mesh collider moves by keyframes or by a transforms file, not both: remove one",
+                ));
+            }
+            if let Some(file) = transforms {
+                let full = scene.base_dir.join(file);
+                if !full.is_file() {
+                    return Err(issue(
+                        &p("transforms"),
+                        format!(
+                            "transforms file {} does not exist (paths are relative to the scene file)",
+                            full.display()
+                        ),
+                    ));
+                }
+            }
+            let mut last = f64::NEG_INFINITY;
+            for (k, key) in keyframes.iter().enumerate() {
+                if !(key.time.is_finite() && key.time >= 0.0 && key.time > last) {
+                    return Err(issue(
+                        &p("keyframes"),
+                        format!(
+                            "keyframe {k}: times must be finite, ≥ 0 s and increasing, got {} after {last}",
+                            key.time
+                        ),
+                    ));
+                }
+                last = key.time;
+                finite3(&p("keyframes"), key.translation)?;
+                finite3(&p("keyframes"), key.rotation)?;
             }
             *friction
         }

@@ -9,7 +9,7 @@ use rayon::prelude::*;
 use super::FemModel;
 use crate::cache::checkpoint::{Decoder, Encoder};
 use crate::error::Result;
-use crate::model::{Model, ParticleColumns, Points, PointsMut};
+use crate::model::{ContactPoints, Model, ParticleColumns, Points, PointsMut};
 
 /// A [`FemModel`] with the time spent in its force kernel.
 #[derive(Debug, Clone)]
@@ -18,14 +18,20 @@ pub struct Fem {
     pub model: FemModel,
     /// Seconds spent computing internal forces.
     force_time: f64,
+    /// Each vertex's share of its body's volume, m/ρ (particle contact).
+    vertex_volume: Vec<f64>,
 }
 
 impl Fem {
     /// The model.
     pub fn new(model: FemModel) -> Fem {
+        let vertex_volume = (0..model.mass.len())
+            .map(|i| model.mass[i] / model.bodies[model.vertex_body[i] as usize].material.density)
+            .collect();
         Fem {
             model,
             force_time: 0.0,
+            vertex_volume,
         }
     }
 }
@@ -165,6 +171,16 @@ impl Model for Fem {
 
     /// Vertex positions and velocities, and the corotated tets' rotations (the warm
     /// start of the polar decomposition, which the next forces depend on).
+    /// Vertices of different bodies touch; a body's own vertices never do (the
+    /// reference FEM does not fracture).
+    fn contact_points(&self) -> Option<ContactPoints<'_>> {
+        Some(ContactPoints {
+            volume: &self.vertex_volume,
+            bonds: None,
+            self_contact: false,
+        })
+    }
+
     fn save(&self, out: &mut Encoder) {
         let m = &self.model;
         out.put_f64x3_slice(&m.position);

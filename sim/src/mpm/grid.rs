@@ -510,19 +510,20 @@ impl SparseGrid {
 /// slips, a finite μ rubs, `friction = inf` sticks (the node takes the collider's
 /// velocity, separating or not).
 fn collide(c: &Collider, x: [f64; 3], v: &mut [f64; 3]) {
-    let normal = match c.shape {
+    let normal = match &c.shape {
         ColliderShape::Ground => (x[1] <= c.center[1]).then_some([0.0, 1.0, 0.0]),
         _ => c.penetration(x).map(|(n, _)| n),
     };
     let Some(n) = normal else {
         return;
     };
+    let cv = c.velocity_at(x);
     if c.friction == f64::INFINITY {
-        // Sticky: the node moves with the collider.
-        *v = c.velocity;
+        // Sticky: the node moves with the collider's surface.
+        *v = cv;
         return;
     }
-    let rel = [0, 1, 2].map(|a| v[a] - c.velocity[a]);
+    let rel = [0, 1, 2].map(|a| v[a] - cv[a]);
     let vn = rel[0] * n[0] + rel[1] * n[1] + rel[2] * n[2];
     if vn >= 0.0 {
         return;
@@ -534,5 +535,5 @@ fn collide(c: &Collider, x: [f64; 3], v: &mut [f64; 3]) {
     } else {
         0.0
     };
-    *v = [0, 1, 2].map(|a| c.velocity[a] + keep * t[a]);
+    *v = [0, 1, 2].map(|a| cv[a] + keep * t[a]);
 }

@@ -11,7 +11,7 @@ use crate::cache::vtu::TetFrame;
 use crate::embed::{EmbeddedMesh, NO_PARENT, deformation_gradients};
 use crate::error::Result;
 use crate::family::{BROKEN, INDEX};
-use crate::model::{Model, ParticleColumns, Points, PointsMut};
+use crate::model::{ContactPoints, Model, ParticleColumns, Points, PointsMut};
 
 /// A [`PdModel`] with its particle masses and, when the scene writes `tets/`, its
 /// embedded tet mesh.
@@ -169,6 +169,15 @@ impl Model for Peridynamics {
 
     fn bonds(&self) -> usize {
         self.model.bonds.len()
+    }
+
+    /// Particles touch across bodies and, where no intact bond joins them, within one.
+    fn contact_points(&self) -> Option<ContactPoints<'_>> {
+        Some(ContactPoints {
+            volume: &self.model.reference.volume,
+            bonds: Some(&self.model.bonds),
+            self_contact: true,
+        })
     }
 
     /// Positions, velocities, the bonds' broken bits and the plastic extensions;

@@ -13,6 +13,7 @@ use crate::cache::Layout;
 use crate::cache::checkpoint::{Checkpoint, Encoder};
 use crate::cache::manifest::{BodyInfo, Manifest, Status, Timings};
 use crate::cache::ply::ParticleFrame;
+use crate::contact::ColliderShape;
 use crate::error::{Result, SimError};
 use crate::scene::Scene;
 use crate::world::World;
@@ -74,6 +75,7 @@ impl<'a> Frames<'a> {
         self.broken_total = from.broken_bonds;
         self.manifest.frame_times = from.manifest.frame_times;
         self.manifest.collider_centers = from.manifest.collider_centers;
+        self.manifest.collider_rotations = from.manifest.collider_rotations;
         self.manifest.files = from.manifest.files;
         // Where it stood, should nothing be left to run (`--resume --frames` at the
         // frame it stopped at).
@@ -139,6 +141,15 @@ impl<'a> Frames<'a> {
             self.manifest
                 .collider_centers
                 .push(world.colliders.iter().map(|c| c.center).collect());
+            if world
+                .colliders
+                .iter()
+                .any(|c| matches!(c.shape, ColliderShape::Mesh(_)))
+            {
+                self.manifest
+                    .collider_rotations
+                    .push(world.colliders.iter().map(|c| c.orientation()).collect());
+            }
             let last = frame == frames + 1;
             let stop = self.stop.reason().filter(|_| !last);
             let (status, message) = match (&stop, last) {

@@ -7,7 +7,7 @@ use std::time::Instant;
 use perifrac_math::sub;
 
 use crate::cache::manifest::Timings;
-use crate::contact::{self, Collider, centroid};
+use crate::contact::{self, centroid};
 use crate::embed::EmbeddedMesh;
 use crate::error::{Result, SimError};
 use crate::family::{self, Solid};
@@ -17,7 +17,9 @@ use crate::geometry::discretize::{Discretization, discretize};
 use crate::geometry::shape::{is_convex, to_sdf};
 use crate::material::Material;
 use crate::membrane::{Membrane, MembraneModel};
+use crate::model::Model;
 use crate::mpm::Mpm;
+use crate::particle_contact::ParticleContact;
 use crate::pd::{BodyModel, PdModel, Peridynamics, cut_initial_cracks};
 use crate::scene::{ModelKind, Scene};
 use crate::world::{Part, World, WorldSettings};
@@ -72,14 +74,24 @@ pub fn prepare_discretized(scene: &Scene, disc: Discretization) -> Result<Prepar
         peridynamic_part(scene, &disc)?
     };
     let parts = vec![part];
-    let stable = parts
+    let mut stable = parts
         .iter()
         .map(|p| p.model.stable_time_step())
         .fold((f64::INFINITY, 0), |a, b| if b.0 < a.0 { b } else { a });
+    let contact = scene.particle_contact().then(|| {
+        let models: Vec<&dyn Model> = parts.iter().map(|p| p.model.as_ref()).collect();
+        ParticleContact::new(scene, &models)
+    });
+    if let Some(contact) = &contact {
+        let bound = contact.stable_time_step();
+        if bound.0 < stable.0 {
+            stable = bound;
+        }
+    }
     let t_setup = t1.elapsed().as_secs_f64();
     let (dt, steps_per_frame) = time_step(scene, stable)?;
-    let colliders = scene.colliders.iter().map(Collider::from_spec).collect();
-    let world = World::new(
+    let colliders = contact::colliders(scene)?;
+    let mut world = World::new(
         parts,
         colliders,
         WorldSettings {
@@ -89,6 +101,9 @@ pub fn prepare_discretized(scene: &Scene, disc: Discretization) -> Result<Prepar
             energy_growth: scene.scene.blowup_energy_growth,
         },
     );
+    if let Some(contact) = contact {
+        world.set_particle_contact(contact);
+    }
     Ok(Prepared {
         world,
         discretization: disc,

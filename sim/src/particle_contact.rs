@@ -1,0 +1,436 @@
+//! Contact between particles: of different bodies, and of one body where no intact
+//! bond joins them (fragments, the faces of an initial crack). The short-range force
+//! of Silling & Askari 2005 §5 (as in LAMMPS PERI), with normal damping and Coulomb
+//! friction; the derivation and the choices are in `docs/contact.md`.
+//!
+//! For particles i, j at distance r = |y_i − y_j| below their contact distance d_ij the
+//! force on i is
+//!
+//! ```text
+//! F_ij = (k_ij (d_ij − r) − c_n v_n) n + F_t,      n = (y_i − y_j)/r,  v_n = (v_i − v_j)·n
+//! k_ij = s · min(c_i/δ_i, c_j/δ_j) V_i V_j,        c = 18κ/(πδ⁴) (the bond micromodulus)
+//! c_n  = 2ζ √(k_ij m_ij),                          m_ij = m_i m_j/(m_i + m_j)
+//! F_t  = −min(μ |F_n|, √(k_ij m_ij) |v_t|) v_t/|v_t|   (Coulomb, regularised at slip onset)
+//! d_ij = ϱ (l_i + l_j)/2,  l = V^{1/3};   one body: min(d_ij, ϱ|x_i − x_j|)
+//! ```
+//!
+//! with s = `[contact] stiffness` (15), ϱ = `distance` (0.9), ζ = `damping`, μ =
+//! `friction`; the normal force never pulls (F_n ≥ 0). F_ji = −F_ij bit for bit, so
+//! momentum is conserved to rounding.
+//!
+//! Candidates come from a cell list over every participating point, kept as a Verlet
+//! list with a skin: it is rebuilt only when some point has moved more than half the
+//! skin since the last build. Each point gathers its own pairs in increasing index
+//! order, so the forces are the same bytes with any thread count.
+
+use std::collections::HashMap;
+use std::f64::consts::PI;
+
+use perifrac_math::{dot, sub};
+use rayon::prelude::*;
+
+use crate::family::{BROKEN, Bonds, INDEX};
+use crate::material::Material;
+use crate::model::Model;
+use crate::scene::Scene;
+
+/// A candidate pair has no bond joining it.
+const NO_BOND: u32 = u32::MAX;
+
+/// The skin of the Verlet list, as a fraction of the largest contact distance.
+const SKIN: f64 = 0.3;
+
+/// A candidate partner of a point.
+#[derive(Debug, Clone, Copy)]
+struct Pair {
+    /// The partner's global index.
+    j: u32,
+    /// The bond i→j in the point's model, or [`NO_BOND`].
+    bond: u32,
+    /// The bond j→i, or [`NO_BOND`]: the pair is excluded while either is intact, so
+    /// that i and j agree.
+    reverse: u32,
+    /// Contact distance d_ij (m).
+    reach: f64,
+}
+
+/// The particle-contact settings of `[contact]`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactSettings {
+    /// Damping ratio ζ of the normal spring.
+    pub damping: f64,
+    /// Coulomb friction coefficient μ.
+    pub friction: f64,
+    /// Contact distance ϱ in particle spacings.
+    pub distance: f64,
+}
+
+/// Particle contact over the parts of a world: the points' fixed data, the Verlet
+/// list and its scratch arrays (nothing here is saved in checkpoints: the list is
+/// rebuilt on the first step after a resume).
+#[derive(Debug, Clone)]
+pub struct ParticleContact {
+    settings: ContactSettings,
+    /// First global index of each part's points; a part that takes no part has an
+    /// empty range.
+    offsets: Vec<usize>,
+    /// Part of each global point.
+    part: Vec<u32>,
+    /// Scene body of each point.
+    body: Vec<u32>,
+    /// Particle spacing l = V^{1/3} (m).
+    spacing: Vec<f64>,
+    /// s c/δ (N/m⁷): k_ij = min(modulus_i, modulus_j) V_i V_j.
+    modulus: Vec<f64>,
+    /// Volume V (m³).
+    volume: Vec<f64>,
+    /// Mass (kg).
+    mass: Vec<f64>,
+    /// Reference position x (m).
+    reference: Vec<[f64; 3]>,
+    /// Whether unbonded points of one body of this part touch.
+    self_contact: Vec<bool>,
+    /// The largest contact distance (m).
+    max_reach: f64,
+    /// Positions at the last build of the list.
+    built_at: Vec<[f64; 3]>,
+    /// The Verlet list: pairs of point i are `pairs[pair_offsets[i]..pair_offsets[i + 1]]`.
+    pair_offsets: Vec<usize>,
+    pairs: Vec<Pair>,
+    /// Scratch: gathered positions, velocities and the contact forces.
+    position: Vec<[f64; 3]>,
+    velocity: Vec<[f64; 3]>,
+    force: Vec<[f64; 3]>,
+    /// Wall time spent (s).
+    pub time: f64,
+    /// Builds of the Verlet list so far.
+    pub builds: u64,
+}
+
+impl ParticleContact {
+    /// Contact over the points of `models` whose [`Model::contact_points`] is given,
+    /// with each scene body's bond micromodulus (the body's κ and δ).
+    pub fn new(scene: &Scene, models: &[&dyn Model]) -> ParticleContact {
+        let c = &scene.contact;
+        // s c/δ = s · 18κ/(πδ⁵), per scene body.
+        let modulus: Vec<f64> = scene
+            .bodies
+            .iter()
+            .map(|b| {
+                let kappa = Material::from_spec(&scene.materials[&b.material]).bulk_modulus;
+                let delta = b.delta();
+                c.stiffness * 18.0 * kappa / (PI * delta.powi(5))
+            })
+            .collect();
+        let mut out = ParticleContact {
+            settings: ContactSettings {
+                damping: c.damping,
+                friction: c.friction,
+                distance: c.distance,
+            },
+            offsets: Vec::with_capacity(models.len() + 1),
+            part: Vec::new(),
+            body: Vec::new(),
+            spacing: Vec::new(),
+            modulus: Vec::new(),
+            volume: Vec::new(),
+            mass: Vec::new(),
+            reference: Vec::new(),
+            self_contact: Vec::new(),
+            max_reach: 0.0,
+            built_at: Vec::new(),
+            pair_offsets: Vec::new(),
+            pairs: Vec::new(),
+            position: Vec::new(),
+            velocity: Vec::new(),
+            force: Vec::new(),
+            time: 0.0,
+            builds: 0,
+        };
+        for (p, model) in models.iter().enumerate() {
+            out.offsets.push(out.part.len());
+            let contact = model.contact_points();
+            out.self_contact
+                .push(contact.as_ref().is_some_and(|c| c.self_contact));
+            let Some(contact) = contact else { continue };
+            let points = model.points();
+            let bodies = model.point_bodies();
+            for i in 0..points.position.len() {
+                let v = contact.volume[i];
+                out.part.push(p as u32);
+                out.body.push(bodies[i]);
+                out.spacing.push(v.cbrt());
+                out.modulus.push(modulus[bodies[i] as usize]);
+                out.volume.push(v);
+                out.mass.push(points.mass[i]);
+                out.reference.push(points.reference[i]);
+            }
+        }
+        out.offsets.push(out.part.len());
+        let n = out.part.len();
+        out.position = vec![[0.0; 3]; n];
+        out.velocity = vec![[0.0; 3]; n];
+        out.force = vec![[0.0; 3]; n];
+        let widest = out.spacing.iter().fold(0.0f64, |m, &l| m.max(l));
+        out.max_reach = c.distance * widest;
+        out
+    }
+
+    /// How many points take part.
+    pub fn len(&self) -> usize {
+        self.part.len()
+    }
+
+    /// Whether no point takes part.
+    pub fn is_empty(&self) -> bool {
+        self.part.is_empty()
+    }
+
+    /// The stable time step of the contact springs alone, and the point that limits
+    /// it. A point is assumed to touch N = (4π/3) ϱ³ + 1 partners as stiff as itself
+    /// (the points of an overlapping body of its density inside its contact sphere,
+    /// plus one): λ_max ≤ N k_ii/m_i by Gershgorin; the damped step is
+    /// (2/ω)(√(1 + ζ²) − ζ).
+    pub fn stable_time_step(&self) -> (f64, usize) {
+        let partners = 4.0 * PI / 3.0 * self.settings.distance.powi(3) + 1.0;
+        let zeta = self.settings.damping;
+        let (worst, rate) = (0..self.len())
+            .map(|i| {
+                let k = self.modulus[i] * self.volume[i] * self.volume[i];
+                (i, partners * k / self.mass[i])
+            })
+            .fold((0, 0.0f64), |a, b| if b.1 > a.1 { b } else { a });
+        if rate <= 0.0 {
+            return (f64::INFINITY, worst);
+        }
+        let local = worst - self.offsets[self.part[worst] as usize];
+        (
+            2.0 / rate.sqrt() * ((1.0 + zeta * zeta).sqrt() - zeta),
+            local,
+        )
+    }
+
+    /// The global range of part `p`'s points.
+    pub fn range(&self, p: usize) -> std::ops::Range<usize> {
+        self.offsets[p]..self.offsets[p + 1]
+    }
+
+    /// Computes the contact forces at the models' current positions and velocities;
+    /// [`ParticleContact::force`] then gives them part by part.
+    pub fn compute(&mut self, models: &[&dyn Model]) {
+        for (p, model) in models.iter().enumerate() {
+            let range = self.range(p);
+            if range.is_empty() {
+                continue;
+            }
+            let points = model.points();
+            self.position[range.clone()].copy_from_slice(points.position);
+            self.velocity[range].copy_from_slice(points.velocity);
+        }
+        if self.needs_build() {
+            self.build(models);
+        }
+        let bonds: Vec<Option<&Bonds>> = models
+            .iter()
+            .map(|m| m.contact_points().and_then(|c| c.bonds))
+            .collect();
+        let mut force = std::mem::take(&mut self.force);
+        let this = &*self;
+        force
+            .par_iter_mut()
+            .enumerate()
+            .with_min_len(512)
+            .for_each(|(i, f)| *f = this.force_on(i, &bonds));
+        self.force = force;
+    }
+
+    /// The contact forces (N) on part `p`'s points after [`ParticleContact::compute`].
+    pub fn force(&self, p: usize) -> &[[f64; 3]] {
+        &self.force[self.range(p)]
+    }
+
+    /// Drops the Verlet list (after a resume): the next step rebuilds it.
+    pub fn invalidate(&mut self) {
+        self.built_at.clear();
+    }
+
+    /// Whether the list is missing or some point moved more than half the skin since
+    /// it was built.
+    fn needs_build(&self) -> bool {
+        if self.built_at.len() != self.len() {
+            return true;
+        }
+        let half_skin = 0.5 * SKIN * self.max_reach;
+        let limit = half_skin * half_skin;
+        self.position
+            .par_iter()
+            .zip(self.built_at.par_iter())
+            .with_min_len(4096)
+            .any(|(y, y0)| {
+                let d = sub(*y, *y0);
+                dot(d, d) > limit
+            })
+    }
+
+    /// Rebuilds the Verlet list from a cell list of cell size d_max + skin: every
+    /// pair closer than its contact distance plus the skin, in increasing partner
+    /// order, with the bond joining it if any.
+    fn build(&mut self, models: &[&dyn Model]) {
+        let n = self.len();
+        let skin = SKIN * self.max_reach;
+        let cell = self.max_reach + skin;
+        let key = |y: [f64; 3]| y.map(|x| (x / cell).floor() as i64);
+        let mut sorted: Vec<([i64; 3], u32)> = (0..n as u32)
+            .into_par_iter()
+            .map(|i| (key(self.position[i as usize]), i))
+            .collect();
+        sorted.par_sort_unstable();
+        let mut cells: HashMap<[i64; 3], (usize, usize)> = HashMap::new();
+        let mut start = 0;
+        for k in 1..=sorted.len() {
+            if k == sorted.len() || sorted[k].0 != sorted[start].0 {
+                cells.insert(sorted[start].0, (start, k));
+                start = k;
+            }
+        }
+        let bonds: Vec<Option<&Bonds>> = models
+            .iter()
+            .map(|m| m.contact_points().and_then(|c| c.bonds))
+            .collect();
+        let this = &*self;
+        let lists: Vec<Vec<Pair>> = (0..n)
+            .into_par_iter()
+            .with_min_len(256)
+            .map(|i| {
+                let y = this.position[i];
+                let c = key(y);
+                let mut out = Vec::new();
+                for dx in -1..=1 {
+                    for dy in -1..=1 {
+                        for dz in -1..=1 {
+                            let Some(&(a, b)) = cells.get(&[c[0] + dx, c[1] + dy, c[2] + dz])
+                            else {
+                                continue;
+                            };
+                            for &(_, j) in &sorted[a..b] {
+                                if let Some(pair) = this.candidate(i, j as usize, skin, &bonds) {
+                                    out.push(pair);
+                                }
+                            }
+                        }
+                    }
+                }
+                out.sort_unstable_by_key(|p| p.j);
+                out
+            })
+            .collect();
+        self.pair_offsets.clear();
+        self.pair_offsets.push(0);
+        self.pairs.clear();
+        for list in lists {
+            self.pairs.extend(list);
+            self.pair_offsets.push(self.pairs.len());
+        }
+        self.built_at.clone_from(&self.position);
+        self.builds += 1;
+    }
+
+    /// The pair (i, j) if it belongs in the list.
+    fn candidate(&self, i: usize, j: usize, skin: f64, bonds: &[Option<&Bonds>]) -> Option<Pair> {
+        if i == j {
+            return None;
+        }
+        let part = self.part[i] as usize;
+        let one_body = self.part[j] as usize == part && self.body[i] == self.body[j];
+        if one_body && !self.self_contact[part] {
+            return None;
+        }
+        let mut reach = self.settings.distance * 0.5 * (self.spacing[i] + self.spacing[j]);
+        if one_body {
+            let rest = sub(self.reference[i], self.reference[j]);
+            reach = reach.min(self.settings.distance * dot(rest, rest).sqrt());
+        }
+        let d = sub(self.position[i], self.position[j]);
+        let cutoff = reach + skin;
+        if dot(d, d) >= cutoff * cutoff {
+            return None;
+        }
+        let (mut bond, mut reverse) = (NO_BOND, NO_BOND);
+        if self.part[j] as usize == part {
+            if let Some(b) = bonds[part] {
+                let local = |x: usize| x - self.offsets[part];
+                bond = bond_index(b, local(i), local(j));
+                reverse = bond_index(b, local(j), local(i));
+            }
+        }
+        Some(Pair {
+            j: j as u32,
+            bond,
+            reverse,
+            reach,
+        })
+    }
+
+    /// The contact force on point i: its pairs summed in list order.
+    fn force_on(&self, i: usize, bonds: &[Option<&Bonds>]) -> [f64; 3] {
+        let mut total = [0.0; 3];
+        let (yi, vi) = (self.position[i], self.velocity[i]);
+        let part_bonds = bonds[self.part[i] as usize];
+        for pair in &self.pairs[self.pair_offsets[i]..self.pair_offsets[i + 1]] {
+            let j = pair.j as usize;
+            let d = sub(yi, self.position[j]);
+            let r2 = dot(d, d);
+            if r2 >= pair.reach * pair.reach || r2 == 0.0 {
+                continue;
+            }
+            let intact = |k: u32| {
+                k != NO_BOND && part_bonds.is_some_and(|b| b.neighbours[k as usize] & BROKEN == 0)
+            };
+            if intact(pair.bond) || intact(pair.reverse) {
+                continue;
+            }
+            let f = self.pair_force(i, j, pair.reach, d, r2.sqrt(), vi);
+            for a in 0..3 {
+                total[a] += f[a];
+            }
+        }
+        total
+    }
+
+    /// The force on i from j (module doc), written so that swapping i and j gives
+    /// exactly the opposite vector.
+    fn pair_force(
+        &self,
+        i: usize,
+        j: usize,
+        reach: f64,
+        d: [f64; 3],
+        r: f64,
+        vi: [f64; 3],
+    ) -> [f64; 3] {
+        let s = &self.settings;
+        let n = d.map(|x| x / r);
+        let k = self.modulus[i].min(self.modulus[j]) * (self.volume[i] * self.volume[j]);
+        let m = self.mass[i] * self.mass[j] / (self.mass[i] + self.mass[j]);
+        let critical = (k * m).sqrt();
+        let rel = sub(vi, self.velocity[j]);
+        let vn = dot(rel, n);
+        let normal = (k * (reach - r) - 2.0 * s.damping * critical * vn).max(0.0);
+        let tangential = [rel[0] - vn * n[0], rel[1] - vn * n[1], rel[2] - vn * n[2]];
+        let vt = dot(tangential, tangential).sqrt();
+        let friction = if vt > 0.0 {
+            (s.friction * normal).min(critical * vt) / vt
+        } else {
+            0.0
+        };
+        [0, 1, 2].map(|a| normal * n[a] - friction * tangential[a])
+    }
+}
+
+/// The index of the bond i→j in `bonds` (rows are sorted by neighbour), or [`NO_BOND`].
+fn bond_index(bonds: &Bonds, i: usize, j: usize) -> u32 {
+    let row = bonds.range(i);
+    bonds.neighbours[row.clone()]
+        .binary_search_by_key(&(j as u32), |&x| x & INDEX)
+        .map_or(NO_BOND, |k| (row.start + k) as u32)
+}
