@@ -225,10 +225,8 @@ pub fn simulate(
     }
     match scene.output.surface {
         SurfaceMethod::None => {}
-        SurfaceMethod::Vdb => crate::surface::stage(out, &scene.output.vdb, quiet)?,
-        SurfaceMethod::Embedded => {
-            crate::surface::embedded_stage(out, &scene.output.embedded, quiet)?
-        }
+        SurfaceMethod::Vdb => crate::surface::stage(out, &scene.output, quiet)?,
+        SurfaceMethod::Embedded => crate::surface::embedded_stage(out, &scene.output, quiet)?,
     }
     let preview = if scene.output.preview {
         crate::render::stage(out, threads, quiet)

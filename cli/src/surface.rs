@@ -8,7 +8,7 @@ use std::time::Duration;
 
 use indicatif::{ProgressBar, ProgressStyle};
 use perifrac_cache::Layout;
-use perifrac_cache::scene::{EmbeddedSpec, Scene, VdbSpec};
+use perifrac_cache::scene::{OutputSpec, Scene};
 use perifrac_render::gltf::Glb;
 use perifrac_surface::SurfaceError;
 
@@ -36,8 +36,8 @@ pub fn command(config: &SurfaceConfig, quiet: bool) -> Result<(), Failure> {
     set_threads(config.threads)?;
     let scene = Scene::load(&Layout::new(&config.out).scene())?;
     match config.method {
-        SurfaceMethodArg::Vdb => stage(&config.out, &scene.output.vdb, quiet),
-        SurfaceMethodArg::Embedded => embedded_stage(&config.out, &scene.output.embedded, quiet),
+        SurfaceMethodArg::Vdb => stage(&config.out, &scene.output, quiet),
+        SurfaceMethodArg::Embedded => embedded_stage(&config.out, &scene.output, quiet),
     }
 }
 
@@ -58,13 +58,15 @@ fn progress(quiet: bool) -> ProgressBar {
 }
 
 /// Runs the `embedded` method over every frame of the cache in `out`.
-pub fn embedded_stage(out: &Path, spec: &EmbeddedSpec, quiet: bool) -> Result<(), Failure> {
+pub fn embedded_stage(out: &Path, output: &OutputSpec, quiet: bool) -> Result<(), Failure> {
     let layout = Layout::new(out);
     let bar = progress(quiet);
-    let report = perifrac_surface::embedded::stage(&layout, spec, &Glb, &|done, total| {
-        bar.set_length(total as u64);
-        bar.set_position(done as u64);
-    });
+    let encoder = Glb::new(output);
+    let report =
+        perifrac_surface::embedded::stage(&layout, &output.embedded, &encoder, &|done, total| {
+            bar.set_length(total as u64);
+            bar.set_position(done as u64);
+        });
     bar.finish_and_clear();
     let r = report?;
     if !quiet {
@@ -90,7 +92,7 @@ pub fn embedded_stage(out: &Path, spec: &EmbeddedSpec, quiet: bool) -> Result<()
 
 /// Runs the `vdb` method over every frame of the cache in `out`.
 #[cfg(not(feature = "openvdb"))]
-pub fn stage(_out: &Path, _spec: &VdbSpec, _quiet: bool) -> Result<(), Failure> {
+pub fn stage(_out: &Path, _output: &OutputSpec, _quiet: bool) -> Result<(), Failure> {
     Err(Failure::input(anyhow::anyhow!(
         "this perifrac was built without the `openvdb` feature, which the vdb surface method needs"
     )))
@@ -98,11 +100,12 @@ pub fn stage(_out: &Path, _spec: &VdbSpec, _quiet: bool) -> Result<(), Failure> 
 
 /// Runs the `vdb` method over every frame of the cache in `out`.
 #[cfg(feature = "openvdb")]
-pub fn stage(out: &Path, spec: &VdbSpec, quiet: bool) -> Result<(), Failure> {
+pub fn stage(out: &Path, output: &OutputSpec, quiet: bool) -> Result<(), Failure> {
     let layout = Layout::new(out);
     let bar = progress(quiet);
     let start = std::time::Instant::now();
-    let total = perifrac_surface::vdb::stage(&layout, spec, &Glb, &|done, total| {
+    let encoder = Glb::new(output);
+    let total = perifrac_surface::vdb::stage(&layout, &output.vdb, &encoder, &|done, total| {
         bar.set_length(total as u64);
         bar.set_position(done as u64);
     });

@@ -83,6 +83,11 @@ pub(super) fn validate(scene: &Scene) -> Check {
         collider(&i.to_string(), c)?;
     }
     vdb(&scene.output.vdb)?;
+    positive(
+        &["output", "playback_fps"],
+        scene.output.playback_fps,
+        "the playback rate in frames per second",
+    )?;
     if scene.output.tets == Some(false) && scene.output.surface == SurfaceMethod::Embedded {
         return Err(issue(
             &["output", "tets"],

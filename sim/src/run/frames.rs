@@ -85,6 +85,7 @@ impl<'a> Frames<'a> {
             }
             let t = Instant::now();
             let mut frame_split = 0.0;
+            let mut wrote_tets = false;
             if scene.output.particles {
                 particle_frame(world, frame).write(&layout.particles(frame))?;
             }
@@ -93,10 +94,18 @@ impl<'a> Frames<'a> {
                 if let Some(tets) = part.model.tet_frame() {
                     frame_split += s.elapsed().as_secs_f64();
                     tets.write(&layout.tets(frame))?;
+                    wrote_tets = true;
                 }
             }
             self.split_time += frame_split;
             self.manifest.frame_times.push(world.time);
+            if wrote_tets {
+                crate::cache::vtu::write_collection(
+                    &layout.tets_collection(),
+                    &self.manifest.frame_times,
+                    scene.output.playback_fps,
+                )?;
+            }
             self.manifest
                 .collider_centers
                 .push(world.colliders.iter().map(|c| c.center).collect());
