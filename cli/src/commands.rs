@@ -128,8 +128,18 @@ pub fn demo(out: &Path, threads: Option<usize>, quiet: bool) -> Result<(), Failu
             100.0 * preview / timing.simulation.max(1e-9)
         );
     }
+    if let (false, Some(usd)) = (quiet, timing.usd) {
+        eprintln!(
+            "demo: cache.usd written in {usd:.2} s ({:.1} % of the simulation)",
+            100.0 * usd / timing.simulation.max(1e-9)
+        );
+    }
     let layout = Layout::new(out);
     println!("demo outputs:");
+    println!(
+        "  USD stage (all of it, binary):  {}",
+        layout.usd().display()
+    );
     println!(
         "  particles (PLY, one per frame): {}",
         layout.particles_dir().display()
@@ -169,6 +179,8 @@ pub struct StageSeconds {
     pub simulation: f64,
     /// The previews, if they were rendered.
     pub preview: Option<f64>,
+    /// Writing `cache.usd`, if it was written.
+    pub usd: Option<f64>,
 }
 
 /// Simulates `scene` into `out`, then runs the stages its `[output]` asks for
@@ -228,6 +240,11 @@ pub fn simulate(
         SurfaceMethod::Vdb => crate::surface::stage(out, &scene.output, quiet)?,
         SurfaceMethod::Embedded => crate::surface::embedded_stage(out, &scene.output, quiet)?,
     }
+    let usd = if scene.output.usd {
+        Some(crate::export::usd(out, quiet)?)
+    } else {
+        None
+    };
     let preview = if scene.output.preview {
         crate::render::stage(out, threads, quiet)
     } else {
@@ -236,6 +253,7 @@ pub fn simulate(
     Ok(StageSeconds {
         simulation,
         preview,
+        usd,
     })
 }
 

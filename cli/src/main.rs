@@ -4,7 +4,7 @@
 //! |---|---|
 //! | [`args`] | the clap arguments ([`args::Cli`], [`args::Command`]) and their validated configs ([`args::RunConfig`], [`args::SurfaceConfig`], …) |
 //! | [`commands`] | `run`, `demo`, `check`; [`commands::Failure`] and its exit code |
-//! | `surface`, [`render`] | the surface and render stages as commands |
+//! | `surface`, [`render`], `export` | the surface and render stages and the USD export as commands |
 //! | [`bench`](mod@bench), [`bench_render`], [`accuracy`], [`stability`], [`plot`] | `perifrac bench …`: throughput, accuracy against a reference, stability, plots |
 //!
 //! Exit codes: 0 success, 1 a run failed (I/O, blow-up), 2 bad input (scene, flags).
@@ -14,6 +14,7 @@ mod args;
 mod bench;
 mod bench_render;
 mod commands;
+mod export;
 mod plot;
 mod render;
 mod stability;
@@ -43,6 +44,9 @@ fn main() -> ExitCode {
         Command::Check { scene } => commands::check(&scene),
         Command::Demo { out, threads } => commands::demo(&out, threads, cli.quiet),
         Command::Bench { which } => bench::run(which, cli.quiet),
+        Command::Export {
+            format: args::ExportFormat::Usd { out },
+        } => export::usd(&out, cli.quiet).map(|_| ()),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -609,6 +609,11 @@ pub struct OutputSpec {
     /// damaged; by default damage is only the attribute `_DAMAGE`. Default false.
     #[serde(default)]
     pub gltf_damage_colour: bool,
+    /// Write `cache.usd`, the whole cache as one USD stage, after the run (and after
+    /// the surface stage); `perifrac export usd OUT` writes it for any cache.
+    /// Default true.
+    #[serde(default = "default_true")]
+    pub usd: bool,
 }
 
 fn default_playback_fps() -> f64 {
@@ -659,6 +664,7 @@ impl Default for OutputSpec {
             preview: true,
             playback_fps: default_playback_fps(),
             gltf_damage_colour: false,
+            usd: true,
         }
     }
 }
