@@ -80,8 +80,6 @@ def main(out):
     clouds = [o for o in objects.values() if o.type == "POINTCLOUD"]
     check(len(clouds) == 1, "one point cloud (the particles)")
     cloud_obj = clouds[0]
-    meshes = [o for o in objects.values() if o.type == "MESH" and o.parent is not None
-              and o.parent.name in ("Fragments",) or o.name == "Surface"]
 
     for frame in (1, frames):
         scene.frame_set(frame)
@@ -120,17 +118,18 @@ def main(out):
     volumes = [o for o in scene.objects if o.type == "VOLUME"]
     for vol in volumes:
         scene.frame_set(frames)
-        path = bpy.path.abspath(vol.data.filepath)
-        check(Path(path).exists(), f"volume {vol.name} file {path}")
-        print(f"blender usd: volume {vol.name} reads {path}")
+        path = vol.data.filepath
+        check(path.endswith(".vdb"), f"volume {vol.name} file {path}")
+        print(f"blender usd: volume {vol.name} reads {path} (sequence: {vol.data.is_sequence})")
     print(f"blender usd: {len(scene.objects)} objects in one coordinate system")
 
     animated = out / "surface" / "animated.glb"
     if animated.exists():
         bpy.ops.wm.read_factory_settings(use_empty=True)
-        bpy.ops.import_scene.gltf(filepath=str(animated))
         scene = bpy.context.scene
-        scene.render.fps = int(playback_fps)
+        scene.render.fps = round(playback_fps)
+        scene.render.fps_base = round(playback_fps) / playback_fps
+        bpy.ops.import_scene.gltf(filepath=str(animated))
         obj = next(o for o in scene.objects if o.type == "MESH")
         keys = obj.data.shape_keys.key_blocks
         names = [k.name for k in keys][1:]

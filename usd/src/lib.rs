@@ -811,3 +811,93 @@ fn colliders(
     }
     Ok(scene.colliders.len())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A cache of two particle frames and one collider, written by hand.
+    fn small_cache(root: &std::path::Path) -> Layout {
+        let layout = Layout::new(root);
+        layout.create().unwrap();
+        let scene = "[scene]\nname = \"t\"\nfps = 1000.0\n\n[materials.m]\ndensity = 1000.0\n\
+                     bulk_modulus = 1e5\nshear_modulus = 1e5\n\n[[body]]\nmaterial = \"m\"\n\
+                     resolution = 0.02\nshape = { type = \"box\", center = [0, 0, 0], size = [0.1, 0.1, 0.1] }\n\n\
+                     [[collider]]\ntype = \"sphere\"\ncenter = [0.0, 1.0, 0.0]\nradius = 0.1\n\n\
+                     [output]\nplayback_fps = 30\n";
+        std::fs::write(layout.scene(), scene).unwrap();
+        let manifest = Manifest {
+            scene: "t".into(),
+            fps: 1000.0,
+            frame_times: vec![0.0, 0.001],
+            collider_centers: vec![vec![[0.0, 1.0, 0.0]], vec![[0.0, 0.9, 0.0]]],
+            ..Manifest::default()
+        };
+        manifest.write(&layout.manifest()).unwrap();
+        for frame in 1..=2 {
+            ParticleFrame {
+                frame,
+                time: manifest.frame_times[frame - 1],
+                position: vec![[0.0, frame as f32, 0.0], [1.0, 0.0, 0.0]],
+                velocity: vec![[0.0, 3.0, 0.0], [0.0, 0.0, 0.0]],
+                damage: vec![0.0, 0.5],
+                plastic: vec![0.0, 0.0],
+                material: vec![0.0, 0.0],
+                fragment: vec![0.0, 1.0],
+                extra: vec![("quantity".into(), vec![1.0, 2.0])],
+            }
+            .write(&layout.particles(frame))
+            .unwrap();
+        }
+        layout
+    }
+
+    #[test]
+    fn a_small_cache_reads_back_through_the_usdc_reader() {
+        let dir = tempfile::tempdir().unwrap();
+        let layout = small_cache(dir.path());
+        let report = write_stage(&layout).unwrap();
+        assert_eq!((report.frames, report.particles, report.colliders), (2, 2, 1));
+        let data = openusd::usdc::read_file(layout.usd()).unwrap();
+        let root = openusd::sdf::Path::abs_root();
+        let field = |path: &openusd::sdf::Path, key: &str| data.get_field(path, key).unwrap();
+        assert_eq!(*field(&root, "upAxis"), Value::token("Y"));
+        assert_eq!(*field(&root, "timeCodesPerSecond"), Value::Double(30.0));
+        assert_eq!(*field(&root, "endTimeCode"), Value::Double(2.0));
+        let points = openusd::sdf::Path::new("/World/Particles.points").unwrap();
+        let Value::TimeSamples(samples) = field(&points, "timeSamples").into_owned() else {
+            panic!("points are not time-sampled");
+        };
+        assert_eq!(samples.len(), 2);
+        assert_eq!(samples[1].0, 2.0);
+        assert_eq!(samples[1].1, vec3f(&[[0.0, 2.0, 0.0], [1.0, 0.0, 0.0]]));
+        // Velocities in m/s of playback: 3 m/s × 30 / 1000.
+        let velocities = openusd::sdf::Path::new("/World/Particles.velocities").unwrap();
+        let Value::TimeSamples(samples) = field(&velocities, "timeSamples").into_owned() else {
+            panic!("velocities are not time-sampled");
+        };
+        assert_eq!(samples[0].1, vec3f(&[[0.0, 3.0 * 0.03, 0.0], [0.0; 3]]));
+        let quantity = openusd::sdf::Path::new("/World/Particles.primvars:quantity").unwrap();
+        assert!(data.has_spec(&quantity), "the extra column is a primvar");
+        let sphere = openusd::sdf::Path::new("/World/Colliders/sphere_0.xformOp:translate").unwrap();
+        let Value::TimeSamples(samples) = field(&sphere, "timeSamples").into_owned() else {
+            panic!("the collider does not move");
+        };
+        assert_eq!(samples[1].1, Value::Vec3d(gf::vec3d(0.0, 0.9, 0.0)));
+        // The same cache gives the same bytes.
+        let first = std::fs::read(layout.usd()).unwrap();
+        write_stage(&layout).unwrap();
+        assert_eq!(first, std::fs::read(layout.usd()).unwrap());
+    }
+
+    #[test]
+    fn a_missing_frame_is_named() {
+        let dir = tempfile::tempdir().unwrap();
+        let layout = small_cache(dir.path());
+        std::fs::remove_file(layout.particles(2)).unwrap();
+        let err = write_stage(&layout).unwrap_err();
+        assert!(err.is_bad_input());
+        let text = err.to_string();
+        assert!(text.contains("0002.ply") && text.contains("--resume"), "{text}");
+    }
+}
