@@ -52,7 +52,7 @@ pub struct BodyInfo {
     pub name: String,
     /// Material name.
     pub material: String,
-    /// Particles (tets).
+    /// Particles of the body (one per tet for the tet-mesh models).
     pub particles: usize,
     /// Mesh vertices.
     pub vertices: usize,

@@ -12,18 +12,21 @@
 //! | [`TET_FACES`] | the tet face table: face `f` lies opposite corner `f`, wound outward |
 //! | [`UnionFind`] | disjoint sets with path compression and deterministic labels |
 //! | [`det_sum`] | a parallel sum with the same bits for any thread count |
+//! | [`SplitMix64`] | the seeded random number generator behind the scene's `seed` |
 //!
 //! The PD force kernels (`perifrac-sim`'s `pd::kernel`) keep their hand-written
 //! arithmetic: this crate is for everything outside them.
 
 #![warn(missing_docs)]
 
+mod random;
 mod sum;
 mod tet;
 mod union_find;
 mod vector;
 
 pub use nalgebra::{Matrix3, RealField, Rotation3, SVD, SymmetricEigen, UnitQuaternion, Vector3};
+pub use random::SplitMix64;
 pub use sum::det_sum;
 pub use tet::TET_FACES;
 pub use union_find::UnionFind;

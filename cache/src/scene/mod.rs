@@ -461,21 +461,88 @@ impl BodySpec {
 /// sides, its smallest side the thickness; a `cylinder` is a disc across its axis, its
 /// height the thickness. `resolution` is the particle spacing of the triangular
 /// lattice the sheet is sampled on.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MembraneSpec {
     /// Cutoff radius R of the weight W = 1 − r/R (Han Eq. 23) in particle spacings,
     /// in [1, 4]. Default 1.5 (Han §6).
     #[serde(default = "default_membrane_cutoff")]
     pub cutoff: f64,
+    /// The formulation: `"bond"`, Han's bond-based micro-springs (Eq. 18–24: Poisson
+    /// ratio fixed at 1/3), or `"state"`, an ordinary state-based sheet in plane
+    /// stress that takes the material's Poisson ratio (linear law only). Default
+    /// `"bond"`.
+    #[serde(default)]
+    pub membrane_model: MembraneFormulation,
+    /// The diffused quantity θ everywhere at the start (temperature, solvent,
+    /// moisture, in the material's unit). Default 0.
+    #[serde(default)]
+    pub quantity: f64,
+    /// Sources and sinks of the diffused quantity (`[[body.membrane.source]]`).
+    #[serde(default, rename = "source", skip_serializing_if = "Vec::is_empty")]
+    pub sources: Vec<SourceSpec>,
+}
+
+/// The formulation of a membrane body (`[body.membrane] membrane_model`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MembraneFormulation {
+    /// Bond-based micro-springs (Han Eq. 18–24).
+    #[default]
+    Bond,
+    /// Ordinary state-based peridynamics in the plane of the sheet (plane stress).
+    State,
 }
 
 impl Default for MembraneSpec {
     fn default() -> Self {
         MembraneSpec {
             cutoff: default_membrane_cutoff(),
+            membrane_model: MembraneFormulation::Bond,
+            quantity: 0.0,
+            sources: Vec::new(),
         }
     }
+}
+
+/// `[[body.membrane.source]]`: a source or sink of a membrane's diffused quantity θ
+/// (the S of Han Eq. 8 and 25) on the particles inside `region`, or on spots scattered
+/// over it with the scene's `seed`, between `start` and `until`. Exactly one of `rate`
+/// and `value`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SourceSpec {
+    /// Where (particles with signed distance ≤ 0). Default: the whole sheet.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub region: Option<ShapeSpec>,
+    /// Scatter the source over `region` as spots (an acid spray, heat sources).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scatter: Option<ScatterSpec>,
+    /// θ̇ added inside, in units of θ per second (S = ρ C × rate in Eq. 8); negative
+    /// is a sink, which may drive θ below zero.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rate: Option<f64>,
+    /// θ held at this value inside (a fixed-value boundary: a reservoir, or an
+    /// absorbing sink at 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub value: Option<f64>,
+    /// Time in s at which the source starts. Default 0.
+    #[serde(default)]
+    pub start: f64,
+    /// Time in s after which the source stops. Default: never.
+    #[serde(default = "default_inf")]
+    pub until: f64,
+}
+
+/// `scatter = { count, radius }` of a source: `count` spots of `radius` metres, each
+/// centred on a particle of the region drawn with the scene's `seed`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ScatterSpec {
+    /// Number of spots, at least 1.
+    pub count: u32,
+    /// Radius of a spot (m), positive.
+    pub radius: f64,
 }
 
 fn default_membrane_cutoff() -> f64 {

@@ -1,7 +1,8 @@
 //! Range checks on a parsed scene: each problem is reported with its dotted key.
 
 use super::{
-    BodySpec, ColliderSpec, MaterialSpec, ModelKind, Scene, ShapeSpec, SurfaceMethod, VdbSpec,
+    BodySpec, ColliderSpec, MaterialSpec, MembraneFormulation, MembraneLaw, MembraneSpec,
+    ModelKind, Scene, ShapeSpec, SurfaceMethod, VdbSpec,
 };
 
 /// One problem: where (dotted path) and what, with the fix.
@@ -327,6 +328,73 @@ fn fem(scene: &Scene) -> Check {
     Ok(())
 }
 
+/// The diffused quantity's initial value and the sources and sinks of membrane body
+/// `i`: finite values, one effect per source (a rate or a held value), a time window
+/// that opens, a region that is a valid shape, spots that exist.
+fn sources(scene: &Scene, i: &str, spec: &MembraneSpec) -> Check {
+    if !spec.quantity.is_finite() {
+        return Err(issue(
+            &["body", i, "membrane", "quantity"],
+            format!("the initial quantity must be finite, got {}", spec.quantity),
+        ));
+    }
+    for (k, source) in spec.sources.iter().enumerate() {
+        let k = k.to_string();
+        let p = |key: &'static str| ["body", i, "membrane", "source", k.as_str(), key];
+        match (source.rate, source.value) {
+            (Some(_), Some(_)) | (None, None) => {
+                return Err(issue(
+                    &["body", i, "membrane", "source", &k],
+                    "give a source exactly one of rate (θ per second added; negative is a \
+                     sink) and value (θ held there)",
+                ));
+            }
+            (Some(x), None) | (None, Some(x)) if !x.is_finite() => {
+                let key = if source.rate.is_some() {
+                    "rate"
+                } else {
+                    "value"
+                };
+                return Err(issue(&p(key), format!("must be finite, got {x}")));
+            }
+            _ => {}
+        }
+        if !(source.start.is_finite() && source.start >= 0.0) {
+            return Err(issue(
+                &p("start"),
+                format!("the start time must be ≥ 0 s, got {}", source.start),
+            ));
+        }
+        if source.until.is_nan() || source.until <= source.start {
+            return Err(issue(
+                &p("until"),
+                format!(
+                    "the source stops before it starts (start = {} s, until = {} s): \
+                     give until > start, or leave it out for a source that never stops",
+                    source.start, source.until
+                ),
+            ));
+        }
+        if let Some(region) = &source.region {
+            shape(scene, &p("region"), region)?;
+        }
+        if let Some(scatter) = &source.scatter {
+            if scatter.count == 0 {
+                return Err(issue(
+                    &["body", i, "membrane", "source", &k, "scatter", "count"],
+                    "a scattered source needs at least one spot",
+                ));
+            }
+            positive(
+                &["body", i, "membrane", "source", &k, "scatter", "radius"],
+                scatter.radius,
+                "the spot radius (m)",
+            )?;
+        }
+    }
+    Ok(())
+}
+
 /// Membranes (Han et al. 2021) run a whole scene; their shape is a sheet (a box or
 /// slab, or a cylinder), their materials use neither plasticity, Chen's fracture,
 /// anisotropy nor Laplacian damping; membrane keys belong to membranes only.
@@ -387,7 +455,24 @@ fn membrane(scene: &Scene) -> Check {
                 ),
             ));
         }
+        if let Some(spec) = &b.membrane {
+            sources(scene, &i, spec)?;
+        }
         let m = &scene.materials[&b.material];
+        let state = b
+            .membrane
+            .as_ref()
+            .is_some_and(|s| s.membrane_model == MembraneFormulation::State);
+        let law = m.membrane.as_ref().map(|s| s.law).unwrap_or_default();
+        if state && law != MembraneLaw::Linear {
+            return Err(issue(
+                &["materials", &b.material, "membrane", "law"],
+                format!(
+                    "body {i} uses membrane_model = \"state\", which is linear elastic: remove \
+                     law (the rubber and elastoplastic laws are bond laws, membrane_model = \"bond\")"
+                ),
+            ));
+        }
         let unsupported = [
             ("yield_psi0", m.yield_psi0.is_some()),
             ("yield_stretch", m.yield_stretch.is_some()),

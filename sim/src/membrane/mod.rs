@@ -35,27 +35,53 @@
 //!
 //! which conserves Σ_i ρ C A_i θ_i exactly when the bonded particles carry equal areas
 //! (every particle of a sheet does, and bonds join particles of one body only).
+//! Sources and sinks (Eq. 8's S) are in [`source`].
+//!
+//! # The state-based option
+//!
+//! Han §7 names the bond-based limit (ν = 1/3 in plane stress) and the area loss it
+//! causes under large stretch (their Fig. 13) as open problems. `membrane_model =
+//! "state"` replaces the micro-springs with an ordinary state-based sheet in plane
+//! stress (in the spirit of Chen's solid model and of Le, Silling and Bobaru's 2D
+//! ordinary state-based model), on the same bonds and weights W_ij:
+//!
+//! ```text
+//! m_i   = Σ_j W_ij |ξ_ij|² A_j                     weighted area moment (reference)
+//! e_ij  = |y_j − y_i| − |ξ_ij|(1 + αθ̄)            extension over the expanded length
+//! ϑ_i   = (2/m_i) Σ_j W_ij |ξ_ij| e_ij A_j          dilatation (2ε under ε·I)
+//! W_i   = κ'ϑ_i²/2 + (α_i/2) Σ_j W_ij (e_ij − ϑ_i|ξ_ij|/2)² A_j,   α_i = 8μ/m_i
+//! t_ij  = ∂W_i/∂e_ij = (2κ'ϑ_i/m_i) W_ij |ξ_ij| + α_i W_ij (e_ij − ϑ_i|ξ_ij|/2)
+//! ρ a_i = Σ_j (t_ij + t_ji) A_j (y_j − y_i)/|y_j − y_i|
+//! ```
+//!
+//! with the plane-stress moduli κ' = E/(2(1 − ν)) and μ = E/(2(1 + ν)): W_i equals
+//! the continuum's κ'(tr ε)²/2 + μ ε_dev : ε_dev for every homogeneous strain (the
+//! deviatoric sum is zero-mean over an isotropic family, which also drops ϑ's
+//! derivative from t). The material's Poisson ratio is then the sheet's; fracture is
+//! the same critical strain η_c on each bond. Linear law only.
 
 pub mod law;
 pub mod sheet;
 mod solver;
+pub mod source;
 #[cfg(test)]
 mod tests;
 
 use std::time::Instant;
 
-use perifrac_math::det_sum;
+use perifrac_math::{cross, det_sum, dist, dot, norm, sub};
 use rayon::prelude::*;
 
 pub use law::Law;
 pub use solver::Membrane;
+pub use source::{Effect, Source};
 
 use crate::error::{Result, SimError};
 use crate::family::{self, BROKEN, Bonds, INDEX};
 use crate::geometry::discretize::Discretization;
 use crate::material::Material;
 use crate::pd::{Cracks, rows_mut};
-use crate::scene::{MembraneMaterialSpec, ModelKind, Scene};
+use crate::scene::{MembraneFormulation, MembraneMaterialSpec, ModelKind, Scene};
 
 /// The constants of one membrane body.
 #[derive(Debug, Clone, PartialEq)]
@@ -80,17 +106,36 @@ pub struct SheetBody {
     pub law: Law,
     /// Coefficient of linear expansion α (per unit of θ).
     pub expansion: f64,
+    /// The state-based formulation's plane-stress moduli, or none for Han's bond-based
+    /// micro-springs.
+    pub state: Option<PlaneStress>,
+}
+
+/// The moduli of an ordinary state-based sheet in plane stress ([`state`](self#the-state-based-option)).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlaneStress {
+    /// The 2D bulk modulus κ' = E/(2(1 − ν)) (Pa).
+    pub bulk: f64,
+    /// The shear modulus μ = E/(2(1 + ν)) (Pa).
+    pub shear: f64,
 }
 
 impl SheetBody {
     /// The constants of a sheet of `material` (with its membrane properties `spec`),
-    /// `thickness` thick, with cutoff radius `cutoff` (m).
+    /// `thickness` thick, with cutoff radius `cutoff` (m), in the formulation
+    /// `formulation`.
     pub fn new(
         material: &Material,
         spec: &MembraneMaterialSpec,
         thickness: f64,
         cutoff: f64,
+        formulation: MembraneFormulation,
     ) -> SheetBody {
+        let (e, nu) = (material.youngs_modulus(), material.poisson_ratio());
+        let state = (formulation == MembraneFormulation::State).then(|| PlaneStress {
+            bulk: e / (2.0 * (1.0 - nu)),
+            shear: e / (2.0 * (1.0 + nu)),
+        });
         let pi = std::f64::consts::PI;
         let critical_strain = spec.fracture_energy.map_or(f64::INFINITY, |g| {
             (4.0 * pi * g / (9.0 * material.youngs_modulus() * cutoff)).sqrt()
@@ -106,6 +151,7 @@ impl SheetBody {
             air_damping: material.air_damping,
             law: Law::of(spec),
             expansion: spec.expansion,
+            state,
         }
     }
 }
@@ -144,8 +190,16 @@ pub struct MembraneModel {
     pub weight: Vec<f64>,
     /// The diffused quantity θ_i (Eq. 25).
     pub quantity: Vec<f64>,
-    /// Particles whose θ is held at its value (fixed-value boundaries).
-    pub held: Vec<bool>,
+    /// Weighted volume m_i = Σ_j W_ij |ξ_ij|² A_j (m⁴) over each particle's bonds
+    /// before any crack, for the state-based option; empty when no body uses it.
+    pub weighted_volume: Vec<f64>,
+    /// Dilatation ϑ_i of the state-based option from the last forces; empty when no
+    /// body uses it.
+    pub dilatation: Vec<f64>,
+    /// Sources and sinks of θ (Eq. 8's S; [`source`]).
+    pub sources: Vec<Source>,
+    /// Time the diffusion has been stepped (s), for the sources' start and stop.
+    pub elapsed: f64,
     /// Damage φ_i = 1 − intact/initial bonds.
     pub damage: Vec<f64>,
     /// Bonds of each particle before the run.
@@ -179,6 +233,23 @@ impl MembraneModel {
             .map(|(i, k)| (1.0 - bonds.rest_length[k] / cutoff[i]).max(0.0))
             .collect();
         let initial_bonds = (0..n).map(|i| bonds.range(i).len() as u32).collect();
+        let weighted_volume: Vec<f64> = if bodies.iter().any(|b| b.state.is_some()) {
+            (0..n)
+                .map(|i| {
+                    bonds
+                        .range(i)
+                        .map(|k| {
+                            let j = (bonds.neighbours[k] & INDEX) as usize;
+                            let xi = bonds.rest_length[k];
+                            (1.0 - xi / cutoff[i]).max(0.0) * xi * xi * area[j]
+                        })
+                        .sum()
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let dilatation = vec![0.0; weighted_volume.len()];
         Ok(MembraneModel {
             position: reference.clone(),
             velocity: vec![[0.0; 3]; n],
@@ -191,7 +262,10 @@ impl MembraneModel {
             bonds,
             weight,
             quantity: vec![0.0; n],
-            held: vec![false; n],
+            weighted_volume,
+            dilatation,
+            sources: Vec::new(),
+            elapsed: 0.0,
             damage: vec![0.0; n],
             initial_bonds,
             force: vec![[0.0; 3]; n],
@@ -215,18 +289,26 @@ impl MembraneModel {
                 message,
             })?;
             let spec = &scene.materials[&b.material];
-            let cutoff = b.membrane.clone().unwrap_or_default().cutoff * b.resolution;
+            let membrane = b.membrane.clone().unwrap_or_default();
             bodies.push(SheetBody::new(
                 &Material::from_spec(spec),
                 &spec.membrane.clone().unwrap_or_default(),
                 sheet.thickness,
-                cutoff,
+                membrane.cutoff * b.resolution,
+                membrane.membrane_model,
             ));
         }
         let area = (0..disc.position.len())
             .map(|i| disc.volume[i] / bodies[disc.body[i] as usize].thickness)
             .collect();
         let mut model = MembraneModel::new(disc.position.clone(), area, disc.body.clone(), bodies)?;
+        for (theta, &b) in model.quantity.iter_mut().zip(&model.body) {
+            *theta = scene.bodies[b as usize]
+                .membrane
+                .as_ref()
+                .map_or(0.0, |m| m.quantity);
+        }
+        model.sources = source::of_scene(scene, &model.reference, &model.body)?;
         let cracks = &Cracks::of_scene(scene)?;
         let (x, body, bonds) = (&model.reference, &model.body, &model.bonds);
         let cut: Vec<bool> = (0..model.len())
@@ -260,11 +342,19 @@ impl MembraneModel {
     /// Bond strains η_ij (Eq. 10), fracture (Eq. 27–28: a bond whose strain passes
     /// η_c breaks for good) and the force densities of Eq. 18 and 22 into
     /// [`MembraneModel::force`], in one pass gathering over each particle's bonds in
-    /// a fixed order. Returns the number of directed bonds that broke.
+    /// a fixed order; for the state-based option, the force states of
+    /// [`state`](self#the-state-based-option) after a first pass for the dilatations.
+    /// Returns the number of directed bonds that broke.
     pub fn internal_forces(&mut self) -> usize {
         let t = Instant::now();
+        let broken_first = if self.weighted_volume.is_empty() {
+            0
+        } else {
+            self.dilatations()
+        };
         let (y, volume, body, bodies) = (&self.position, &self.volume, &self.body, &self.bodies);
-        let theta = &self.quantity;
+        let (theta, area) = (&self.quantity, &self.area);
+        let (m, dilatation) = (&self.weighted_volume, &self.dilatation);
         let (rest, weight, offsets) = (&self.bonds.rest_length, &self.weight, &self.bonds.offsets);
         let initial = &self.initial_bonds;
         let rows = rows_mut(&mut self.bonds.neighbours, offsets);
@@ -298,7 +388,20 @@ impl MembraneModel {
                     }
                     intact += 1;
                     if length > 0.0 {
-                        let s = c * law.force(eta) * weight[k] * volume[j] / length;
+                        let s = match constants.state {
+                            None => c * law.force(eta) * weight[k] * volume[j] / length,
+                            Some(plane) => {
+                                let (w, xi) = (weight[k], rest[k]);
+                                let e = length - xi * expanded;
+                                let t = |p: usize| {
+                                    2.0 * plane.bulk * dilatation[p] / m[p] * w * xi
+                                        + 8.0 * plane.shear / m[p]
+                                            * w
+                                            * (e - 0.5 * dilatation[p] * xi)
+                                };
+                                (t(i) + t(j)) * area[j] / length
+                            }
+                        };
                         for a in 0..3 {
                             f[a] += s * r[a];
                         }
@@ -314,7 +417,47 @@ impl MembraneModel {
             })
             .sum();
         self.times.forces += t.elapsed().as_secs_f64();
-        broken
+        broken_first + broken
+    }
+
+    /// The first pass of the state-based option: fracture (Eq. 27–28) and the
+    /// dilatation ϑ_i = (2/m_i) Σ_j W_ij |ξ_ij| e_ij A_j of every particle of a
+    /// state-based body, over its intact bonds. Returns the bonds that broke.
+    fn dilatations(&mut self) -> usize {
+        let (y, body, bodies) = (&self.position, &self.body, &self.bodies);
+        let (theta, area, m) = (&self.quantity, &self.area, &self.weighted_volume);
+        let (rest, weight, offsets) = (&self.bonds.rest_length, &self.weight, &self.bonds.offsets);
+        let rows = rows_mut(&mut self.bonds.neighbours, offsets);
+        rows.into_par_iter()
+            .zip(self.dilatation.par_iter_mut())
+            .enumerate()
+            .with_min_len(256)
+            .map(|(i, (row, dilatation))| {
+                let constants = &bodies[body[i] as usize];
+                *dilatation = 0.0;
+                if constants.state.is_none() || m[i] == 0.0 {
+                    return 0;
+                }
+                let mut sum = 0.0;
+                let mut broke = 0;
+                for (k, nb) in (offsets[i]..).zip(row.iter_mut()) {
+                    if *nb & BROKEN != 0 {
+                        continue;
+                    }
+                    let j = (*nb & INDEX) as usize;
+                    let length = dist(y[i], y[j]);
+                    let expanded = 1.0 + constants.expansion * 0.5 * (theta[i] + theta[j]);
+                    if length / (rest[k] * expanded) - 1.0 > constants.critical_strain {
+                        *nb |= BROKEN;
+                        broke += 1;
+                        continue;
+                    }
+                    sum += weight[k] * rest[k] * (length - rest[k] * expanded) * area[j];
+                }
+                *dilatation = 2.0 * sum / m[i];
+                broke
+            })
+            .sum()
     }
 
     /// The rate θ̇_i of Eq. 25 over intact bonds (Eq. 28), for every particle.
@@ -345,24 +488,33 @@ impl MembraneModel {
     }
 
     /// One forward Euler step of the diffusion (Eq. 26, first line, with γ* of
-    /// Eq. 28): θ_i ← θ_i + Δt θ̇_i, except where θ is held.
+    /// Eq. 28): θ_i ← θ_i + Δt θ̇_i, then the sources active at the step's start
+    /// ([`source`]): a rate adds Δt × rate, a value holds θ (sources in scene order, so
+    /// a later value wins).
     pub fn diffuse(&mut self, dt: f64) {
-        if self.bodies.iter().all(|b| b.conductivity == 0.0) {
+        let conducts = self.bodies.iter().any(|b| b.conductivity != 0.0);
+        if !conducts && self.sources.is_empty() {
             return;
         }
         let t = Instant::now();
-        let rate = self.quantity_rate();
-        let held = &self.held;
-        self.quantity
-            .par_iter_mut()
-            .zip(rate.par_iter())
-            .enumerate()
-            .with_min_len(1024)
-            .for_each(|(i, (theta, r))| {
-                if !held[i] {
-                    *theta += dt * r;
+        if conducts {
+            let rate = self.quantity_rate();
+            self.quantity
+                .par_iter_mut()
+                .zip(rate.par_iter())
+                .with_min_len(1024)
+                .for_each(|(theta, r)| *theta += dt * r);
+        }
+        for source in self.sources.iter().filter(|s| s.active(self.elapsed)) {
+            for &i in &source.particles {
+                let theta = &mut self.quantity[i as usize];
+                match source.effect {
+                    Effect::Rate(rate) => *theta += dt * rate,
+                    Effect::Value(value) => *theta = value,
                 }
-            });
+            }
+        }
+        self.elapsed += dt;
         self.times.diffusion += t.elapsed().as_secs_f64();
     }
 
@@ -376,7 +528,9 @@ impl MembraneModel {
 
     /// The largest stable step and the particle that limits it: the smaller of
     /// velocity Verlet's bound for the bond springs, Silling and Askari's
-    /// Δt_i = √(2ρ / Σ_j c W_ij V_j/|ξ_ij|), and forward Euler's bound for the
+    /// Δt_i = √(2ρ / Σ_j c W_ij V_j/|ξ_ij|) (for the state-based option the sum of
+    /// |∂f_i/∂e_ij| over the bonds, each bond's force state depending on every
+    /// extension of i's family through ϑ_i), and forward Euler's bound for the
     /// diffusion of Eq. 25, Δt_i = ρ C A_i / Σ_j k W_ij A_j/|ξ_ij|² (by Gershgorin
     /// the largest rate is at most twice that sum, and Euler is stable below 2 over
     /// the largest rate).
@@ -387,10 +541,30 @@ impl MembraneModel {
             .map(|i| {
                 let b = &self.bodies[self.body[i] as usize];
                 let (mut springs, mut diffusion) = (0.0, 0.0);
+                // The state-based option: Σ_k W_ik |ξ_ik| A_k, the reach of one bond's
+                // extension through the dilatation into every force state of i.
+                let reach: f64 = match b.state {
+                    None => 0.0,
+                    Some(_) => bonds
+                        .range(i)
+                        .map(|k| {
+                            let j = (bonds.neighbours[k] & INDEX) as usize;
+                            self.weight[k] * bonds.rest_length[k] * self.area[j]
+                        })
+                        .sum(),
+                };
                 for k in bonds.range(i) {
                     let j = (bonds.neighbours[k] & INDEX) as usize;
                     let (xi, w) = (bonds.rest_length[k], self.weight[k]);
-                    springs += b.law.stiffness() * b.micromodulus * w * self.volume[j] / xi;
+                    springs += match b.state {
+                        None => b.law.stiffness() * b.micromodulus * w * self.volume[j] / xi,
+                        Some(plane) => {
+                            let m = self.weighted_volume[i];
+                            2.0 * (8.0 * plane.shear / m + 4.0 * plane.bulk * xi * reach / (m * m))
+                                * w
+                                * self.area[j]
+                        }
+                    };
                     diffusion += b.conductivity * w * self.area[j] / (xi * xi);
                 }
                 let mechanical = if springs > 0.0 {
@@ -426,28 +600,123 @@ impl MembraneModel {
         })
     }
 
-    /// Strain energy ½ Σ_i V_i Σ_j ½ c η_ij² |ξ_ij| W_ij V_j (J) over intact bonds:
+    /// Strain energy (J) over intact bonds: ½ Σ_i V_i Σ_j ½ c η_ij² |ξ_ij| W_ij V_j,
     /// Silling's micropotential, of which Eq. 18 is the derivative (the linear law's
-    /// energy at the bond's mechanical strain; a measure for the other laws).
+    /// energy at the bond's mechanical strain; a measure for the other laws); for the
+    /// state-based option Σ_i V_i (κ'ϑ_i²/2 + (α_i/2) Σ_j W_ij (e^d_ij)² A_j).
     pub fn strain_energy(&self) -> f64 {
         let (y, bonds) = (&self.position, &self.bonds);
         det_sum(self.len(), |i| {
-            let c = self.bodies[self.body[i] as usize].micromodulus;
-            let mut e = 0.0;
-            for k in bonds.range(i) {
+            let b = &self.bodies[self.body[i] as usize];
+            // (W_ij, |ξ_ij|, the expansion 1 + αθ̄, |y_j − y_i|, j) over the intact bonds.
+            let intact = bonds.range(i).filter_map(|k| {
                 let nb = bonds.neighbours[k];
                 if nb & BROKEN != 0 {
-                    continue;
+                    return None;
                 }
                 let j = (nb & INDEX) as usize;
-                let r = [y[j][0] - y[i][0], y[j][1] - y[i][1], y[j][2] - y[i][2]];
                 let xi = bonds.rest_length[k];
-                let b = &self.bodies[self.body[i] as usize];
                 let expanded = 1.0 + b.expansion * 0.5 * (self.quantity[i] + self.quantity[j]);
-                let eta = (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt() / (xi * expanded) - 1.0;
-                e += 0.5 * c * eta * eta * xi * self.weight[k] * self.volume[j];
+                Some((self.weight[k], xi, expanded, dist(y[i], y[j]), j))
+            });
+            match b.state {
+                None => {
+                    let e: f64 = intact
+                        .map(|(w, xi, expanded, length, j)| {
+                            let eta = length / (xi * expanded) - 1.0;
+                            0.5 * b.micromodulus * eta * eta * xi * w * self.volume[j]
+                        })
+                        .sum();
+                    0.5 * self.volume[i] * e
+                }
+                Some(plane) => {
+                    let m = self.weighted_volume[i];
+                    if m == 0.0 {
+                        return 0.0;
+                    }
+                    let bonds: Vec<_> = intact
+                        .map(|(w, xi, expanded, length, j)| (w, xi, length - xi * expanded, j))
+                        .collect();
+                    let dilatation = 2.0 / m
+                        * bonds
+                            .iter()
+                            .map(|&(w, xi, e, j)| w * xi * e * self.area[j])
+                            .sum::<f64>();
+                    let deviatoric: f64 = bonds
+                        .iter()
+                        .map(|&(w, xi, e, j)| {
+                            w * (e - 0.5 * dilatation * xi).powi(2) * self.area[j]
+                        })
+                        .sum();
+                    self.volume[i]
+                        * (0.5 * plane.bulk * dilatation * dilatation
+                            + 0.5 * 8.0 * plane.shear / m * deviatoric)
+                }
             }
-            0.5 * self.volume[i] * e
+        })
+    }
+
+    /// The sheet's lattice triangles: every triple of particles of one body bonded
+    /// pairwise at the lattice spacing (each particle's shortest bond, to 0.1%),
+    /// wound so that their reference normals agree with the first one's along the
+    /// sheet's normal, in increasing order of their smallest index.
+    pub fn lattice_triangles(&self) -> Vec<[u32; 3]> {
+        let bonds = &self.bonds;
+        let nearest = |i: usize| -> Vec<usize> {
+            let shortest = bonds
+                .range(i)
+                .map(|k| bonds.rest_length[k])
+                .fold(f64::INFINITY, f64::min);
+            let mut near: Vec<usize> = bonds
+                .range(i)
+                .filter(|&k| bonds.rest_length[k] <= 1.001 * shortest)
+                .map(|k| (bonds.neighbours[k] & INDEX) as usize)
+                .filter(|&j| j > i)
+                .collect();
+            near.sort_unstable();
+            near
+        };
+        let x = &self.reference;
+        let normal = |t: [usize; 3]| cross(sub(x[t[1]], x[t[0]]), sub(x[t[2]], x[t[0]]));
+        let mut triangles = Vec::new();
+        let mut up: Option<[f64; 3]> = None;
+        for i in 0..self.len() {
+            let near = nearest(i);
+            for (a, &j) in near.iter().enumerate() {
+                let of_j = nearest(j);
+                for &k in &near[a + 1..] {
+                    if of_j.binary_search(&k).is_ok() {
+                        let n = normal([i, j, k]);
+                        let reference = *up.get_or_insert(n);
+                        triangles.push(if dot(n, reference) >= 0.0 {
+                            [i as u32, j as u32, k as u32]
+                        } else {
+                            [i as u32, k as u32, j as u32]
+                        });
+                    }
+                }
+            }
+        }
+        triangles
+    }
+
+    /// The current area (m²) of the lattice triangles `triangles` whose three bonds
+    /// are intact, in 3D (wrinkles and folds count at their true area).
+    pub fn sheet_area(&self, triangles: &[[u32; 3]]) -> f64 {
+        let intact = |i: usize, j: usize| {
+            self.bonds.range(i).any(|k| {
+                let nb = self.bonds.neighbours[k];
+                (nb & INDEX) as usize == j && nb & BROKEN == 0
+            })
+        };
+        let y = &self.position;
+        det_sum(triangles.len(), |t| {
+            let [i, j, k] = triangles[t].map(|v| v as usize);
+            if intact(i, j) && intact(j, k) && intact(k, i) {
+                0.5 * norm(cross(sub(y[j], y[i]), sub(y[k], y[i])))
+            } else {
+                0.0
+            }
         })
     }
 

@@ -139,14 +139,15 @@ impl Model for Membrane {
         self.model.bonds.len()
     }
 
-    /// Positions, velocities, the bonds' broken bits and θ; damage is derived from
-    /// the bonds on restore.
+    /// Positions, velocities, the bonds' broken bits, θ and the diffusion's time;
+    /// damage is derived from the bonds on restore.
     fn save(&self, out: &mut Encoder) {
         let m = &self.model;
         out.put_f64x3_slice(&m.position);
         out.put_f64x3_slice(&m.velocity);
         out.put_u32_slice(&m.bonds.neighbours);
         out.put_f64_slice(&m.quantity);
+        out.put_f64_slice(&[m.elapsed]);
     }
 
     fn restore(&mut self, input: &mut Decoder<'_>) -> Result<()> {
@@ -167,6 +168,7 @@ impl Model for Membrane {
         }
         m.bonds.neighbours = neighbours;
         m.quantity = input.take_f64_slice("diffused quantity", n)?;
+        m.elapsed = input.take_f64_slice("diffusion time", 1)?[0];
         m.update_damage();
         Ok(())
     }

@@ -40,7 +40,7 @@ use crate::scene::Scene;
 use constitutive::{Elastic, IDENTITY, Mat3, mul_transpose};
 use grid::{Boundary, D_INVERSE_FACTOR, SparseGrid};
 
-pub use seed::{PARTICLES_PER_CELL_AXIS, SEED_JITTER, SplitMix64};
+pub use seed::{PARTICLES_PER_CELL_AXIS, SEED_JITTER};
 
 /// CFL number: the stable step keeps v_max Δt ≤ `CFL` Δx at the initial velocities.
 pub const CFL: f64 = 0.3;

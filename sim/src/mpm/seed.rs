@@ -4,6 +4,7 @@
 //! then ordered by grid block (body and seeding order within a block) for locality;
 //! that order is the cache's and never changes.
 
+use perifrac_math::SplitMix64;
 use rayon::prelude::*;
 
 use super::{MpmParticles, at_rest, empty_body, grid};
@@ -16,31 +17,6 @@ pub const PARTICLES_PER_CELL_AXIS: usize = 2;
 /// Jitter amplitude as a fraction of the sub-cell side: offsets are uniform in
 /// ±`SEED_JITTER`/2 sub-cells about the sub-cell centre.
 pub const SEED_JITTER: f64 = 0.5;
-
-/// SplitMix64 (Steele et al. 2014): a small deterministic generator for the jitter.
-#[derive(Debug, Clone)]
-pub struct SplitMix64(u64);
-
-impl SplitMix64 {
-    /// The generator of `seed`.
-    pub fn new(seed: u64) -> SplitMix64 {
-        SplitMix64(seed)
-    }
-
-    /// The next 64 random bits.
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-
-    /// A uniform number in [0, 1) (53 random bits).
-    pub fn next_f64(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
 
 /// Seeds every body of the scene (all MPM) on the grid of spacing the smallest
 /// resolution.

@@ -230,7 +230,7 @@ fn manifest_for(scene: &Scene, prepared: &Prepared) -> Manifest {
             .map(|(b, spec)| BodyInfo {
                 name: spec.name.clone(),
                 material: spec.material.clone(),
-                particles: d.meshes[b].tets.len(),
+                particles: d.body.iter().filter(|&&owner| owner as usize == b).count(),
                 vertices: d.meshes[b].vertices.len(),
                 min_dihedral_deg: d.quality[b].min_dihedral_deg,
                 max_dihedral_deg: d.quality[b].max_dihedral_deg,
