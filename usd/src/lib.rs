@@ -857,7 +857,10 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let layout = small_cache(dir.path());
         let report = write_stage(&layout).unwrap();
-        assert_eq!((report.frames, report.particles, report.colliders), (2, 2, 1));
+        assert_eq!(
+            (report.frames, report.particles, report.colliders),
+            (2, 2, 1)
+        );
         let data = openusd::usdc::read_file(layout.usd()).unwrap();
         let root = openusd::sdf::Path::abs_root();
         let field = |path: &openusd::sdf::Path, key: &str| data.get_field(path, key).unwrap();
@@ -879,7 +882,8 @@ mod tests {
         assert_eq!(samples[0].1, vec3f(&[[0.0, 3.0 * 0.03, 0.0], [0.0; 3]]));
         let quantity = openusd::sdf::Path::new("/World/Particles.primvars:quantity").unwrap();
         assert!(data.has_spec(&quantity), "the extra column is a primvar");
-        let sphere = openusd::sdf::Path::new("/World/Colliders/sphere_0.xformOp:translate").unwrap();
+        let sphere =
+            openusd::sdf::Path::new("/World/Colliders/sphere_0.xformOp:translate").unwrap();
         let Value::TimeSamples(samples) = field(&sphere, "timeSamples").into_owned() else {
             panic!("the collider does not move");
         };
@@ -898,6 +902,9 @@ mod tests {
         let err = write_stage(&layout).unwrap_err();
         assert!(err.is_bad_input());
         let text = err.to_string();
-        assert!(text.contains("0002.ply") && text.contains("--resume"), "{text}");
+        assert!(
+            text.contains("0002.ply") && text.contains("--resume"),
+            "{text}"
+        );
     }
 }
