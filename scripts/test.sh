@@ -10,4 +10,6 @@ cargo run -q -p licence-check
 # with every warning (broken or private intra-doc links, missing docs) an error.
 cargo check --workspace --all-targets --no-default-features -q
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps -q
+# cli/tests/usd.rs runs scripts/dcc-check.sh: cache.usd through Pixar's usd-core
+# validator and Blender's importers (PyPI usd-core, meshio, bpy in target/dcc-venv).
 cargo test --workspace

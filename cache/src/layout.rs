@@ -2,6 +2,9 @@
 //! the atomic write every file of it goes through: a temporary name in the same
 //! directory, then a rename, so a killed run never leaves a half-written file.
 //!
+//! Frames are numbered from 1; every file that carries time shows frame k at
+//! (k − 1)/`playback_fps` seconds ([`playback_time`]).
+//!
 //! Frames are numbered from 1 and named with four digits (`NNNN`); turntable views
 //! with three (`turntable_NNN.png`).
 
@@ -67,6 +70,26 @@ impl Layout {
     /// `frame`.
     pub fn sheet(&self, frame: usize) -> PathBuf {
         self.sheet_dir().join(frame_file(frame, "ply"))
+    }
+
+    /// `tets/tets.pvd`, the ParaView collection of the tet frames with their times.
+    pub fn tets_collection(&self) -> PathBuf {
+        self.tets_dir().join("tets.pvd")
+    }
+
+    /// `cache.usd`, the USD stage of the whole cache (binary `usdc`).
+    pub fn usd(&self) -> PathBuf {
+        self.root.join("cache.usd")
+    }
+
+    /// `usd/`, the value-clip layers of `cache.usd`.
+    pub fn usd_dir(&self) -> PathBuf {
+        self.root.join("usd")
+    }
+
+    /// `usd/NNNN.usdc`, the value-clip layer of frame `frame`.
+    pub fn usd_clip(&self, frame: usize) -> PathBuf {
+        self.usd_dir().join(frame_file(frame, "usdc"))
     }
 
     /// `surface/`.
@@ -227,6 +250,12 @@ impl Layout {
     }
 }
 
+/// The playback time (s) of cache frame `frame` (from 1) at `playback_fps`:
+/// (frame − 1)/`playback_fps`. The frame's simulation time is in the manifest.
+pub fn playback_time(frame: usize, playback_fps: f64) -> f64 {
+    (frame as f64 - 1.0) / playback_fps
+}
+
 /// Frame numbers of the `NNNN<extension>` files in `dir`, ascending (none if `dir`
 /// cannot be read).
 fn frame_numbers(dir: &Path, extension: &str) -> Vec<usize> {
@@ -363,6 +392,9 @@ mod tests {
         assert!(layout.particles(7).ends_with("particles/0007.ply"));
         assert!(layout.surface(12).ends_with("surface/0012.glb"));
         assert!(layout.debris(3).ends_with("surface/0003_debris.ply"));
+        assert!(layout.tets_collection().ends_with("tets/tets.pvd"));
+        assert!(layout.usd().ends_with("cache.usd"));
+        assert!(layout.usd_clip(5).ends_with("usd/0005.usdc"));
         assert!(layout.turntable(2).ends_with("preview/turntable_002.png"));
         layout.create().expect("create");
         for frame in [3, 1] {

@@ -5,11 +5,11 @@
 //!
 //! | type | what it is |
 //! |---|---|
-//! | [`Layout`] | every path of an output directory (`manifest.json`, `scene.toml`, `particles/NNNN.ply`, `tets/NNNN.vtu`, `surface/NNNN.glb`, `surface/animated.glb`, `surface/NNNN_debris.ply`, `vdb/NNNN.vdb`, `preview/…`, `checkpoint/state.bin`) |
+//! | [`Layout`] | every path of an output directory (`manifest.json`, `scene.toml`, `particles/NNNN.ply`, `tets/NNNN.vtu`, `tets/tets.pvd`, `cache.usd`, `usd/NNNN.usdc`, `surface/NNNN.glb`, `surface/animated.glb`, `surface/NNNN_debris.ply`, `vdb/NNNN.vdb`, `preview/…`, `checkpoint/state.bin`) |
 //! | [`write_atomic`] | the one way a cache file is written (temporary name, [`temporary_path`], then rename) |
 //! | [`scene::Scene`] | the scene file format, its defaults and validation; [`scene::Scene::load`] also reads the resolved `OUT/scene.toml` |
 //! | [`ply::ParticleFrame`] | a particle frame (float PLY: standard columns, then a model's extra columns); [`ply::encode_points`] / [`ply::FloatPly`] for other point files |
-//! | [`vtu::TetFrame`] | the split tet mesh of a frame (VTK XML) |
+//! | [`vtu::TetFrame`] | the split tet mesh of a frame (VTK XML); [`vtu::write_collection`] the ParaView `.pvd` that gives the frames their times |
 //! | [`manifest::Manifest`] | `manifest.json`: what a run produced and what it cost |
 //! | [`checkpoint::Checkpoint`] | the versioned, checksummed checkpoint container; a model writes its state into the payload with [`checkpoint::Encoder`] and reads it with [`checkpoint::Decoder`] |
 //! | [`mesh::SurfaceMesh`] | a surface as the surface stage makes it and the glTF writer writes it; [`mesh::SurfaceEncoder`] is how the surface stage has it encoded |
@@ -29,4 +29,6 @@ pub mod verify;
 pub mod vtu;
 
 pub use error::{CacheError, Result};
-pub use layout::{Layout, free_space, human_bytes, temporary_path, write_atomic, write_error};
+pub use layout::{
+    Layout, free_space, human_bytes, playback_time, temporary_path, write_atomic, write_error,
+};

@@ -41,7 +41,8 @@ pub trait SurfaceEncoder: Sync {
     fn fractured(&self, mesh: &SurfaceMesh) -> Result<Vec<u8>, EncodeError>;
 
     /// A fractured surface animated over frames: `frames[k]` are the positions of
-    /// `mesh`'s vertices at time `times[k]` (s).
+    /// `mesh`'s vertices in cache frame k + 1, at simulation time `times[k]` (s); the
+    /// encoder keys frame k + 1 at its playback time ([`crate::playback_time`]).
     fn animated(
         &self,
         mesh: &SurfaceMesh,

@@ -13,6 +13,30 @@ use std::path::Path;
 
 use crate::error::{CacheError, Result};
 
+/// Writes `tets/tets.pvd`, the ParaView collection of the tet frames 1 … `frames`:
+/// frame k (file `NNNN.vtu`) at `timestep` (k − 1)/`playback_fps`, the playback time
+/// base of every file of the cache that carries time, with its simulation time
+/// `simulation_times[k − 1]` (s) kept in the attribute `simulation_time` (which
+/// ParaView ignores).
+pub fn write_collection(path: &Path, simulation_times: &[f64], playback_fps: f64) -> Result<()> {
+    use std::fmt::Write as _;
+    let mut text = String::from(
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" \
+         byte_order=\"LittleEndian\">\n<Collection>\n",
+    );
+    for (k, time) in simulation_times.iter().enumerate() {
+        let frame = k + 1;
+        let _ = writeln!(
+            text,
+            "<DataSet timestep=\"{}\" simulation_time=\"{time:e}\" group=\"\" part=\"0\" \
+             file=\"{frame:04}.vtu\"/>",
+            crate::playback_time(frame, playback_fps)
+        );
+    }
+    text.push_str("</Collection>\n</VTKFile>\n");
+    crate::write_atomic(path, text.as_bytes())
+}
+
 /// VTK's cell type of a linear tetrahedron.
 pub const VTK_TETRA: u8 = 10;
 
@@ -307,6 +331,22 @@ mod tests {
             damage: vec![0.25, 0.5],
             parent: vec![-1, -1, -1, -1, -1, 1],
         }
+    }
+
+    #[test]
+    fn collection_gives_playback_and_simulation_times() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let path = dir.path().join("tets.pvd");
+        write_collection(&path, &[0.0, 1.0 / 7500.0, 2.0 / 7500.0], 24.0).expect("write");
+        let text = std::fs::read_to_string(&path).expect("read");
+        assert_eq!(text.matches("<DataSet ").count(), 3, "{text}");
+        assert!(text.contains("timestep=\"0\"") && text.contains("file=\"0001.vtu\""));
+        assert!(
+            text.contains(
+                "timestep=\"0.08333333333333333\" simulation_time=\"2.6666666666666667e-4\""
+            ),
+            "{text}"
+        );
     }
 
     #[test]

@@ -67,6 +67,24 @@ pub enum Command {
         #[command(subcommand)]
         which: BenchCommand,
     },
+    /// Write an existing cache in another format.
+    Export {
+        /// The format.
+        #[command(subcommand)]
+        format: ExportFormat,
+    },
+}
+
+/// Formats `perifrac export` writes.
+#[derive(Debug, Subcommand)]
+pub enum ExportFormat {
+    /// The whole cache as one USD stage, `OUT/cache.usd` (binary usdc): particles,
+    /// surfaces, volumes and colliders, frame k at time code k, played at
+    /// `[output] playback_fps`.
+    Usd {
+        /// The output directory of a `perifrac run`.
+        out: PathBuf,
+    },
 }
 
 /// Benchmarks.

@@ -227,8 +227,18 @@ pub fn demo(
             100.0 * preview / timing.simulation.max(1e-9)
         );
     }
+    if let (false, Some(usd)) = (quiet, timing.usd) {
+        eprintln!(
+            "demo: cache.usd written in {usd:.2} s ({:.1} % of the simulation)",
+            100.0 * usd / timing.simulation.max(1e-9)
+        );
+    }
     let layout = Layout::new(out);
     println!("demo outputs:");
+    println!(
+        "  USD stage (all of it, binary):  {}",
+        layout.usd().display()
+    );
     println!(
         "  particles (PLY, one per frame): {}",
         layout.particles_dir().display()
@@ -268,6 +278,8 @@ pub struct StageSeconds {
     pub simulation: f64,
     /// The previews, if they were rendered.
     pub preview: Option<f64>,
+    /// Writing `cache.usd`, if it was written.
+    pub usd: Option<f64>,
 }
 
 /// Makes `out` ready for a run: a folder holding another cache is refused unless the
@@ -366,6 +378,7 @@ pub fn simulate(
         return Ok(StageSeconds {
             simulation: 0.0,
             preview: None,
+            usd: None,
         });
     }
     let options = RunOptions {
@@ -417,12 +430,15 @@ pub fn simulate(
     }
     match scene.output.surface {
         SurfaceMethod::None => {}
-        SurfaceMethod::Vdb => crate::surface::stage(out, &scene.output.vdb, quiet)?,
-        SurfaceMethod::Embedded => {
-            crate::surface::embedded_stage(out, &scene.output.embedded, quiet)?
-        }
-        SurfaceMethod::Sheet => crate::surface::sheet_stage(out, quiet)?,
+        SurfaceMethod::Vdb => crate::surface::stage(out, &scene.output, quiet)?,
+        SurfaceMethod::Embedded => crate::surface::embedded_stage(out, &scene.output, quiet)?,
+        SurfaceMethod::Sheet => crate::surface::sheet_stage(out, &scene.output, quiet)?,
     }
+    let usd = if scene.output.usd {
+        Some(crate::export::usd(out, quiet)?)
+    } else {
+        None
+    };
     let preview = if scene.output.preview {
         crate::render::stage(out, threads, quiet)
     } else {
@@ -431,6 +447,7 @@ pub fn simulate(
     Ok(StageSeconds {
         simulation,
         preview,
+        usd,
     })
 }
 

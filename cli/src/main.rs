@@ -6,7 +6,7 @@
 //! | [`commands`] | `run`, `demo`, `check`; [`commands::Failure`] and its exit code |
 //! | [`signals`] | SIGINT/SIGTERM/SIGHUP during a run: a clean stop with a checkpoint |
 //! | [`verify`] | `perifrac verify`, and the warnings `render` and `surface` print first |
-//! | `surface`, [`render`] | the surface and render stages as commands |
+//! | `surface`, [`render`], `export` | the surface and render stages and the USD export as commands |
 //! | [`bench`](mod@bench), [`bench_render`], [`accuracy`], [`stability`], [`plot`] | `perifrac bench …`: throughput, accuracy against a reference, stability, plots |
 //!
 //! Exit codes: 0 success; 1 a run failed (I/O, blow-up); 2 bad input (scene, flags, a
@@ -21,6 +21,7 @@ mod args;
 mod bench;
 mod bench_render;
 mod commands;
+mod export;
 mod plot;
 mod render;
 mod signals;
@@ -58,6 +59,9 @@ fn main() -> ExitCode {
             force,
         } => commands::demo(&out, threads, resume, force, cli.quiet),
         Command::Bench { which } => bench::run(which, cli.quiet),
+        Command::Export {
+            format: args::ExportFormat::Usd { out },
+        } => export::usd(&out, cli.quiet).map(|_| ()),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use indicatif::{ProgressBar, ProgressStyle};
-use perifrac_cache::scene::{EmbeddedSpec, Scene, VdbSpec};
+use perifrac_cache::scene::{OutputSpec, Scene};
 use perifrac_cache::{CacheError, Layout};
 use perifrac_render::gltf::Glb;
 use perifrac_surface::SurfaceError;
@@ -40,9 +40,9 @@ pub fn command(config: &SurfaceConfig, quiet: bool) -> Result<(), Failure> {
     crate::verify::warn(&config.out);
     let scene = Scene::load(&Layout::new(&config.out).scene())?;
     match config.method {
-        SurfaceMethodArg::Vdb => stage(&config.out, &scene.output.vdb, quiet),
-        SurfaceMethodArg::Embedded => embedded_stage(&config.out, &scene.output.embedded, quiet),
-        SurfaceMethodArg::Sheet => sheet_stage(&config.out, quiet),
+        SurfaceMethodArg::Vdb => stage(&config.out, &scene.output, quiet),
+        SurfaceMethodArg::Embedded => embedded_stage(&config.out, &scene.output, quiet),
+        SurfaceMethodArg::Sheet => sheet_stage(&config.out, &scene.output, quiet),
     }
 }
 
@@ -124,14 +124,16 @@ fn frame_files(dir: &Path, suffix: &str) -> Vec<PathBuf> {
 }
 
 /// Runs the `embedded` method over every frame of the cache in `out`.
-pub fn embedded_stage(out: &Path, spec: &EmbeddedSpec, quiet: bool) -> Result<(), Failure> {
+pub fn embedded_stage(out: &Path, output: &OutputSpec, quiet: bool) -> Result<(), Failure> {
     let layout = Layout::new(out);
     remove_other_method(vdb_files(&layout), "vdb", &layout)?;
     let bar = progress(quiet);
-    let report = perifrac_surface::embedded::stage(&layout, spec, &Glb, &|done, total| {
-        bar.set_length(total as u64);
-        bar.set_position(done as u64);
-    });
+    let encoder = Glb::new(output);
+    let report =
+        perifrac_surface::embedded::stage(&layout, &output.embedded, &encoder, &|done, total| {
+            bar.set_length(total as u64);
+            bar.set_position(done as u64);
+        });
     bar.finish_and_clear();
     let r = report?;
     if !quiet {
@@ -156,11 +158,13 @@ pub fn embedded_stage(out: &Path, spec: &EmbeddedSpec, quiet: bool) -> Result<()
 }
 
 /// Runs the `sheet` method over every frame of the cache in `out`.
-pub fn sheet_stage(out: &Path, quiet: bool) -> Result<(), Failure> {
+pub fn sheet_stage(out: &Path, output: &OutputSpec, quiet: bool) -> Result<(), Failure> {
     let layout = Layout::new(out);
+    remove_other_method(vdb_files(&layout), "vdb", &layout)?;
     let bar = progress(quiet);
     let start = std::time::Instant::now();
-    let frames = perifrac_surface::sheet::stage(&layout, &Glb, &|done, total| {
+    let encoder = Glb::new(output);
+    let frames = perifrac_surface::sheet::stage(&layout, &encoder, &|done, total| {
         bar.set_length(total as u64);
         bar.set_position(done as u64);
     });
@@ -178,7 +182,7 @@ pub fn sheet_stage(out: &Path, quiet: bool) -> Result<(), Failure> {
 
 /// Runs the `vdb` method over every frame of the cache in `out`.
 #[cfg(not(feature = "openvdb"))]
-pub fn stage(_out: &Path, _spec: &VdbSpec, _quiet: bool) -> Result<(), Failure> {
+pub fn stage(_out: &Path, _output: &OutputSpec, _quiet: bool) -> Result<(), Failure> {
     Err(Failure::input(anyhow::anyhow!(
         "this perifrac was built without the `openvdb` feature, which the vdb surface method needs"
     )))
@@ -186,12 +190,13 @@ pub fn stage(_out: &Path, _spec: &VdbSpec, _quiet: bool) -> Result<(), Failure> 
 
 /// Runs the `vdb` method over every frame of the cache in `out`.
 #[cfg(feature = "openvdb")]
-pub fn stage(out: &Path, spec: &VdbSpec, quiet: bool) -> Result<(), Failure> {
+pub fn stage(out: &Path, output: &OutputSpec, quiet: bool) -> Result<(), Failure> {
     let layout = Layout::new(out);
     remove_other_method(embedded_files(&layout), "embedded", &layout)?;
     let bar = progress(quiet);
     let start = std::time::Instant::now();
-    let total = perifrac_surface::vdb::stage(&layout, spec, &Glb, &|done, total| {
+    let encoder = Glb::new(output);
+    let total = perifrac_surface::vdb::stage(&layout, &output.vdb, &encoder, &|done, total| {
         bar.set_length(total as u64);
         bar.set_position(done as u64);
     });

@@ -8,6 +8,7 @@ use std::path::Path;
 
 use perifrac_cache::Layout;
 use perifrac_cache::manifest::Manifest;
+use perifrac_cache::mesh::SurfaceMesh;
 use perifrac_cache::ply::ParticleFrame;
 use perifrac_cache::scene::{ColliderSpec, Scene};
 use rayon::prelude::*;
@@ -375,6 +376,97 @@ pub fn read_glb(path: &Path, color_by: ColorBy, g: &mut FrameGeometry) -> Result
     Ok(())
 }
 
+/// Reads the meshes of a .glb file the surface stage wrote (`surface/NNNN.glb`) back
+/// into the cache's surface type, one [`SurfaceMesh`] a glTF mesh, named like it:
+/// primitives of the material named "crack" give the crack triangles, the others the
+/// original surface's; primitives that share their position accessor share vertices;
+/// `_DAMAGE` is read when every primitive carries it. Points and lines are skipped.
+pub fn read_surfaces(path: &Path) -> Result<Vec<SurfaceMesh>, RenderError> {
+    let bad = |message: String| RenderError::Input {
+        path: path.to_path_buf(),
+        message,
+    };
+    let bytes = std::fs::read(path).map_err(|e| RenderError::io(path, e))?;
+    let gltf =
+        gltf::Gltf::from_slice(&bytes).map_err(|e| bad(format!("not a glTF binary: {e}")))?;
+    let blob = gltf.blob.as_deref();
+    let buffer = |b: gltf::Buffer<'_>| match b.source() {
+        gltf::buffer::Source::Bin => blob,
+        gltf::buffer::Source::Uri(_) => None,
+    };
+    let damage_semantic = gltf::Semantic::Extras("DAMAGE".into());
+    let mut meshes = Vec::new();
+    for mesh in gltf.meshes() {
+        let name = mesh.name().unwrap_or("").to_string();
+        let mut out = SurfaceMesh {
+            name: name.clone(),
+            ..SurfaceMesh::default()
+        };
+        let mut with_damage = true;
+        // (position accessor, first vertex) of the primitives read so far.
+        let mut shared: Vec<(usize, u32)> = Vec::new();
+        for primitive in mesh.primitives() {
+            if primitive.mode() != gltf::mesh::Mode::Triangles {
+                continue;
+            }
+            let Some(accessor) = primitive.get(&gltf::Semantic::Positions) else {
+                return Err(bad(format!(
+                    "mesh '{name}' has a primitive without positions"
+                )));
+            };
+            let reader = primitive.reader(buffer);
+            let base = match shared.iter().find(|(a, _)| *a == accessor.index()) {
+                Some(&(_, base)) => base,
+                None => {
+                    let base = out.positions.len() as u32;
+                    let positions: Vec<[f32; 3]> = reader
+                        .read_positions()
+                        .ok_or_else(|| {
+                            bad(format!("mesh '{name}': positions in an external buffer"))
+                        })?
+                        .collect();
+                    let normals: Vec<[f32; 3]> = match reader.read_normals() {
+                        Some(n) => n.collect(),
+                        None => vec![[0.0; 3]; positions.len()],
+                    };
+                    let damage = primitive
+                        .get(&damage_semantic)
+                        .and_then(|a| gltf::accessor::Iter::<f32>::new(a, buffer));
+                    match damage {
+                        Some(d) if with_damage => out.damage.extend(d),
+                        _ => with_damage = false,
+                    }
+                    out.positions.extend(positions);
+                    out.normals.extend(normals);
+                    shared.push((accessor.index(), base));
+                    base
+                }
+            };
+            let count = accessor.count() as u32;
+            let indices: Vec<u32> = match reader.read_indices() {
+                Some(i) => i.into_u32().collect(),
+                None => (0..count).collect(),
+            };
+            if let Some(&i) = indices.iter().find(|&&i| i >= count) {
+                return Err(bad(format!(
+                    "mesh '{name}': index {i} past its {count} vertices"
+                )));
+            }
+            let list = if primitive.material().name() == Some("crack") {
+                &mut out.crack_indices
+            } else {
+                &mut out.surface_indices
+            };
+            list.extend(indices.iter().map(|i| i + base));
+        }
+        if !with_damage || out.damage.len() != out.positions.len() {
+            out.damage.clear();
+        }
+        meshes.push(out);
+    }
+    Ok(meshes)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -408,5 +500,38 @@ mod tests {
         );
         f.extra = vec![("temperature".into(), vec![300.0])];
         assert_eq!(temperature(&f, Path::new("p")).unwrap(), [300.0]);
+    }
+
+    #[test]
+    fn surfaces_read_back_as_written() {
+        let mesh = SurfaceMesh {
+            name: "block".into(),
+            positions: vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [0.0, 0.0, 1.0],
+            ],
+            normals: vec![[0.0, 0.0, 1.0]; 4],
+            damage: vec![0.0, 0.25, 0.5, 1.0],
+            surface_indices: vec![0, 2, 1, 0, 1, 3],
+            crack_indices: vec![1, 2, 3],
+        };
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("0001.glb");
+        let options = crate::gltf::Glb::default();
+        std::fs::write(&file, crate::gltf::crack_glb(&mesh, &options).unwrap()).unwrap();
+        assert_eq!(read_surfaces(&file).unwrap(), vec![mesh.clone()]);
+        let plain = SurfaceMesh {
+            damage: Vec::new(),
+            crack_indices: Vec::new(),
+            ..mesh
+        };
+        std::fs::write(
+            &file,
+            crate::gltf::to_glb(&[plain.clone(), plain.clone()]).unwrap(),
+        )
+        .unwrap();
+        assert_eq!(read_surfaces(&file).unwrap(), vec![plain.clone(), plain]);
     }
 }

@@ -6,9 +6,14 @@
 //! [`to_glb`] writes plain meshes (the `vdb` method); [`crack_glb`] and
 //! [`animated_glb`] write the `embedded` method's fractured surfaces: one mesh with a
 //! "surface" and a "crack" primitive (the inside of the object, its own material)
-//! sharing vertices, damage as vertex colour `COLOR_0` and as the float attribute
-//! `_DAMAGE`, and, for the animation, one morph target a frame with a step-keyed
-//! weights animation (Blender imports it as one object with shape keys).
+//! sharing vertices, damage as the float attribute `_DAMAGE` (and, with
+//! [`Glb::damage_colour`], as the vertex colour `COLOR_0`, which viewers multiply
+//! into the base colour), and, for the animation, one morph target a frame with a
+//! step-keyed weights animation (Blender imports it as one object with shape keys).
+//! The animation is keyed at the playback time base: cache frame k at
+//! (k − 1)/[`Glb::playback_fps`] s, its morph target named `frame_NNNN`
+//! (`mesh.extras.targetNames`, which Blender reads), the frames' simulation times in
+//! `mesh.extras.simulation_times` and the time bases in the animation's `extras`.
 //!
 //! One glTF mesh (and one node, named like it) per input mesh, all in one scene.
 //! Each mesh has a position accessor (with the bounds the format requires), a
@@ -20,16 +25,40 @@
 use gltf_json as json;
 use json::validation::{Checked, USize64};
 use perifrac_cache::mesh::{EncodeError, SurfaceEncoder, SurfaceMesh};
+use perifrac_cache::scene::OutputSpec;
 
 use crate::RenderError;
 
-/// The glTF binary writer as the surface stage's [`SurfaceEncoder`].
-#[derive(Debug, Clone, Copy, Default)]
-pub struct Glb;
+/// The glTF binary writer as the surface stage's [`SurfaceEncoder`], with the
+/// scene's `[output]` settings it needs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Glb {
+    /// Frames per second of playback: the animation shows cache frame k at
+    /// (k − 1)/`playback_fps` s (`[output] playback_fps`).
+    pub playback_fps: f64,
+    /// Also write damage as the vertex colour `COLOR_0` (`[output] gltf_damage_colour`).
+    pub damage_colour: bool,
+}
+
+impl Default for Glb {
+    fn default() -> Glb {
+        Glb::new(&OutputSpec::default())
+    }
+}
+
+impl Glb {
+    /// The writer with a scene's `[output]` settings.
+    pub fn new(output: &OutputSpec) -> Glb {
+        Glb {
+            playback_fps: output.playback_fps,
+            damage_colour: output.gltf_damage_colour,
+        }
+    }
+}
 
 impl SurfaceEncoder for Glb {
     fn fractured(&self, mesh: &SurfaceMesh) -> Result<Vec<u8>, EncodeError> {
-        Ok(crack_glb(mesh)?)
+        Ok(crack_glb(mesh, self)?)
     }
 
     fn animated(
@@ -38,7 +67,7 @@ impl SurfaceEncoder for Glb {
         times: &[f32],
         frames: &[Vec<[f32; 3]>],
     ) -> Result<Vec<u8>, EncodeError> {
-        Ok(animated_glb(mesh, times, frames)?)
+        Ok(animated_glb(mesh, times, frames, self)?)
     }
 
     fn meshes(&self, meshes: &[SurfaceMesh]) -> Result<Vec<u8>, EncodeError> {
@@ -221,12 +250,14 @@ fn material(name: &str, colour: [f32; 4], roughness: f32) -> json::Material {
 }
 
 /// Writes the mesh, node and scene of a fractured surface, with `targets` morph
-/// targets (position deltas) when given; returns the node.
+/// targets (position deltas) when given and the mesh's `extras`; returns the node.
 fn push_crack_surface(
     root: &mut json::Root,
     bin: &mut Vec<u8>,
     s: &SurfaceMesh,
     targets: &[Vec<[f32; 3]>],
+    options: &Glb,
+    extras: Option<serde_json::Value>,
 ) -> json::Index<json::Node> {
     use json::accessor::{ComponentType, Type};
     use json::buffer::Target;
@@ -243,9 +274,11 @@ fn push_crack_surface(
     ));
     let view = push_view(root, bin, vec3_bytes(&s.normals), Target::ArrayBuffer);
     let normals = root.push(accessor(view, count, ComponentType::F32, Type::Vec3, None));
-    let colours: Vec<[f32; 3]> = s.damage.iter().map(|&d| damage_colour(d)).collect();
-    let view = push_view(root, bin, vec3_bytes(&colours), Target::ArrayBuffer);
-    let colours = root.push(accessor(view, count, ComponentType::F32, Type::Vec3, None));
+    let colours = options.damage_colour.then(|| {
+        let colours: Vec<[f32; 3]> = s.damage.iter().map(|&d| damage_colour(d)).collect();
+        let view = push_view(root, bin, vec3_bytes(&colours), Target::ArrayBuffer);
+        root.push(accessor(view, count, ComponentType::F32, Type::Vec3, None))
+    });
     let view = push_view(
         root,
         bin,
@@ -301,12 +334,16 @@ fn push_crack_surface(
         ));
         primitives.push(json::mesh::Primitive {
             attributes: [
-                (Checked::Valid(Semantic::Positions), positions),
-                (Checked::Valid(Semantic::Normals), normals),
+                (Checked::Valid(Semantic::Positions), Some(positions)),
+                (Checked::Valid(Semantic::Normals), Some(normals)),
                 (Checked::Valid(Semantic::Colors(0)), colours),
-                (Checked::Valid(Semantic::Extras("DAMAGE".into())), damage),
+                (
+                    Checked::Valid(Semantic::Extras("DAMAGE".into())),
+                    Some(damage),
+                ),
             ]
             .into_iter()
+            .filter_map(|(semantic, accessor)| Some((semantic, accessor?)))
             .collect(),
             extensions: None,
             extras: Default::default(),
@@ -318,7 +355,7 @@ fn push_crack_surface(
     }
     let mesh = root.push(json::Mesh {
         extensions: None,
-        extras: Default::default(),
+        extras: extras.and_then(|e| serde_json::value::to_raw_value(&e).ok()),
         name: Some(s.name.to_string()),
         primitives,
         weights: (!targets.is_empty()).then(|| vec![0.0; targets.len()]),
@@ -339,22 +376,25 @@ fn push_crack_surface(
 }
 
 /// Encodes a fractured surface as a .glb file (one mesh, two materials).
-pub fn crack_glb(surface: &SurfaceMesh) -> Result<Vec<u8>, RenderError> {
+pub fn crack_glb(surface: &SurfaceMesh, options: &Glb) -> Result<Vec<u8>, RenderError> {
     check_crack(surface)?;
     let mut root = new_root();
     let mut bin = Vec::new();
-    push_crack_surface(&mut root, &mut bin, surface, &[]);
+    push_crack_surface(&mut root, &mut bin, surface, &[], options, None);
     finish(root, bin)
 }
 
 /// Encodes a fractured surface animated by morph targets: `frames[k]` are the
-/// vertex positions at time `times[k]` (s), one morph target each (its deltas from
-/// `surface.positions`), and a step-interpolated weights animation that shows
-/// target k alone from `times[k]` on.
+/// vertex positions of cache frame k + 1, at simulation time `times[k]` (s), one
+/// morph target each (its deltas from `surface.positions`, named `frame_NNNN` in
+/// `mesh.extras.targetNames`), and a step-interpolated weights animation that shows
+/// target k alone from playback time k/`options.playback_fps` on. The simulation
+/// times go to `mesh.extras.simulation_times`.
 pub fn animated_glb(
     surface: &SurfaceMesh,
     times: &[f32],
     frames: &[Vec<[f32; 3]>],
+    options: &Glb,
 ) -> Result<Vec<u8>, RenderError> {
     use json::accessor::{ComponentType, Type};
 
@@ -372,6 +412,12 @@ pub fn animated_glb(
         return Err(invalid(format!(
             "mesh '{}': frame times must be finite and increasing",
             surface.name
+        )));
+    }
+    if !(options.playback_fps.is_finite() && options.playback_fps > 0.0) {
+        return Err(invalid(format!(
+            "mesh '{}': playback_fps must be a positive finite number, got {}",
+            surface.name, options.playback_fps
         )));
     }
     let base = &surface.positions;
@@ -396,13 +442,31 @@ pub fn animated_glb(
     }
     let mut root = new_root();
     let mut bin = Vec::new();
-    let node = push_crack_surface(&mut root, &mut bin, surface, &targets);
+    let extras = serde_json::json!({
+        "targetNames": (1..=n).map(|frame| format!("frame_{frame:04}")).collect::<Vec<_>>(),
+        "simulation_times": times,
+    });
+    let node = push_crack_surface(
+        &mut root,
+        &mut bin,
+        surface,
+        &targets,
+        options,
+        Some(extras),
+    );
     drop(targets);
-    // Keyframes: times, and one-hot weights (target k at time k).
-    let view = push_view_plain(&mut root, &mut bin, times.iter().map(|t| t.to_le_bytes()));
+    // Keyframes at the playback time base, and one-hot weights (target k at key k).
+    let playback: Vec<f32> = (1..=n)
+        .map(|frame| perifrac_cache::playback_time(frame, options.playback_fps) as f32)
+        .collect();
+    let view = push_view_plain(
+        &mut root,
+        &mut bin,
+        playback.iter().map(|t| t.to_le_bytes()),
+    );
     let mut input = accessor(view, n, ComponentType::F32, Type::Scalar, None);
-    input.min = Some(json::Value::from(vec![times[0]]));
-    input.max = Some(json::Value::from(vec![times[n - 1]]));
+    input.min = Some(json::Value::from(vec![playback[0]]));
+    input.max = Some(json::Value::from(vec![playback[n - 1]]));
     let input = root.push(input);
     let weights = (0..n * n).map(|i| if i / n == i % n { 1.0f32 } else { 0.0 });
     let view = push_view_plain(&mut root, &mut bin, weights.map(|w| w.to_le_bytes()));
@@ -413,9 +477,14 @@ pub fn animated_glb(
         Type::Scalar,
         None,
     ));
+    let animation_extras = serde_json::json!({
+        "playback_fps": options.playback_fps,
+        "time_base": "cache frame k (from 1) is keyed at (k - 1) / playback_fps s; \
+                      its simulation time is mesh.extras.simulation_times[k - 1]",
+    });
     root.push(json::Animation {
         extensions: None,
-        extras: Default::default(),
+        extras: serde_json::value::to_raw_value(&animation_extras).ok(),
         channels: vec![json::animation::Channel {
             sampler: json::Index::new(0),
             target: json::animation::Target {
@@ -746,13 +815,63 @@ mod tests {
             .map(|k| p.iter().map(|q| [q[0] + k as f32, q[1], q[2]]).collect())
             .collect();
         let file = dir.path().join("animated.glb");
-        std::fs::write(&file, animated_glb(&s, &[0.0, 0.1, 0.2], &frames).unwrap()).unwrap();
+        std::fs::write(
+            &file,
+            animated_glb(&s, &[0.0, 1e-4, 2e-4], &frames, &Glb::default()).unwrap(),
+        )
+        .unwrap();
         let report = validate(&file);
         assert_eq!(report["numErrors"], 0, "{report:#}");
         let file = dir.path().join("frame.glb");
-        std::fs::write(&file, crack_glb(&s).unwrap()).unwrap();
+        std::fs::write(&file, crack_glb(&s, &Glb::default()).unwrap()).unwrap();
         let report = validate(&file);
         assert_eq!(report["numErrors"], 0, "{report:#}");
+        let options = Glb {
+            damage_colour: true,
+            ..Glb::default()
+        };
+        std::fs::write(&file, crack_glb(&s, &options).unwrap()).unwrap();
+        let report = validate(&file);
+        assert_eq!(report["numErrors"], 0, "{report:#}");
+    }
+
+    /// The JSON chunk of a .glb.
+    fn json_chunk(glb: &[u8]) -> serde_json::Value {
+        let len = u32::from_le_bytes(glb[12..16].try_into().unwrap()) as usize;
+        serde_json::from_slice(&glb[20..20 + len]).unwrap()
+    }
+
+    #[test]
+    fn animation_is_keyed_at_the_playback_time_base_with_named_targets() {
+        let (p, n, i) = tetrahedron();
+        let s = crack_tet(&p, &n, &[0.0, 0.5, 1.0, 0.25], &i);
+        let frames: Vec<Vec<[f32; 3]>> = (0..3).map(|_| p.clone()).collect();
+        let options = Glb {
+            playback_fps: 25.0,
+            damage_colour: false,
+        };
+        let glb = animated_glb(&s, &[0.0, 1e-4, 2e-4], &frames, &options).unwrap();
+        let doc = json_chunk(&glb);
+        let input = &doc["accessors"][doc["animations"][0]["samplers"][0]["input"]
+            .as_u64()
+            .unwrap() as usize];
+        assert_eq!(input["min"], serde_json::json!([0.0]));
+        assert_eq!(input["max"][0].as_f64().unwrap() as f32, 2.0 / 25.0);
+        let extras = &doc["meshes"][0]["extras"];
+        assert_eq!(
+            extras["targetNames"],
+            serde_json::json!(["frame_0001", "frame_0002", "frame_0003"])
+        );
+        assert_eq!(extras["simulation_times"][2].as_f64().unwrap() as f32, 2e-4);
+        assert_eq!(doc["animations"][0]["extras"]["playback_fps"], 25.0);
+        let attributes = &doc["meshes"][0]["primitives"][0]["attributes"];
+        assert!(attributes.get("COLOR_0").is_none() && attributes["_DAMAGE"].is_u64());
+        let coloured = Glb {
+            damage_colour: true,
+            ..options
+        };
+        let doc = json_chunk(&crack_glb(&s, &coloured).unwrap());
+        assert!(doc["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"].is_u64());
     }
 
     #[test]
@@ -761,14 +880,18 @@ mod tests {
         let d = [0.0; 4];
         let s = crack_tet(&p, &n, &d, &i);
         let frames = vec![p.clone(), p[..3].to_vec()];
-        let err = animated_glb(&s, &[0.0, 0.1], &frames).unwrap_err();
+        let err = animated_glb(&s, &[0.0, 0.1], &frames, &Glb::default()).unwrap_err();
         assert!(err.to_string().contains("frame 2 has 3 positions"), "{err}");
-        let err = animated_glb(&s, &[0.1, 0.1], &[p.clone(), p.clone()]).unwrap_err();
+        let err =
+            animated_glb(&s, &[0.1, 0.1], &[p.clone(), p.clone()], &Glb::default()).unwrap_err();
         assert!(err.to_string().contains("increasing"), "{err}");
-        let err = crack_glb(&SurfaceMesh {
-            damage: d[..2].to_vec(),
-            ..s
-        })
+        let err = crack_glb(
+            &SurfaceMesh {
+                damage: d[..2].to_vec(),
+                ..s
+            },
+            &Glb::default(),
+        )
         .unwrap_err();
         assert!(err.to_string().contains("damage values"), "{err}");
     }

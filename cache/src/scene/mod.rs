@@ -816,6 +816,26 @@ pub struct OutputSpec {
     /// Settings of the `embedded` surface method (`[output.embedded]`).
     #[serde(default)]
     pub embedded: EmbeddedSpec,
+    /// The playback time base of every file that carries time (`cache.usd`,
+    /// `surface/animated.glb`, `tets/tets.pvd`): cache frame k is shown at
+    /// (k − 1)/`playback_fps` seconds. The simulation time of each frame stays in
+    /// `manifest.json` (`frame_times`) and in each file's metadata. Default 24.
+    #[serde(default = "default_playback_fps")]
+    pub playback_fps: f64,
+    /// Also write damage as the glTF vertex colour `COLOR_0` of the fractured surfaces.
+    /// glTF viewers multiply the base colour by it, so it tints the surface red where
+    /// damaged; by default damage is only the attribute `_DAMAGE`. Default false.
+    #[serde(default)]
+    pub gltf_damage_colour: bool,
+    /// Write `cache.usd`, the whole cache as one USD stage, after the run (and after
+    /// the surface stage); `perifrac export usd OUT` writes it for any cache.
+    /// Default true.
+    #[serde(default = "default_true")]
+    pub usd: bool,
+}
+
+fn default_playback_fps() -> f64 {
+    24.0
 }
 
 impl OutputSpec {
@@ -865,6 +885,9 @@ impl Default for OutputSpec {
             vdb: VdbSpec::default(),
             embedded: EmbeddedSpec::default(),
             preview: true,
+            playback_fps: default_playback_fps(),
+            gltf_damage_colour: false,
+            usd: true,
         }
     }
 }
@@ -1278,6 +1301,19 @@ resolution = 0.1
             }
             other => panic!("{other:?}"),
         }
+    }
+
+    #[test]
+    fn playback_fps_defaults_to_24_and_must_be_positive() {
+        let s = Scene::parse(GOOD, Path::new("good.toml"), Path::new(".")).expect("valid");
+        assert_eq!(s.output.playback_fps, 24.0);
+        assert!(!s.output.gltf_damage_colour);
+        let text = format!("{GOOD}\n[output]\nplayback_fps = 30\n");
+        let s = Scene::parse(&text, Path::new("good.toml"), Path::new(".")).expect("valid");
+        assert_eq!(s.output.playback_fps, 30.0);
+        let (_, key, message) = error(&format!("{GOOD}\n[output]\nplayback_fps = 0\n"));
+        assert_eq!(key, "output.playback_fps");
+        assert!(message.contains("positive"), "{message}");
     }
 
     #[test]

@@ -95,6 +95,11 @@ pub(super) fn validate(scene: &Scene) -> Check {
     }
     contact(scene)?;
     vdb(&scene.output.vdb)?;
+    positive(
+        &["output", "playback_fps"],
+        scene.output.playback_fps,
+        "the playback rate in frames per second",
+    )?;
     if scene.output.tets == Some(false) && scene.output.surface == SurfaceMethod::Embedded {
         return Err(issue(
             &["output", "tets"],

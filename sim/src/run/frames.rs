@@ -115,6 +115,7 @@ impl<'a> Frames<'a> {
             }
             let t = Instant::now();
             let mut frame_split = 0.0;
+            let mut wrote_tets = false;
             if scene.output.particles {
                 let path = layout.particles(frame);
                 let record = particle_frame(world, frame).write(&path)?;
@@ -127,6 +128,7 @@ impl<'a> Frames<'a> {
                     let path = layout.tets(frame);
                     let record = tets.write(&path)?;
                     self.manifest.record(&layout.root, &path, record);
+                    wrote_tets = true;
                 }
                 if scene.output.writes_sheets()
                     && let Some(sheet) = part.model.sheet_frame()
@@ -138,6 +140,13 @@ impl<'a> Frames<'a> {
             }
             self.split_time += frame_split;
             self.manifest.frame_times.push(world.time);
+            if wrote_tets {
+                crate::cache::vtu::write_collection(
+                    &layout.tets_collection(),
+                    &self.manifest.frame_times,
+                    scene.output.playback_fps,
+                )?;
+            }
             self.manifest
                 .collider_centers
                 .push(world.colliders.iter().map(|c| c.center).collect());

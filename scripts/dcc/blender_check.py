@@ -1,0 +1,166 @@
+"""Imports a cache into Blender (PyPI bpy, headless) the way the README tells artists to,
+and checks what they would see:
+
+- File > Import > USD of OUT/cache.usd: the frame range is 1..N at [output] playback_fps;
+  the crack surface (or each fragment mesh) at frames 1 and N matches surface/0001.glb and
+  surface/NNNN.glb within 1e-6 m; the point cloud carries `damage` and `fragment` and its
+  points at frame N match particles/NNNN.ply; points, meshes, volumes and colliders are in
+  one coordinate system (the y-up cache turned z-up by one rotation, as glTF imports are).
+- File > Import > glTF of OUT/surface/animated.glb (embedded method): every frame 1..N shows
+  its own cache frame (the shape key named frame_NNNN alone, vertices of that frame).
+
+usage: python blender_check.py OUT
+"""
+
+import sys
+import tomllib
+from pathlib import Path
+
+import bpy
+import numpy as np
+from mathutils import Matrix
+
+sys.path.insert(0, str(Path(__file__).parent))
+from usd_check import check, read_glb, read_ply  # noqa: E402
+
+TOLERANCE = 1e-6  # metres
+
+
+def y_up_to_blender(p):
+    """Cache coordinates (y up) in Blender's world (z up): (x, -z, y)."""
+    p = np.asarray(p, dtype="f8")
+    return np.stack([p[:, 0], -p[:, 2], p[:, 1]], axis=1)
+
+
+def evaluated_vertices(obj):
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    ev = obj.evaluated_get(depsgraph)
+    mesh = ev.to_mesh()
+    local = np.empty(len(mesh.vertices) * 3)
+    mesh.vertices.foreach_get("co", local)
+    m = np.array(ev.matrix_world)
+    ev.to_mesh_clear()
+    local = local.reshape(-1, 3)
+    return local @ m[:3, :3].T + m[:3, 3]
+
+
+def evaluated_points(obj):
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    ev = obj.evaluated_get(depsgraph)
+    cloud = ev.data
+    pos = np.empty(len(cloud.points) * 3)
+    cloud.attributes["position"].data.foreach_get("vector", pos)
+    m = np.array(ev.matrix_world)
+    return pos.reshape(-1, 3) @ m[:3, :3].T + m[:3, 3], cloud
+
+
+def worst(a, b):
+    if a.shape != b.shape:
+        return float("inf")
+    return float(np.abs(a - b).max()) if a.size else 0.0
+
+
+def main(out):
+    out = Path(out)
+    scene_toml = tomllib.loads((out / "scene.toml").read_text())
+    playback_fps = scene_toml["output"]["playback_fps"]
+    frames = len(list((out / "particles").glob("[0-9][0-9][0-9][0-9].ply")))
+
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    bpy.ops.wm.usd_import(filepath=str(out / "cache.usd"), set_frame_range=True)
+    scene = bpy.context.scene
+    fps = scene.render.fps / scene.render.fps_base
+    check((scene.frame_start, scene.frame_end) == (1, frames),
+          f"Blender frame range {scene.frame_start}..{scene.frame_end}, expected 1..{frames}")
+    check(abs(fps - playback_fps) < 1e-9, f"Blender plays at {fps} fps, expected {playback_fps}")
+    print(f"blender usd: frame range 1..{frames} at {fps} fps")
+
+    objects = {o.name: o for o in scene.objects}
+    print("blender usd: objects", sorted(objects))
+    clouds = [o for o in objects.values() if o.type == "POINTCLOUD"]
+    check(len(clouds) == 1, "one point cloud (the particles)")
+    cloud_obj = clouds[0]
+
+    for frame in (1, frames):
+        scene.frame_set(frame)
+        # Particles.
+        ply = read_ply(out / "particles" / f"{frame:04}.ply")
+        expected = y_up_to_blender(np.stack([ply["x"], ply["y"], ply["z"]], axis=1))
+        pos, cloud = evaluated_points(cloud_obj)
+        err = worst(pos, expected)
+        check(err <= TOLERANCE, f"frame {frame}: points off by {err} m")
+        names = set(cloud.attributes.keys())
+        check({"damage", "fragment"} <= names, f"the point cloud's attributes are {sorted(names)}")
+        damage = np.empty(len(cloud.points))
+        cloud.attributes["damage"].data.foreach_get("value", damage)
+        check(np.allclose(damage, ply["damage"], atol=1e-7), f"frame {frame}: damage differs")
+        # Meshes.
+        glb = read_glb(out / "surface" / f"{frame:04}.glb")
+        if "Surface" in objects:
+            [(_, p, _)] = glb
+            err = worst(evaluated_vertices(objects["Surface"]), y_up_to_blender(p))
+            check(err <= TOLERANCE, f"frame {frame}: crack surface off by {err} m from the .glb")
+        else:
+            for name, p, _ in glb:
+                obj = objects.get(name.replace(" ", "_"))
+                check(obj is not None, f"frame {frame}: no object for {name}")
+                err = worst(evaluated_vertices(obj), y_up_to_blender(p))
+                check(err <= TOLERANCE, f"frame {frame}: {name} off by {err} m from the .glb")
+        print(f"blender usd: frame {frame} points within {TOLERANCE} m of the PLY, meshes of the .glb, "
+              f"point attributes {sorted(names - {'position'})}")
+    # One coordinate system: every imported object under the same y-up -> z-up rotation.
+    rotation = Matrix.Rotation(np.pi / 2, 4, "X")
+    for obj in scene.objects:
+        if obj.parent is None:
+            diff = np.abs(np.array(obj.matrix_world) - np.array(rotation)).max()
+            check(diff < 1e-6 or np.abs(np.array(obj.matrix_world) - np.eye(4)).max() < 1e-6,
+                  f"{obj.name}: unexpected root transform {obj.matrix_world}")
+    volumes = [o for o in scene.objects if o.type == "VOLUME"]
+    for vol in volumes:
+        scene.frame_set(frames)
+        path = vol.data.filepath
+        check(path.endswith(".vdb"), f"volume {vol.name} file {path}")
+        print(f"blender usd: volume {vol.name} reads {path} (sequence: {vol.data.is_sequence})")
+    print(f"blender usd: {len(scene.objects)} objects in one coordinate system")
+
+    animated = out / "surface" / "animated.glb"
+    if animated.exists():
+        bpy.ops.wm.read_factory_settings(use_empty=True)
+        scene = bpy.context.scene
+        scene.render.fps = round(playback_fps)
+        scene.render.fps_base = round(playback_fps) / playback_fps
+        bpy.ops.import_scene.gltf(filepath=str(animated))
+        obj = next(o for o in scene.objects if o.type == "MESH")
+        keys = obj.data.shape_keys.key_blocks
+        names = [k.name for k in keys][1:]
+        check(names == [f"frame_{k:04}" for k in range(1, frames + 1)], f"shape keys {names[:3]}...")
+        action = obj.data.shape_keys.animation_data.action
+        start, end = action.frame_range
+        check(round(start) == 1 and round(end) == frames, f"animation keyed over {start}..{end}")
+        import json
+        import struct
+        data = animated.read_bytes()
+        n = struct.unpack_from("<I", data, 12)[0]
+        doc = json.loads(data[20:20 + n])
+        [(_, base, _)] = read_glb(animated)
+        for frame in range(1, frames + 1):
+            scene.frame_set(frame)
+            on = [k.name for k in keys[1:] if k.value > 0.5]
+            check(on == [f"frame_{frame:04}"], f"frame {frame}: shape keys on {on}")
+            # The vertices are base + this frame's target (an independent read of the file).
+            target = doc["meshes"][0]["primitives"][0]["targets"][frame - 1]["POSITION"]
+            a = doc["accessors"][target]
+            view = doc["bufferViews"][a["bufferView"]]
+            blob = data[20 + n + 8:]
+            delta = np.frombuffer(blob, "<f4", a["count"] * 3, view.get("byteOffset", 0)).reshape(-1, 3)
+            expected = y_up_to_blender(base + delta)
+            got = evaluated_vertices(obj)
+            err = worst(got, expected)
+            check(err <= TOLERANCE, f"frame {frame}: animated.glb off by {err} m")
+        print(f"blender gltf: animated.glb frames 1..{frames} each show their own cache frame "
+              f"(shape key frame_NNNN, within {TOLERANCE} m)")
+    print("blender_check: all checks passed")
+
+
+if __name__ == "__main__":
+    main(sys.argv[-1])

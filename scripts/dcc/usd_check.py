@@ -1,0 +1,208 @@
+"""Checks OUT/cache.usd with Pixar's own library (PyPI usd-core), independently of
+perifrac's writer: the validator (UsdUtils.ComplianceChecker) finds no errors, the stage
+metadata give the axes, units and playback time base, and every time sample equals the
+cache files it was made of (particles/NNNN.ply read by a PLY parser written here,
+surface/NNNN.glb by a glTF parser written here). Also reads tets/tets.pvd and each of its
+.vtu files with meshio. Exit code 0 when all holds; prints what it checked.
+
+usage: python usd_check.py OUT
+"""
+
+import json
+import struct
+import sys
+import tomllib
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import numpy as np
+from pxr import Usd, UsdGeom, UsdUtils, UsdVol, Vt
+
+
+def read_ply(path):
+    """Binary little-endian float PLY: {column: np.array}."""
+    data = path.read_bytes()
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    header = data[:end].decode("ascii").splitlines()
+    assert header[1] == "format binary_little_endian 1.0", header[1]
+    count, names = 0, []
+    for line in header:
+        words = line.split()
+        if words[:2] == ["element", "vertex"]:
+            count = int(words[2])
+        elif words[:1] == ["property"]:
+            assert words[1] == "float", line
+            names.append(words[2])
+    values = np.frombuffer(data[end:], dtype="<f4", count=count * len(names))
+    values = values.reshape(count, len(names))
+    return {n: values[:, i] for i, n in enumerate(names)}
+
+
+def read_glb(path):
+    """[(mesh name, positions (n,3), triangles (m,3) surface then crack)] of a .glb."""
+    data = path.read_bytes()
+    assert data[:4] == b"glTF"
+    json_len = struct.unpack_from("<I", data, 12)[0]
+    doc = json.loads(data[20 : 20 + json_len])
+    bin_start = 20 + json_len + 8
+    blob = data[bin_start:]
+
+    def accessor(i, dtype, width):
+        a = doc["accessors"][i]
+        view = doc["bufferViews"][a["bufferView"]]
+        offset = view.get("byteOffset", 0) + a.get("byteOffset", 0)
+        n = a["count"] * width
+        return np.frombuffer(blob, dtype=dtype, count=n, offset=offset).reshape(a["count"], width)
+
+    materials = [m.get("name") for m in doc.get("materials", [])]
+    meshes = []
+    for mesh in doc.get("meshes", []):
+        positions, surface, crack = None, [], []
+        for prim in mesh["primitives"]:
+            positions = accessor(prim["attributes"]["POSITION"], "<f4", 3)
+            tris = accessor(prim["indices"], "<u4", 1).reshape(-1, 3)
+            crack_prim = "material" in prim and materials[prim["material"]] == "crack"
+            (crack if crack_prim else surface).append(tris)
+        tris = np.concatenate(surface + crack) if surface + crack else np.zeros((0, 3), "u4")
+        meshes.append((mesh.get("name", ""), positions, tris))
+    return meshes
+
+
+def check(condition, message):
+    if not condition:
+        print("FAILED:", message)
+        sys.exit(1)
+
+
+def main(out):
+    out = Path(out)
+    stage_path = out / "cache.usd"
+    scene = tomllib.loads((out / "scene.toml").read_text())
+    manifest = json.loads((out / "manifest.json").read_text())
+    playback_fps = scene["output"]["playback_fps"]
+    frames = len(manifest["frame_times"])
+
+    # The binary format (usdc), not text.
+    check(stage_path.read_bytes()[:8] == b"PXR-USDC", "cache.usd is not a usdc crate file")
+
+    checker = UsdUtils.ComplianceChecker(verbose=False)
+    checker.CheckCompliance(str(stage_path))
+    errors, failed, warnings = checker.GetErrors(), checker.GetFailedChecks(), checker.GetWarnings()
+    for w in warnings:
+        print("compliance warning:", w)
+    check(not errors and not failed, f"ComplianceChecker: errors {errors}, failed checks {failed}")
+    print(f"ComplianceChecker: no errors, no failed checks ({len(warnings)} warnings)")
+
+    stage = Usd.Stage.Open(str(stage_path))
+    check(UsdGeom.GetStageUpAxis(stage) == UsdGeom.Tokens.y, "upAxis is not Y")
+    check(UsdGeom.GetStageMetersPerUnit(stage) == 1.0, "metersPerUnit is not 1")
+    check(stage.GetStartTimeCode() == 1 and stage.GetEndTimeCode() == frames,
+          f"time codes {stage.GetStartTimeCode()}..{stage.GetEndTimeCode()}, expected 1..{frames}")
+    check(stage.GetTimeCodesPerSecond() == playback_fps and stage.GetFramesPerSecond() == playback_fps,
+          "timeCodesPerSecond / framesPerSecond differ from [output] playback_fps")
+    custom = stage.GetRootLayer().customLayerData["perifrac"]
+    check(list(custom["simulation_times"]) == manifest["frame_times"],
+          "customLayerData perifrac.simulation_times differ from the manifest's frame_times")
+    print(f"stage: Y up, 1 m a unit, time codes 1..{frames} at {playback_fps} fps, simulation times kept")
+
+    # Particles, frame for frame.
+    points = UsdGeom.Points(stage.GetPrimAtPath("/World/Particles"))
+    check(points, "no /World/Particles Points prim")
+    times = points.GetPointsAttr().GetTimeSamples()
+    check(times == [float(k) for k in range(1, frames + 1)], f"points time samples {times}")
+    scale = playback_fps / manifest["fps"]
+    pv = UsdGeom.PrimvarsAPI(points)
+    for k in range(1, frames + 1):
+        ply = read_ply(out / "particles" / f"{k:04}.ply")
+        pos = np.array(points.GetPointsAttr().Get(k), dtype="f4")
+        expected = np.stack([ply["x"], ply["y"], ply["z"]], axis=1)
+        check(np.array_equal(pos, expected), f"frame {k}: points differ from the PLY")
+        vel = np.array(points.GetVelocitiesAttr().Get(k), dtype="f4")
+        sim = np.stack([ply["vx"], ply["vy"], ply["vz"]], axis=1)
+        check(np.allclose(vel, sim * np.float32(scale), rtol=1e-6, atol=0),
+              f"frame {k}: velocities are not the simulation ones x playback_fps/fps")
+        check(np.array_equal(np.array(pv.GetPrimvar("simulation_velocity").Get(k), "f4"), sim),
+              f"frame {k}: simulation_velocity differs")
+        for name in ["damage", "plastic"]:
+            check(np.array_equal(np.array(pv.GetPrimvar(name).Get(k), "f4"), ply[name]),
+                  f"frame {k}: {name} differs")
+        for name in ["fragment", "material"]:
+            check(np.array_equal(np.array(pv.GetPrimvar(name).Get(k)), ply[name].astype(int)),
+                  f"frame {k}: {name} differs")
+        check(len(points.GetIdsAttr().Get(k)) == len(pos) and len(points.GetWidthsAttr().Get(k)) == len(pos),
+              f"frame {k}: ids / widths are not one a point")
+        standard = {"x", "y", "z", "vx", "vy", "vz", "damage", "plastic", "material", "fragment"}
+        for name in set(ply) - standard:
+            check(np.array_equal(np.array(pv.GetPrimvar(name).Get(k), "f4"), ply[name]),
+                  f"frame {k}: extra column {name} differs")
+    print(f"particles: {frames} frames equal the PLY files (points, velocities, primvars)")
+
+    # Surfaces.
+    surface = stage.GetPrimAtPath("/World/Surface")
+    if surface:
+        mesh = UsdGeom.Mesh(surface)
+        subsets = UsdGeom.Subset.GetGeomSubsets(mesh)
+        check(sorted(s.GetPrim().GetName() for s in subsets) == ["crack", "surface"], "subsets")
+        for k in range(1, frames + 1):
+            [(_, pos, tris)] = read_glb(out / "surface" / f"{k:04}.glb")
+            check(np.array_equal(np.array(mesh.GetPointsAttr().Get(k), "f4"), pos),
+                  f"frame {k}: surface points differ from the .glb")
+            check(np.array_equal(np.array(mesh.GetFaceVertexIndicesAttr().Get(k)), tris.reshape(-1)),
+                  f"frame {k}: surface triangles differ from the .glb")
+            crack = UsdGeom.Subset(stage.GetPrimAtPath("/World/Surface/crack"))
+            valid, why = UsdGeom.Subset.ValidateSubsets(subsets, len(tris), "materialBind")
+            check(valid, f"frame {k}: subsets {why}")
+            check(len(crack.GetIndicesAttr().Get(k)) <= len(tris), "crack subset")
+        print(f"embedded surface: {frames} frames equal surface/NNNN.glb, subsets valid")
+    fragments = stage.GetPrimAtPath("/World/Fragments")
+    if fragments:
+        for k in range(1, frames + 1):
+            glb = {name.replace(" ", "_"): (p, t) for name, p, t in read_glb(out / "surface" / f"{k:04}.glb")}
+            for child in fragments.GetChildren():
+                visible = UsdGeom.Imageable(child).ComputeVisibility(k) != UsdGeom.Tokens.invisible
+                check(visible == (child.GetName() in glb), f"frame {k}: visibility of {child.GetName()}")
+                if visible:
+                    p, t = glb[child.GetName()]
+                    m = UsdGeom.Mesh(child)
+                    check(np.array_equal(np.array(m.GetPointsAttr().Get(k), "f4"), p), f"frame {k}: {child.GetName()}")
+        print(f"fragments: {len(fragments.GetChildren())} meshes equal surface/NNNN.glb")
+    volume = stage.GetPrimAtPath("/World/Volume")
+    if volume:
+        vol = UsdVol.Volume(volume)
+        fields = vol.GetFieldPaths()
+        check(set(fields) == {"surface", "v"}, f"volume fields {fields}")
+        for name, path in fields.items():
+            asset = UsdVol.OpenVDBAsset(stage.GetPrimAtPath(path))
+            for k in (1, frames):
+                file = asset.GetFilePathAttr().Get(k).resolvedPath
+                check(Path(file).resolve() == (out / "vdb" / f"{k:04}.vdb").resolve(),
+                      f"frame {k}: field {name} points at {file}")
+        print("volume: fields surface and v point at vdb/NNNN.vdb")
+    colliders = stage.GetPrimAtPath("/World/Colliders")
+    if colliders:
+        for i, child in enumerate(colliders.GetChildren()):
+            op = UsdGeom.Xformable(child).GetOrderedXformOps()[0]
+            for k in range(1, frames + 1):
+                centre = manifest["collider_centers"][k - 1][i]
+                check(np.allclose(op.Get(k), centre, atol=0, rtol=1e-12), f"collider {i} frame {k}")
+        print(f"colliders: {len(colliders.GetChildren())} follow manifest.json's centres")
+
+    # ParaView collection, read with meshio.
+    pvd = out / "tets" / "tets.pvd"
+    if pvd.exists():
+        import meshio
+
+        sets = ET.parse(pvd).getroot().find("Collection").findall("DataSet")
+        check(len(sets) == frames, f"tets.pvd lists {len(sets)} frames, not {frames}")
+        for k, ds in enumerate(sets, start=1):
+            check(abs(float(ds.get("timestep")) - (k - 1) / playback_fps) < 1e-12, f"pvd timestep {k}")
+            check(abs(float(ds.get("simulation_time")) - manifest["frame_times"][k - 1]) <= 1e-15 + 1e-12 * manifest["frame_times"][k - 1],
+                  f"pvd simulation_time {k}")
+            grid = meshio.read(pvd.parent / ds.get("file"))
+            check(grid.cells_dict["tetra"].shape[1] == 4 and "damage" in grid.cell_data, f"{ds.get('file')}")
+        print(f"tets.pvd: {frames} frames at (k-1)/{playback_fps} s, each .vtu read by meshio")
+    print("usd_check: all checks passed")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1])

@@ -1,0 +1,915 @@
+//! The whole cache as one USD stage, `OUT/cache.usd` (binary usdc, written with the
+//! pure-Rust `openusd` crate), for the tools artists use: Houdini (Solaris, USD
+//! Import), Blender (File → Import → USD), Maya and Omniverse read it natively.
+//! docs/usd.md describes the stage; [`write_stage`] writes it.
+//!
+//! Time: cache frame k is time code k, and `timeCodesPerSecond` = `framesPerSecond`
+//! = `[output] playback_fps`, so frame k plays at (k − 1)/playback_fps s
+//! ([`perifrac_cache::playback_time`]); the simulation time of every frame is in the
+//! layer's `customLayerData` (`perifrac.simulation_times`). Units are metres
+//! (`metersPerUnit = 1`) and +y is up (`upAxis = "Y"`), as everywhere in the cache.
+//!
+//! Prims, under the default prim `/World`:
+//!
+//! | prim | type | from |
+//! |---|---|---|
+//! | `Particles` | `Points`: `points`, `velocities` (playback), `widths`, `ids`, primvars `damage`, `plastic`, `fragment`, `material`, `simulation_velocity` and a model's extra columns | `particles/NNNN.ply` |
+//! | `Surface` | `Mesh` with time-sampled topology, `normals`, primvar `damage`; `GeomSubset`s `surface` and `crack` (family `materialBind`) | `surface/NNNN.glb` (embedded method) |
+//! | `Fragments/fragment_N` | one `Mesh` a fragment, `visibility` time-sampled where a frame lacks it | `surface/NNNN.glb` (vdb method) |
+//! | `Volume` | `Volume` with `OpenVDBAsset` fields `surface` and `v`, `filePath` time-sampled | `vdb/NNNN.vdb` |
+//! | `Colliders/collider_N` | `Xform` with time-sampled `xformOp:translate`, a `Sphere`, `Cube` or ground `Mesh` child | `scene.toml`, `manifest.json` |
+//! | `Looks/surface`, `Looks/crack` | `Material` with a `UsdPreviewSurface` | the glTF materials' colours |
+//!
+//! Velocities: `velocities` are in metres per second of *playback* (the simulation
+//! velocity × playback_fps / simulation fps), what renderers' motion blur and USD's
+//! velocity extrapolation between time samples read; the simulation velocities (m/s
+//! of simulated time) are the primvar `simulation_velocity`.
+#![warn(missing_docs)]
+
+mod layer;
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use openusd::gf;
+use openusd::sdf::{AssetPath, Value};
+use perifrac_cache::manifest::Manifest;
+use perifrac_cache::mesh::SurfaceMesh;
+use perifrac_cache::ply::ParticleFrame;
+use perifrac_cache::scene::{ColliderSpec, Scene};
+use perifrac_cache::{CacheError, Layout};
+use perifrac_render::RenderError;
+use rayon::prelude::*;
+
+use layer::{Layer, Samples};
+
+/// A failure of the USD export.
+#[derive(Debug, thiserror::Error)]
+pub enum UsdError {
+    /// A cache file (scene, manifest, particles) is missing or malformed.
+    #[error(transparent)]
+    Cache(#[from] CacheError),
+    /// A surface file could not be read.
+    #[error(transparent)]
+    Surface(#[from] RenderError),
+    /// The cache is not one the stage can be made of.
+    #[error("{path}: {message}")]
+    Input {
+        /// The file or directory.
+        path: PathBuf,
+        /// What is wrong and how to fix it.
+        message: String,
+    },
+    /// The stage could not be authored or encoded.
+    #[error("{path}: {message}")]
+    Encode {
+        /// The stage being written.
+        path: PathBuf,
+        /// What failed.
+        message: String,
+    },
+}
+
+impl UsdError {
+    /// Whether the failure is the input's (a missing or malformed cache file), not
+    /// the writer's.
+    pub fn is_bad_input(&self) -> bool {
+        !matches!(self, UsdError::Encode { .. })
+    }
+}
+
+/// What [`write_stage`] wrote.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct UsdReport {
+    /// Frames (time codes 1 … frames).
+    pub frames: usize,
+    /// Particles in the last frame (0 without particle files).
+    pub particles: usize,
+    /// Meshes (the embedded surface, or the vdb method's fragments).
+    pub meshes: usize,
+    /// Whether a `Volume` prim points at the `.vdb` files.
+    pub volume: bool,
+    /// Colliders.
+    pub colliders: usize,
+    /// Size of `cache.usd` in bytes.
+    pub bytes: usize,
+    /// Wall-clock seconds: reading the cache and authoring, then encoding and writing.
+    pub seconds: (f64, f64),
+}
+
+/// Colour and roughness of the preview materials, the glTF files' (render/src/gltf.rs).
+const SURFACE_LOOK: ([f32; 3], f32) = ([0.8, 0.8, 0.78], 0.5);
+const CRACK_LOOK: ([f32; 3], f32) = ([0.85, 0.45, 0.3], 0.9);
+
+/// Writes `cache.usd` for the cache at `layout` from its `scene.toml`,
+/// `manifest.json`, particle, surface and `.vdb` files.
+pub fn write_stage(layout: &Layout) -> Result<UsdReport, UsdError> {
+    let start = Instant::now();
+    let scene = Scene::load(&layout.scene())?;
+    let manifest = Manifest::read(&layout.manifest())?;
+    let frames = manifest.frame_times.len();
+    if frames == 0 {
+        return Err(UsdError::Input {
+            path: layout.manifest(),
+            message: "the cache has no frames; run the scene (or --resume it) first".into(),
+        });
+    }
+    let target = layout.usd();
+    let encode = |message: String| UsdError::Encode {
+        path: target.clone(),
+        message,
+    };
+    let playback_fps = scene.output.playback_fps;
+    let mut stage = Layer::new(stage_metadata(&manifest, playback_fps));
+    let world = stage.def("/", "World", "Xform").map_err(encode)?;
+    let looks = looks(&mut stage, &world).map_err(encode)?;
+    let mut report = UsdReport {
+        frames,
+        ..UsdReport::default()
+    };
+    if layout.particles(1).is_file() {
+        report.particles = particles(&mut stage, &world, layout, &scene, &manifest)?;
+    }
+    if layout.surface(1).is_file() {
+        let meshes = surface_frames(layout, frames)?;
+        // The vdb method names its meshes `fragment N`; the embedded method writes one
+        // mesh a frame (whichever method last surfaced the cache wrote the files).
+        let vdb = meshes[0].iter().all(|m| m.name.starts_with("fragment "));
+        report.meshes = if vdb && !meshes[0].is_empty() {
+            fragments(&mut stage, &world, layout, &meshes, &looks)?
+        } else {
+            embedded_surface(&mut stage, &world, layout, &meshes, &looks)?
+        };
+    }
+    if layout.vdb(1).is_file() {
+        volume(&mut stage, &world, layout, frames).map_err(encode)?;
+        report.volume = true;
+    }
+    report.colliders = colliders(&mut stage, &world, &scene, &manifest).map_err(encode)?;
+    let authored = start.elapsed().as_secs_f64();
+    let bytes = stage.to_usdc().map_err(encode)?;
+    perifrac_cache::write_atomic(&target, &bytes)?;
+    report.bytes = bytes.len();
+    report.seconds = (authored, start.elapsed().as_secs_f64() - authored);
+    Ok(report)
+}
+
+/// The pseudo-root's metadata: axes, units, time base, and the simulation times.
+fn stage_metadata(manifest: &Manifest, playback_fps: f64) -> Vec<(&'static str, Value)> {
+    let frames = manifest.frame_times.len();
+    let perifrac = [
+        ("playback_fps", Value::Double(playback_fps)),
+        ("simulation_fps", Value::Double(manifest.fps)),
+        (
+            "simulation_times",
+            Value::DoubleVec(manifest.frame_times.clone()),
+        ),
+        ("velocity_scale", Value::Double(playback_fps / manifest.fps)),
+        ("scene", Value::String(manifest.scene.clone())),
+        ("tool_version", Value::String(manifest.tool_version.clone())),
+    ];
+    let perifrac = perifrac
+        .into_iter()
+        .map(|(k, v)| (k.to_string(), v))
+        .collect();
+    let custom = [("perifrac".to_string(), Value::Dictionary(perifrac))].into();
+    vec![
+        ("defaultPrim", Value::token("World")),
+        ("upAxis", Value::token("Y")),
+        ("metersPerUnit", Value::Double(1.0)),
+        ("startTimeCode", Value::Double(1.0)),
+        ("endTimeCode", Value::Double(frames as f64)),
+        ("timeCodesPerSecond", Value::Double(playback_fps)),
+        ("framesPerSecond", Value::Double(playback_fps)),
+        (
+            "documentation",
+            Value::String(format!(
+                "perifrac cache '{}': frame k is time code k, played at {playback_fps} fps; \
+                 simulation times in customLayerData perifrac.simulation_times",
+                manifest.scene
+            )),
+        ),
+        ("customLayerData", Value::Dictionary(custom)),
+    ]
+}
+
+fn vec3f(v: &[[f32; 3]]) -> Value {
+    Value::Vec3fVec(v.iter().map(|p| gf::vec3f(p[0], p[1], p[2])).collect())
+}
+
+/// The extent (bounding box) of `points` grown by `margin`, as `float3[2]`.
+fn extent(points: &[[f32; 3]], margin: f32) -> Value {
+    let mut lo = [f32::INFINITY; 3];
+    let mut hi = [f32::NEG_INFINITY; 3];
+    for p in points {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    if points.is_empty() {
+        (lo, hi) = ([0.0; 3], [0.0; 3]);
+    }
+    vec3f(&[lo.map(|x| x - margin), hi.map(|x| x + margin)])
+}
+
+/// A primvar's metadata: interpolation "vertex".
+fn vertex() -> Vec<(&'static str, Value)> {
+    vec![("interpolation", Value::token("vertex"))]
+}
+
+/// A USD identifier from a column or mesh name (letters, digits, `_`).
+fn identifier(name: &str) -> String {
+    let mut id: String = name
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+        .collect();
+    if id.is_empty() || id.starts_with(|c: char| c.is_ascii_digit()) {
+        id.insert(0, '_');
+    }
+    id
+}
+
+/// `/World/Looks` with a preview material for the original surface and one for the
+/// crack faces; returns their paths.
+fn looks(stage: &mut Layer, world: &str) -> Result<[String; 2], String> {
+    let scope = stage.def(world, "Looks", "Scope")?;
+    let mut paths = [String::new(), String::new()];
+    for (slot, (name, (colour, roughness))) in [("surface", SURFACE_LOOK), ("crack", CRACK_LOOK)]
+        .into_iter()
+        .enumerate()
+    {
+        let material = stage.def(&scope, name, "Material")?;
+        let shader = stage.def(&material, "PreviewSurface", "Shader")?;
+        stage.attribute(
+            &shader,
+            "info:id",
+            "token",
+            true,
+            Value::token("UsdPreviewSurface"),
+            vec![],
+        )?;
+        let [r, g, b] = colour;
+        stage.attribute(
+            &shader,
+            "inputs:diffuseColor",
+            "color3f",
+            false,
+            Value::Vec3f(gf::vec3f(r, g, b)),
+            vec![],
+        )?;
+        stage.attribute(
+            &shader,
+            "inputs:roughness",
+            "float",
+            false,
+            Value::Float(roughness),
+            vec![],
+        )?;
+        stage.attribute(
+            &shader,
+            "inputs:metallic",
+            "float",
+            false,
+            Value::Float(0.0),
+            vec![],
+        )?;
+        stage.declare(&shader, "outputs:surface", "token")?;
+        stage.connection(
+            &material,
+            "outputs:surface",
+            "token",
+            &format!("{shader}.outputs:surface"),
+        )?;
+        paths[slot] = material;
+    }
+    Ok(paths)
+}
+
+/// One particle frame as the samples of the `Points` prim's attributes, in the
+/// order of [`PARTICLE_ATTRIBUTES`] then the extra columns.
+fn particle_samples(
+    frame: &ParticleFrame,
+    widths: &[f32],
+    velocity_scale: f32,
+) -> (Vec<Value>, Vec<(String, Value)>, Value) {
+    let scaled: Vec<[f32; 3]> = frame
+        .velocity
+        .iter()
+        .map(|v| v.map(|c| c * velocity_scale))
+        .collect();
+    let width = |m: f32| {
+        let body = if m.is_finite() && m >= 0.0 {
+            m as usize
+        } else {
+            0
+        };
+        widths.get(body).or(widths.first()).copied().unwrap_or(0.01)
+    };
+    let widths: Vec<f32> = frame.material.iter().map(|&m| width(m)).collect();
+    let largest = widths.iter().copied().fold(0.0f32, f32::max);
+    let ints = |v: &[f32]| Value::IntVec(v.iter().map(|&x| x as i32).collect());
+    let values = vec![
+        vec3f(&frame.position),
+        vec3f(&scaled),
+        Value::FloatVec(widths),
+        Value::Int64Vec((0..frame.len() as i64).collect()),
+        Value::FloatVec(frame.damage.clone()),
+        Value::FloatVec(frame.plastic.clone()),
+        ints(&frame.fragment),
+        ints(&frame.material),
+        vec3f(&frame.velocity),
+    ];
+    let extra = frame
+        .extra
+        .iter()
+        .map(|(name, v)| (name.clone(), Value::FloatVec(v.clone())))
+        .collect();
+    (values, extra, extent(&frame.position, 0.5 * largest))
+}
+
+/// Name, USD type and whether a primvar (interpolation "vertex") of each attribute
+/// of the `Points` prim, in the order [`particle_samples`] returns them.
+const PARTICLE_ATTRIBUTES: [(&str, &str, bool); 9] = [
+    ("points", "point3f[]", false),
+    ("velocities", "vector3f[]", false),
+    ("widths", "float[]", true),
+    ("ids", "int64[]", false),
+    ("primvars:damage", "float[]", true),
+    ("primvars:plastic", "float[]", true),
+    ("primvars:fragment", "int[]", true),
+    ("primvars:material", "int[]", true),
+    ("primvars:simulation_velocity", "vector3f[]", true),
+];
+
+/// `/World/Particles`, the particles of every frame; returns the last frame's count.
+fn particles(
+    stage: &mut Layer,
+    world: &str,
+    layout: &Layout,
+    scene: &Scene,
+    manifest: &Manifest,
+) -> Result<usize, UsdError> {
+    let frames = manifest.frame_times.len();
+    let widths: Vec<f32> = scene.bodies.iter().map(|b| b.resolution as f32).collect();
+    let velocity_scale = (scene.output.playback_fps / manifest.fps) as f32;
+    let read: Vec<(Vec<Value>, Vec<(String, Value)>, Value, usize)> = (1..=frames)
+        .into_par_iter()
+        .map(|frame| -> Result<_, UsdError> {
+            let path = layout.particles(frame);
+            if !path.is_file() {
+                return Err(UsdError::Input {
+                    path,
+                    message: format!(
+                        "missing, but the manifest lists {frames} frames: the cache is \
+                         incomplete; run the scene again (or --resume it)"
+                    ),
+                });
+            }
+            let p = ParticleFrame::read(&path)?;
+            let (values, extra, extent) = particle_samples(&p, &widths, velocity_scale);
+            Ok((values, extra, extent, p.len()))
+        })
+        .collect::<Result<_, _>>()?;
+    let encode = |message: String| UsdError::Encode {
+        path: layout.usd(),
+        message,
+    };
+    let prim = stage.def(world, "Particles", "Points").map_err(encode)?;
+    let count = read.last().map_or(0, |r| r.3);
+    let mut columns: Vec<Samples> = vec![Vec::new(); PARTICLE_ATTRIBUTES.len()];
+    let mut extras: Vec<(String, Samples)> = Vec::new();
+    let mut extents = Samples::new();
+    for (k, (values, extra, ext, _)) in read.into_iter().enumerate() {
+        let time = (k + 1) as f64;
+        for (column, value) in columns.iter_mut().zip(values) {
+            column.push((time, value));
+        }
+        for (name, value) in extra {
+            match extras.iter_mut().find(|(n, _)| *n == name) {
+                Some((_, samples)) => samples.push((time, value)),
+                None => extras.push((name, vec![(time, value)])),
+            }
+        }
+        extents.push((time, ext));
+    }
+    for ((name, type_name, primvar), samples) in PARTICLE_ATTRIBUTES.iter().zip(columns) {
+        let metadata = if *primvar { vertex() } else { vec![] };
+        stage
+            .animated(&prim, name, type_name, samples, metadata)
+            .map_err(encode)?;
+    }
+    for (name, samples) in extras {
+        let attribute = format!("primvars:{}", identifier(&name));
+        stage
+            .animated(&prim, &attribute, "float[]", samples, vertex())
+            .map_err(encode)?;
+    }
+    stage
+        .animated(&prim, "extent", "float3[]", extents, vec![])
+        .map_err(encode)?;
+    stage
+        .prim_metadata(
+            &prim,
+            "documentation",
+            Value::String(format!(
+                "velocities are m/s of playback (simulation velocity x {velocity_scale:e} = \
+                 playback_fps / simulation fps); primvars:simulation_velocity is m/s of \
+                 simulated time"
+            )),
+        )
+        .map_err(encode)?;
+    Ok(count)
+}
+
+/// The surfaces of frames 1 … `frames` (`surface/NNNN.glb`), read in parallel.
+fn surface_frames(layout: &Layout, frames: usize) -> Result<Vec<Vec<SurfaceMesh>>, UsdError> {
+    (1..=frames)
+        .into_par_iter()
+        .map(|frame| {
+            let path = layout.surface(frame);
+            if !path.is_file() {
+                return Err(UsdError::Input {
+                    path,
+                    message: "missing: surface the cache again with `perifrac surface OUT`".into(),
+                });
+            }
+            Ok(perifrac_render::cache::read_surfaces(&path)?)
+        })
+        .collect()
+}
+
+/// Authors one frame of `mesh` on the `Mesh` prim whose attributes' samples are
+/// `samples` (see [`MESH_ATTRIBUTES`]); returns the number of original-surface
+/// triangles.
+fn mesh_samples(mesh: &SurfaceMesh, time: f64, samples: &mut [Samples]) -> usize {
+    let surface = mesh.surface_indices.len() / 3;
+    let triangles = surface + mesh.crack_indices.len() / 3;
+    let indices: Vec<i32> = mesh
+        .surface_indices
+        .iter()
+        .chain(&mesh.crack_indices)
+        .map(|&i| i as i32)
+        .collect();
+    let values = [
+        vec3f(&mesh.positions),
+        Value::IntVec(vec![3; triangles]),
+        Value::IntVec(indices),
+        vec3f(&mesh.normals),
+        extent(&mesh.positions, 0.0),
+    ];
+    for (column, value) in samples.iter_mut().zip(values) {
+        column.push((time, value));
+    }
+    if !mesh.damage.is_empty() {
+        samples[5].push((time, Value::FloatVec(mesh.damage.clone())));
+    }
+    surface
+}
+
+/// Name, USD type and metadata of the time-sampled attributes of a `Mesh` prim.
+const MESH_ATTRIBUTES: [(&str, &str); 6] = [
+    ("points", "point3f[]"),
+    ("faceVertexCounts", "int[]"),
+    ("faceVertexIndices", "int[]"),
+    ("normals", "normal3f[]"),
+    ("extent", "float3[]"),
+    ("primvars:damage", "float[]"),
+];
+
+/// Defines a `Mesh` prim under `parent` from its samples.
+fn define_mesh(
+    stage: &mut Layer,
+    parent: &str,
+    name: &str,
+    samples: Vec<Samples>,
+) -> Result<String, String> {
+    let prim = stage.def(parent, name, "Mesh")?;
+    stage.attribute(
+        &prim,
+        "subdivisionScheme",
+        "token",
+        true,
+        Value::token("none"),
+        vec![],
+    )?;
+    for ((attribute, type_name), samples) in MESH_ATTRIBUTES.iter().zip(samples) {
+        let metadata = match *attribute {
+            "normals" | "primvars:damage" => vertex(),
+            _ => vec![],
+        };
+        stage.animated(&prim, attribute, type_name, samples, metadata)?;
+    }
+    Ok(prim)
+}
+
+/// `/World/Surface`, the embedded method's surface with its crack faces in a
+/// `GeomSubset` family bound to the crack material.
+fn embedded_surface(
+    stage: &mut Layer,
+    world: &str,
+    layout: &Layout,
+    meshes: &[Vec<SurfaceMesh>],
+    looks: &[String; 2],
+) -> Result<usize, UsdError> {
+    let mut samples = vec![Samples::new(); MESH_ATTRIBUTES.len()];
+    let mut subsets = [Samples::new(), Samples::new()];
+    for (k, frame) in meshes.iter().enumerate() {
+        let [mesh] = frame.as_slice() else {
+            return Err(UsdError::Input {
+                path: layout.surface(k + 1),
+                message: format!(
+                    "{} meshes; the embedded method writes one a frame: surface the cache \
+                     again with `perifrac surface OUT --method embedded`",
+                    frame.len()
+                ),
+            });
+        };
+        let time = (k + 1) as f64;
+        let surface = mesh_samples(mesh, time, &mut samples) as i32;
+        let all = mesh.triangle_count() as i32;
+        subsets[0].push((time, Value::IntVec((0..surface).collect())));
+        subsets[1].push((time, Value::IntVec((surface..all).collect())));
+    }
+    let author = |stage: &mut Layer| -> Result<(), String> {
+        let prim = define_mesh(stage, world, "Surface", samples)?;
+        stage.attribute(
+            &prim,
+            "subsetFamily:materialBind:familyType",
+            "token",
+            true,
+            Value::token("partition"),
+            vec![],
+        )?;
+        stage.apply_schema(&prim, "MaterialBindingAPI")?;
+        stage.relationship(&prim, "material:binding", &[&looks[0]])?;
+        for ((name, indices), look) in ["surface", "crack"].into_iter().zip(subsets).zip(looks) {
+            let subset = stage.def(&prim, name, "GeomSubset")?;
+            stage.attribute(
+                &subset,
+                "elementType",
+                "token",
+                true,
+                Value::token("face"),
+                vec![],
+            )?;
+            stage.attribute(
+                &subset,
+                "familyName",
+                "token",
+                true,
+                Value::token("materialBind"),
+                vec![],
+            )?;
+            stage.animated(&subset, "indices", "int[]", indices, vec![])?;
+            stage.apply_schema(&subset, "MaterialBindingAPI")?;
+            stage.relationship(&subset, "material:binding", &[look])?;
+        }
+        Ok(())
+    };
+    author(stage).map_err(|message| UsdError::Encode {
+        path: layout.usd(),
+        message,
+    })?;
+    Ok(1)
+}
+
+/// `/World/Fragments`, the vdb method's meshes: one `Mesh` a fragment name, invisible
+/// in the frames that lack it.
+fn fragments(
+    stage: &mut Layer,
+    world: &str,
+    layout: &Layout,
+    meshes: &[Vec<SurfaceMesh>],
+    looks: &[String; 2],
+) -> Result<usize, UsdError> {
+    let mut names: Vec<String> = meshes.iter().flatten().map(|m| m.name.clone()).collect();
+    names.sort_by(|a, b| natural(a).cmp(&natural(b)));
+    names.dedup();
+    let author = |stage: &mut Layer| -> Result<(), String> {
+        let group = stage.def(world, "Fragments", "Xform")?;
+        stage.apply_schema(&group, "MaterialBindingAPI")?;
+        stage.relationship(&group, "material:binding", &[&looks[0]])?;
+        for name in &names {
+            let mut samples = vec![Samples::new(); MESH_ATTRIBUTES.len()];
+            let mut visibility = Samples::new();
+            for (k, frame) in meshes.iter().enumerate() {
+                let time = (k + 1) as f64;
+                match frame.iter().find(|m| &m.name == name) {
+                    Some(mesh) => {
+                        mesh_samples(mesh, time, &mut samples);
+                        visibility.push((time, Value::token("inherited")));
+                    }
+                    None => visibility.push((time, Value::token("invisible"))),
+                }
+            }
+            let prim = define_mesh(stage, &group, &identifier(name), samples)?;
+            stage.animated(&prim, "visibility", "token", visibility, vec![])?;
+        }
+        Ok(())
+    };
+    author(stage).map_err(|message| UsdError::Encode {
+        path: layout.usd(),
+        message,
+    })?;
+    Ok(names.len())
+}
+
+/// Sort key of a mesh name: its text without digits, then its number.
+fn natural(name: &str) -> (String, u64) {
+    let digits: String = name.chars().filter(char::is_ascii_digit).collect();
+    let text: String = name.chars().filter(|c| !c.is_ascii_digit()).collect();
+    (text, digits.parse().unwrap_or(0))
+}
+
+/// `/World/Volume`: a `Volume` whose `OpenVDBAsset` fields `surface` (level set) and
+/// `v` (velocity, m/s of simulated time) point at `vdb/NNNN.vdb` frame by frame.
+fn volume(stage: &mut Layer, world: &str, layout: &Layout, frames: usize) -> Result<(), String> {
+    let prim = stage.def(world, "Volume", "Volume")?;
+    let relative = |frame: usize| -> String {
+        let path = layout.vdb(frame);
+        let name = path.file_name().map(|n| n.to_string_lossy().into_owned());
+        format!("./vdb/{}", name.unwrap_or_default())
+    };
+    for (grid, data_type, class) in [("surface", "float", "levelSet"), ("v", "float3", "unknown")] {
+        let field = stage.def(&prim, grid, "OpenVDBAsset")?;
+        let files: Samples = (1..=frames)
+            .map(|f| (f as f64, Value::AssetPath(AssetPath::new(relative(f)))))
+            .collect();
+        stage.animated(&field, "filePath", "asset", files, vec![])?;
+        stage.attribute(
+            &field,
+            "fieldName",
+            "token",
+            false,
+            Value::token(grid),
+            vec![],
+        )?;
+        stage.attribute(
+            &field,
+            "fieldDataType",
+            "token",
+            false,
+            Value::token(data_type),
+            vec![],
+        )?;
+        stage.attribute(
+            &field,
+            "fieldClass",
+            "token",
+            false,
+            Value::token(class),
+            vec![],
+        )?;
+        stage.relationship(&prim, &format!("field:{grid}"), &[&field])?;
+    }
+    Ok(())
+}
+
+/// `/World/Colliders`: each collider an `Xform` at its centre in each frame
+/// (`manifest.json`'s `collider_centers`, else its scene position) with its shape.
+fn colliders(
+    stage: &mut Layer,
+    world: &str,
+    scene: &Scene,
+    manifest: &Manifest,
+) -> Result<usize, String> {
+    if scene.colliders.is_empty() {
+        return Ok(0);
+    }
+    let group = stage.def(world, "Colliders", "Xform")?;
+    for (i, collider) in scene.colliders.iter().enumerate() {
+        let start = match collider {
+            ColliderSpec::Ground { height, .. } => [0.0, *height, 0.0],
+            ColliderSpec::Sphere { center, .. } | ColliderSpec::Box { center, .. } => *center,
+            ColliderSpec::Mesh { translation, .. } => *translation,
+        };
+        let translate: Samples = manifest
+            .frame_times
+            .iter()
+            .enumerate()
+            .map(|(k, _)| {
+                let c = manifest
+                    .collider_centers
+                    .get(k)
+                    .and_then(|centres| centres.get(i))
+                    .copied()
+                    .unwrap_or(start);
+                ((k + 1) as f64, Value::Vec3d(gf::vec3d(c[0], c[1], c[2])))
+            })
+            .collect();
+        let name = match collider {
+            ColliderSpec::Ground { .. } => format!("ground_{i}"),
+            ColliderSpec::Sphere { .. } => format!("sphere_{i}"),
+            ColliderSpec::Box { .. } => format!("box_{i}"),
+            ColliderSpec::Mesh { .. } => format!("mesh_{i}"),
+        };
+        let xform = stage.def(&group, &name, "Xform")?;
+        stage.animated(&xform, "xformOp:translate", "double3", translate, vec![])?;
+        stage.attribute(
+            &xform,
+            "xformOpOrder",
+            "token[]",
+            true,
+            Value::token_vec(["xformOp:translate"]),
+            vec![],
+        )?;
+        match collider {
+            ColliderSpec::Sphere { radius, .. } => {
+                let shape = stage.def(&xform, "shape", "Sphere")?;
+                stage.attribute(
+                    &shape,
+                    "radius",
+                    "double",
+                    false,
+                    Value::Double(*radius),
+                    vec![],
+                )?;
+                let r = *radius as f32;
+                stage.attribute(
+                    &shape,
+                    "extent",
+                    "float3[]",
+                    false,
+                    extent(&[[0.0; 3]], r),
+                    vec![],
+                )?;
+            }
+            ColliderSpec::Box { size, .. } => {
+                let shape = stage.def(&xform, "shape", "Cube")?;
+                stage.attribute(&shape, "size", "double", false, Value::Double(1.0), vec![])?;
+                stage.attribute(
+                    &shape,
+                    "extent",
+                    "float3[]",
+                    false,
+                    extent(&[[0.0; 3]], 0.5),
+                    vec![],
+                )?;
+                stage.attribute(
+                    &shape,
+                    "xformOp:scale",
+                    "double3",
+                    false,
+                    Value::Vec3d(gf::vec3d(size[0], size[1], size[2])),
+                    vec![],
+                )?;
+                stage.attribute(
+                    &shape,
+                    "xformOpOrder",
+                    "token[]",
+                    true,
+                    Value::token_vec(["xformOp:scale"]),
+                    vec![],
+                )?;
+            }
+            // A mesh collider's transform only: its geometry stays in its own file
+            // (the scene's `path`), which the prim does not reference yet.
+            ColliderSpec::Mesh { .. } => {}
+            ColliderSpec::Ground { .. } => {
+                // A square 20 m on a side at the plane's height (the plane is infinite).
+                let h = 10.0f32;
+                let corners = [[-h, 0.0, -h], [-h, 0.0, h], [h, 0.0, h], [h, 0.0, -h]];
+                let shape = stage.def(&xform, "shape", "Mesh")?;
+                stage.attribute(
+                    &shape,
+                    "points",
+                    "point3f[]",
+                    false,
+                    vec3f(&corners),
+                    vec![],
+                )?;
+                stage.attribute(
+                    &shape,
+                    "faceVertexCounts",
+                    "int[]",
+                    false,
+                    Value::IntVec(vec![4]),
+                    vec![],
+                )?;
+                stage.attribute(
+                    &shape,
+                    "faceVertexIndices",
+                    "int[]",
+                    false,
+                    Value::IntVec(vec![0, 1, 2, 3]),
+                    vec![],
+                )?;
+                stage.attribute(
+                    &shape,
+                    "extent",
+                    "float3[]",
+                    false,
+                    extent(&corners, 0.0),
+                    vec![],
+                )?;
+                stage.attribute(
+                    &shape,
+                    "subdivisionScheme",
+                    "token",
+                    true,
+                    Value::token("none"),
+                    vec![],
+                )?;
+            }
+        }
+    }
+    Ok(scene.colliders.len())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A cache of two particle frames and one collider, written by hand.
+    fn small_cache(root: &std::path::Path) -> Layout {
+        let layout = Layout::new(root);
+        layout.create().unwrap();
+        let scene = "[scene]\nname = \"t\"\nfps = 1000.0\n\n[materials.m]\ndensity = 1000.0\n\
+                     bulk_modulus = 1e5\nshear_modulus = 1e5\n\n[[body]]\nmaterial = \"m\"\n\
+                     resolution = 0.02\nshape = { type = \"box\", center = [0, 0, 0], size = [0.1, 0.1, 0.1] }\n\n\
+                     [[collider]]\ntype = \"sphere\"\ncenter = [0.0, 1.0, 0.0]\nradius = 0.1\n\n\
+                     [output]\nplayback_fps = 30\n";
+        std::fs::write(layout.scene(), scene).unwrap();
+        let manifest = Manifest {
+            scene: "t".into(),
+            fps: 1000.0,
+            frame_times: vec![0.0, 0.001],
+            collider_centers: vec![vec![[0.0, 1.0, 0.0]], vec![[0.0, 0.9, 0.0]]],
+            ..Manifest::default()
+        };
+        manifest.write(&layout.manifest()).unwrap();
+        for frame in 1..=2 {
+            ParticleFrame {
+                frame,
+                time: manifest.frame_times[frame - 1],
+                position: vec![[0.0, frame as f32, 0.0], [1.0, 0.0, 0.0]],
+                velocity: vec![[0.0, 3.0, 0.0], [0.0, 0.0, 0.0]],
+                damage: vec![0.0, 0.5],
+                plastic: vec![0.0, 0.0],
+                material: vec![0.0, 0.0],
+                fragment: vec![0.0, 1.0],
+                extra: vec![("quantity".into(), vec![1.0, 2.0])],
+            }
+            .write(&layout.particles(frame))
+            .unwrap();
+        }
+        layout
+    }
+
+    #[test]
+    fn a_small_cache_reads_back_through_the_usdc_reader() {
+        let dir = tempfile::tempdir().unwrap();
+        let layout = small_cache(dir.path());
+        let report = write_stage(&layout).unwrap();
+        assert_eq!(
+            (report.frames, report.particles, report.colliders),
+            (2, 2, 1)
+        );
+        let data = openusd::usdc::read_file(layout.usd()).unwrap();
+        let root = openusd::sdf::Path::abs_root();
+        let field = |path: &openusd::sdf::Path, key: &str| data.get_field(path, key).unwrap();
+        assert_eq!(*field(&root, "upAxis"), Value::token("Y"));
+        assert_eq!(*field(&root, "timeCodesPerSecond"), Value::Double(30.0));
+        assert_eq!(*field(&root, "endTimeCode"), Value::Double(2.0));
+        let points = openusd::sdf::Path::new("/World/Particles.points").unwrap();
+        let Value::TimeSamples(samples) = field(&points, "timeSamples").into_owned() else {
+            panic!("points are not time-sampled");
+        };
+        assert_eq!(samples.len(), 2);
+        assert_eq!(samples[1].0, 2.0);
+        assert_eq!(samples[1].1, vec3f(&[[0.0, 2.0, 0.0], [1.0, 0.0, 0.0]]));
+        // Velocities in m/s of playback: 3 m/s × 30 / 1000.
+        let velocities = openusd::sdf::Path::new("/World/Particles.velocities").unwrap();
+        let Value::TimeSamples(samples) = field(&velocities, "timeSamples").into_owned() else {
+            panic!("velocities are not time-sampled");
+        };
+        assert_eq!(samples[0].1, vec3f(&[[0.0, 3.0 * 0.03, 0.0], [0.0; 3]]));
+        let quantity = openusd::sdf::Path::new("/World/Particles.primvars:quantity").unwrap();
+        assert!(data.has_spec(&quantity), "the extra column is a primvar");
+        let sphere =
+            openusd::sdf::Path::new("/World/Colliders/sphere_0.xformOp:translate").unwrap();
+        let Value::TimeSamples(samples) = field(&sphere, "timeSamples").into_owned() else {
+            panic!("the collider does not move");
+        };
+        assert_eq!(samples[1].1, Value::Vec3d(gf::vec3d(0.0, 0.9, 0.0)));
+        // The same cache gives the same bytes.
+        let first = std::fs::read(layout.usd()).unwrap();
+        write_stage(&layout).unwrap();
+        assert_eq!(first, std::fs::read(layout.usd()).unwrap());
+    }
+
+    #[test]
+    fn a_missing_frame_is_named() {
+        let dir = tempfile::tempdir().unwrap();
+        let layout = small_cache(dir.path());
+        std::fs::remove_file(layout.particles(2)).unwrap();
+        let err = write_stage(&layout).unwrap_err();
+        assert!(err.is_bad_input());
+        let text = err.to_string();
+        assert!(
+            text.contains("0002.ply") && text.contains("--resume"),
+            "{text}"
+        );
+    }
+}
