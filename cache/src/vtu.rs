@@ -343,7 +343,7 @@ mod tests {
         assert!(text.contains("timestep=\"0\"") && text.contains("file=\"0001.vtu\""));
         assert!(
             text.contains(
-                "timestep=\"0.08333333333333333\" simulation_time=\"2.6666666666666667e-4\""
+                "timestep=\"0.08333333333333333\" simulation_time=\"2.666666666666667e-4\""
             ),
             "{text}"
         );

@@ -85,13 +85,28 @@ def main(out):
     # The binary format (usdc), not text.
     check(stage_path.read_bytes()[:8] == b"PXR-USDC", "cache.usd is not a usdc crate file")
 
-    checker = UsdUtils.ComplianceChecker(verbose=False)
-    checker.CheckCompliance(str(stage_path))
-    errors, failed, warnings = checker.GetErrors(), checker.GetFailedChecks(), checker.GetWarnings()
+    if hasattr(UsdUtils, "ComplianceChecker"):
+        checker = UsdUtils.ComplianceChecker(verbose=False)
+        checker.CheckCompliance(str(stage_path))
+        errors = checker.GetErrors() + checker.GetFailedChecks()
+        warnings = checker.GetWarnings()
+        name = "ComplianceChecker"
+    else:
+        # usd-core 25.x and later: ComplianceChecker gave way to the UsdValidation
+        # framework (what usdchecker runs), every registered validator.
+        from pxr import UsdValidation
+
+        registry = UsdValidation.ValidationRegistry()
+        context = UsdValidation.ValidationContext(registry.GetOrLoadAllValidators())
+        found = context.Validate(Usd.Stage.Open(str(stage_path)))
+        kind = UsdValidation.ValidationErrorType
+        errors = [e.GetMessage() for e in found if e.GetType() == kind.Error]
+        warnings = [e.GetMessage() for e in found if e.GetType() != kind.Error]
+        name = "UsdValidation"
     for w in warnings:
-        print("compliance warning:", w)
-    check(not errors and not failed, f"ComplianceChecker: errors {errors}, failed checks {failed}")
-    print(f"ComplianceChecker: no errors, no failed checks ({len(warnings)} warnings)")
+        print(f"{name} warning:", w)
+    check(not errors, f"{name}: errors {errors}")
+    print(f"{name}: no errors ({len(warnings)} warnings)")
 
     stage = Usd.Stage.Open(str(stage_path))
     check(UsdGeom.GetStageUpAxis(stage) == UsdGeom.Tokens.y, "upAxis is not Y")

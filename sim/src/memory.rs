@@ -214,7 +214,8 @@ mod tests {
             r#"{ type = "difference", base = { type = "box", center = [0, 0, 0], size = [0.2, 0.2, 0.1] }, minus = { type = "sphere", center = [0, 0.1, 0], radius = 0.08 } }"#,
         ] {
             let text = format!(
-                "[materials.m]\ndensity = 1000.0\nyoungs_modulus = 1e6\npoisson_ratio = 0.3\n\
+                "[scene]\nduration = 0.01\nfps = 100\n\
+                 [materials.m]\ndensity = 1000.0\nyoungs_modulus = 1e6\npoisson_ratio = 0.3\n\
                  [[body]]\nmaterial = \"m\"\nresolution = 0.012\nshape = {shape}\n"
             );
             let scene = Scene::parse(&text, Path::new("m.toml"), Path::new(".")).expect("scene");

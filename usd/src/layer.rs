@@ -206,7 +206,7 @@ impl Layer {
     }
 
     /// Writes the children lists and encodes the layer as usdc bytes.
-    pub fn to_usdc(mut self) -> Result<Vec<u8>, String> {
+    pub fn into_usdc(mut self) -> Result<Vec<u8>, String> {
         for prim in &self.order {
             let children = self.prims.remove(prim).unwrap_or_default();
             let properties = self.properties.remove(prim).unwrap_or_default();

@@ -147,7 +147,7 @@ pub fn write_stage(layout: &Layout) -> Result<UsdReport, UsdError> {
     }
     report.colliders = colliders(&mut stage, &world, &scene, &manifest).map_err(encode)?;
     let authored = start.elapsed().as_secs_f64();
-    let bytes = stage.to_usdc().map_err(encode)?;
+    let bytes = stage.into_usdc().map_err(encode)?;
     perifrac_cache::write_atomic(&target, &bytes)?;
     report.bytes = bytes.len();
     report.seconds = (authored, start.elapsed().as_secs_f64() - authored);
@@ -353,7 +353,7 @@ fn particles(
     let frames = manifest.frame_times.len();
     let widths: Vec<f32> = scene.bodies.iter().map(|b| b.resolution as f32).collect();
     let velocity_scale = (scene.output.playback_fps / manifest.fps) as f32;
-    let read: Vec<(Vec<Value>, Vec<(String, Value)>, Value, usize)> = (1..=frames)
+    let read: Vec<ParticleSamples> = (1..=frames)
         .into_par_iter()
         .map(|frame| -> Result<_, UsdError> {
             let path = layout.particles(frame);
@@ -584,7 +584,7 @@ fn fragments(
     looks: &[String; 2],
 ) -> Result<usize, UsdError> {
     let mut names: Vec<String> = meshes.iter().flatten().map(|m| m.name.clone()).collect();
-    names.sort_by(|a, b| natural(a).cmp(&natural(b)));
+    names.sort_by_key(|a| natural(a));
     names.dedup();
     let author = |stage: &mut Layer| -> Result<(), String> {
         let group = stage.def(world, "Fragments", "Xform")?;
@@ -614,6 +614,10 @@ fn fragments(
     })?;
     Ok(names.len())
 }
+
+/// One frame of the particles' time samples: the attribute values, the primvars by name,
+/// the extent, and the particle count.
+type ParticleSamples = (Vec<Value>, Vec<(String, Value)>, Value, usize);
 
 /// Sort key of a mesh name: its text without digits, then its number.
 fn natural(name: &str) -> (String, u64) {
