@@ -332,11 +332,11 @@ fn prepare_output(
 /// What to tell the user after the run stopped early.
 fn explain_stop(failure: Failure, lifecycle: &Lifecycle, layout: &Layout) -> Failure {
     let resume = &lifecycle.resume_command;
-    let error = match &failure.code {
-        &EXIT_INTERRUPTED => {
+    let error = match failure.code {
+        EXIT_INTERRUPTED => {
             anyhow::anyhow!("{:#}; continue with:\n  {resume}", failure.error)
         }
-        &EXIT_FAILED => match failure.error.downcast_ref::<SimError>() {
+        EXIT_FAILED => match failure.error.downcast_ref::<SimError>() {
             Some(SimError::Cache(c @ (CacheError::Write { .. } | CacheError::Io { .. }))) => {
                 let last = Manifest::read(&layout.manifest()).map_or(0, |m| m.frames());
                 anyhow::anyhow!(
