@@ -676,16 +676,15 @@ impl MembraneModel {
             near.sort_unstable();
             near
         };
+        let near: Vec<Vec<usize>> = (0..self.len()).map(nearest).collect();
         let x = &self.reference;
         let normal = |t: [usize; 3]| cross(sub(x[t[1]], x[t[0]]), sub(x[t[2]], x[t[0]]));
         let mut triangles = Vec::new();
         let mut up: Option<[f64; 3]> = None;
-        for i in 0..self.len() {
-            let near = nearest(i);
-            for (a, &j) in near.iter().enumerate() {
-                let of_j = nearest(j);
-                for &k in &near[a + 1..] {
-                    if of_j.binary_search(&k).is_ok() {
+        for (i, near_i) in near.iter().enumerate() {
+            for (a, &j) in near_i.iter().enumerate() {
+                for &k in &near_i[a + 1..] {
+                    if near[j].binary_search(&k).is_ok() {
                         let n = normal([i, j, k]);
                         let reference = *up.get_or_insert(n);
                         triangles.push(if dot(n, reference) >= 0.0 {
