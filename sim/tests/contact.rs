@@ -552,7 +552,7 @@ transforms = "poses.txt"
 /// fragments); particle contact's share of the step time, broken bonds and the ball's
 /// speed.
 #[test]
-#[ignore]
+#[ignore = "a measurement of the demo's contact share, minutes long: run it on purpose"]
 fn demo_contact_share() {
     for name in ["demo.toml", "demo-deformable-ball.toml"] {
         let scene = Scene::load(&scenes_dir().join(name)).expect("scene");
