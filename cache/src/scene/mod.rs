@@ -453,9 +453,37 @@ pub struct BodySpec {
     /// Initial cracks (`[[body.crack]]`): bonds cut before the run starts.
     #[serde(default, rename = "crack")]
     pub cracks: Vec<CrackSpec>,
+    /// Orientation of the body's meshing lattice: `"aligned"` with the scene axes, or
+    /// `"rotated"` by a random rotation drawn from the scene's `seed` and the body's
+    /// index, so that cracks have no preferred lattice directions. Default: `"rotated"`
+    /// for a peridynamic body whose material breaks (`critical_stretch`), `"aligned"`
+    /// otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lattice: Option<LatticeOrientation>,
+}
+
+/// Orientation of a body's meshing lattice (`lattice` of `[[body]]`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LatticeOrientation {
+    /// Lattice axes along the scene axes, centred on the shape's bounds: a shape
+    /// symmetric about its mid-planes gets a symmetric set of particles.
+    Aligned,
+    /// Lattice turned by a random rotation seeded by the scene's `seed` and the body's
+    /// index: no preferred crack directions; the same seed gives the same bytes.
+    Rotated,
 }
 
 impl BodySpec {
+    /// Whether the body's lattice is rotated: its `lattice` key, by default rotated for
+    /// a peridynamic body whose `material` breaks.
+    pub fn lattice_rotated(&self, material: &MaterialSpec) -> bool {
+        match self.lattice {
+            Some(orientation) => orientation == LatticeOrientation::Rotated,
+            None => self.model == ModelKind::Peridynamics && material.critical_stretch.is_some(),
+        }
+    }
+
     /// The horizon δ in metres: `horizon` (δ/λ) × `resolution` (λ).
     pub fn delta(&self) -> f64 {
         self.horizon * self.resolution

@@ -1,5 +1,7 @@
 //! Bodies to particles (Chen §5.2): each body is tetrahedralized to edge length ≈ λ
-//! and one particle is placed at each tet's barycentre with the tet's volume; a
+//! (on a lattice centred on the body, turned at random for a breaking body: see the
+//! body's `lattice` key and `docs/lattice.md`) and one particle is placed at each tet's
+//! barycentre with the tet's volume; a
 //! membrane body gets the particles of its sheet instead ([`crate::membrane::sheet`],
 //! an empty tet mesh). All particles are then sorted along a Morton curve so that families sit close in
 //! memory.
@@ -7,8 +9,9 @@
 use rayon::prelude::*;
 
 use super::mesh::{Conformity, MeshSdf, TriMesh, conform};
+use super::sdf::Sdf;
 use super::shape::{placement, to_sdf};
-use super::stuffing::stuff;
+use super::stuffing::{random_rotation, stuff, stuff_rotated};
 use super::{MeshQuality, TetMesh};
 use crate::error::{Result, SimError};
 use crate::membrane::sheet::{self, Sheet};
@@ -40,10 +43,23 @@ pub fn discretize(scene: &Scene) -> Result<Discretization> {
     let bodies: Vec<(TetMesh, Option<Conformity>)> = scene
         .bodies
         .par_iter()
-        .map(|b| {
+        .enumerate()
+        .map(|(index, b)| {
             let error = |message: String| SimError::Mesh {
                 body: b.name.clone(),
                 message,
+            };
+            // A breaking body's lattice is turned at random (issue 13: an aligned
+            // lattice's weak planes showed as axis-aligned cracks); others stay aligned
+            // and centred, so symmetric shapes get symmetric particles.
+            let rotation = scene
+                .materials
+                .get(&b.material)
+                .filter(|m| b.lattice_rotated(m))
+                .map(|_| random_rotation(scene.scene.seed, index as u64));
+            let stuff = |sdf: &dyn Sdf, lambda: f64| match rotation {
+                Some(r) => stuff_rotated(sdf, lambda, r),
+                None => stuff(sdf, lambda),
             };
             match (&b.shape, placement(&b.shape)) {
                 // Membranes sample their sheet; MPM bodies seed their own particles.
