@@ -217,3 +217,55 @@ fn the_arms_of_a_u_half_a_horizon_apart_are_not_bonded() {
     println!("bonds between the arms by distance alone: {bridged}");
     assert!(bridged > 0, "distance alone bonds the arms");
 }
+
+/// A cube of side `side` centred at the origin as a closed, outward-oriented OBJ.
+fn cube_obj(side: f64) -> String {
+    let h = 0.5 * side;
+    let mut text = String::new();
+    for k in 0..8 {
+        let c = [k & 1, k >> 1 & 1, k >> 2 & 1].map(|b| if b == 0 { -h } else { h });
+        text += &format!("v {} {} {}\n", c[0], c[1], c[2]);
+    }
+    // Vertex k + 1 has x, y, z from bits 0, 1, 2 of k; each face wound outward.
+    for [a, b, c, d] in [
+        [1, 3, 4, 2],
+        [5, 6, 8, 7],
+        [1, 2, 6, 5],
+        [3, 7, 8, 4],
+        [1, 5, 7, 3],
+        [2, 4, 8, 6],
+    ] {
+        text += &format!("f {a} {b} {c}\nf {a} {c} {d}\n");
+    }
+    text
+}
+
+#[test]
+fn a_breaking_mesh_cube_keeps_its_edges() {
+    // The turned lattice bevels the cube's edges and snapping cannot restore them all;
+    // by default the body then takes the aligned lattice, which follows them.
+    let dir = tempfile::tempdir().expect("temp dir");
+    std::fs::write(dir.path().join("cube.obj"), cube_obj(0.05)).expect("written");
+    let text = |lattice: &str| {
+        format!(
+            "[scene]\nduration = 1\n[materials.m]\ndensity = 1000\nyoungs_modulus = 1e5\n\
+             poisson_ratio = 0.3\ncritical_stretch = 0.05\n[[body]]\nmaterial = \"m\"\n\
+             resolution = 0.01\nshape = {{ type = \"mesh\", path = \"cube.obj\" }}\n{lattice}"
+        )
+    };
+    let fit = |lattice: &str| {
+        let d = discretize(&scene_in(&text(lattice), dir.path())).expect("meshes");
+        d.conformity[0].expect("a mesh body's fit").max
+    };
+    let (default, rotated, aligned) = (
+        fit(""),
+        fit("lattice = \"rotated\"\n"),
+        fit("lattice = \"aligned\"\n"),
+    );
+    println!("mesh cube fit: default {default:.3}λ, rotated {rotated:.3}λ, aligned {aligned:.3}λ");
+    assert!(
+        rotated > 0.25,
+        "the turned lattice fits the cube: {rotated}λ"
+    );
+    assert!(default <= 0.25 && default == aligned, "default {default}λ");
+}

@@ -457,7 +457,8 @@ pub struct BodySpec {
     /// `"rotated"` by a random rotation drawn from the scene's `seed` and the body's
     /// index, so that cracks have no preferred lattice directions. Default: `"rotated"`
     /// for a peridynamic body whose material breaks (`critical_stretch`), `"aligned"`
-    /// otherwise.
+    /// otherwise; a mesh body that the turned lattice fits worse than λ/4 (it bevels
+    /// creases the aligned one follows) takes the lattice that fits it better.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lattice: Option<LatticeOrientation>,
 }

@@ -38,6 +38,12 @@ pub struct Discretization {
     pub conformity: Vec<Option<Conformity>>,
 }
 
+/// The worst fit (in λ, [`Conformity::max`]) a mesh body keeps the turned lattice
+/// with when its `lattice` key is not given; past it the body is meshed on the aligned
+/// lattice too and keeps the better fit. λ/4 is the fit the mesh import asks of the
+/// meshes it is tested on (`geometry::mesh` tests).
+pub const ROTATED_FIT_BOUND: f64 = 0.25;
+
 /// Meshes every body of the scene and places the particles.
 pub fn discretize(scene: &Scene) -> Result<Discretization> {
     let bodies: Vec<(TetMesh, Option<Conformity>)> = scene
@@ -70,8 +76,25 @@ pub fn discretize(scene: &Scene) -> Result<Discretization> {
                     let surface = TriMesh::load(&scene.base_dir.join(path), &placement)
                         .map_err(|e| error(e.to_string()))?;
                     let sdf = MeshSdf::new(&surface);
-                    let mut tets = stuff(&sdf, b.resolution).map_err(|e| error(e.to_string()))?;
-                    let fit = conform(&mut tets, &surface, &sdf, b.resolution);
+                    let mesh_on = |rotation: Option<[[f64; 3]; 3]>| {
+                        let mut tets = match rotation {
+                            Some(r) => stuff_rotated(&sdf, b.resolution, r),
+                            None => super::stuffing::stuff(&sdf, b.resolution),
+                        }
+                        .map_err(|e| error(e.to_string()))?;
+                        let fit = conform(&mut tets, &surface, &sdf, b.resolution);
+                        Ok::<_, SimError>((tets, fit))
+                    };
+                    let (tets, fit) = mesh_on(rotation)?;
+                    // A turned lattice bevels creases that an aligned one follows (a mesh
+                    // cube: 0.43λ against 0.000λ) and snapping cannot always restore them.
+                    // By default such a mesh keeps whichever lattice fits it better.
+                    if rotation.is_some() && b.lattice.is_none() && fit.max > ROTATED_FIT_BOUND {
+                        let (aligned, aligned_fit) = mesh_on(None)?;
+                        if aligned_fit.max < fit.max {
+                            return Ok((aligned, Some(aligned_fit)));
+                        }
+                    }
                     Ok((tets, Some(fit)))
                 }
                 (shape, _) => {
