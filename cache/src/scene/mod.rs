@@ -917,22 +917,25 @@ pub enum SurfaceMethod {
 ///
 /// Lengths are in particle spacings: a particle of a body with mean tet edge λ has
 /// volume λ³/9.1 (the BCC mesher's tets per λ³) and spacing s = (λ³/9.1)^(1/3). The
-/// defaults were calibrated together: spheres twice the particles' volume-equivalent
-/// radius cover the gaps between particles, two mean-curvature passes remove the
-/// bumps and bubbles left, and an offset of −0.6 s takes the surface back to the
-/// body's volume (within 1.5% on spheres 5 and 8 λ in radius).
+/// defaults were calibrated together: spheres 2.25 times the particles'
+/// volume-equivalent radius cover the gaps between particles (the widest, around each
+/// vertex of the BCC lattice, is 0.62λ = 1.29 s from the nearest particle), two
+/// mean-curvature passes remove the bumps, and an offset of −0.8 s takes the surface
+/// back to the body's volume (within 0.2% on spheres 5 and 8 λ in radius).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct VdbSpec {
     /// Voxel edge as a fraction of the particle spacing (of the finest body in the
     /// frame). Particles whose sphere radius is under 1.5 voxels would be dropped by
     /// the rasterizer, so `radius_scale × 0.62 / voxel_size` must be at least 1.5.
-    /// Default 0.8 (spheres of 1.55 voxels in radius at the default `radius_scale`).
+    /// Default 0.8 (spheres of 1.74 voxels in radius at the default `radius_scale`).
     #[serde(default = "default_vdb_voxel_size")]
     pub voxel_size: f64,
     /// Sphere radius as a multiple of the radius of a sphere with the particle's
-    /// volume (0.62 spacings). Below about 2 the spheres leave bubbles inside the body
-    /// that only filtering removes. Default 2.0.
+    /// volume (0.62 spacings). Below about 2.1 the spheres do not reach the middle of
+    /// the gap around each lattice vertex (1.29 spacings from its nearest particles)
+    /// and leave a bubble there wherever a voxel centre falls in it: an inner surface
+    /// in the mesh. Default 2.25.
     #[serde(default = "default_vdb_radius_scale")]
     pub radius_scale: f64,
     /// Smoothing filter: `"none"`, `"mean-curvature"`, `"gaussian"` or `"laplacian"`.
@@ -944,7 +947,7 @@ pub struct VdbSpec {
     pub iterations: usize,
     /// Distance the surface is moved outward after filtering, in particle spacings
     /// (negative: inward), to take the enlarged spheres back to the body's volume.
-    /// Default −0.6.
+    /// Default −0.8.
     #[serde(default = "default_vdb_offset")]
     pub offset: f64,
     /// Mesh adaptivity in [0, 1] (0: uniform polygons the size of a voxel).
@@ -1032,13 +1035,13 @@ fn default_vdb_voxel_size() -> f64 {
     0.8
 }
 fn default_vdb_radius_scale() -> f64 {
-    2.0
+    2.25
 }
 fn default_vdb_iterations() -> usize {
     2
 }
 fn default_vdb_offset() -> f64 {
-    -0.6
+    -0.8
 }
 fn default_vdb_min_fragment_particles() -> usize {
     8
