@@ -12,6 +12,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use crate::error::{CacheError, Result};
+use crate::manifest::Manifest;
 
 /// Paths inside an output directory. No other code derives a cache path.
 #[derive(Debug, Clone)]
@@ -29,6 +30,17 @@ impl Layout {
     /// The layout under `root`.
     pub fn new(root: impl Into<PathBuf>) -> Layout {
         Layout { root: root.into() }
+    }
+
+    /// Records in the manifest every file the stages after the run left in `folders`
+    /// ([`Manifest::record_folders`]) and writes it; a cache whose manifest does not
+    /// read is left as it is (`perifrac verify` reports that).
+    pub fn record_outputs(&self, folders: &[PathBuf]) -> Result<()> {
+        let Ok(mut manifest) = Manifest::read(&self.manifest()) else {
+            return Ok(());
+        };
+        manifest.record_folders(&self.root, folders)?;
+        manifest.write(&self.manifest())
     }
 
     /// `manifest.json`.

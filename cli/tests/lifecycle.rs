@@ -264,6 +264,73 @@ fn stop_with(name: &str, expected_in_message: &str) {
     assert_same_cache(&out, &reference, name);
 }
 
+/// A stop asked for while a frame's steps run checkpoints between two steps, and the
+/// resume takes the rest of that frame's steps: the bytes of an uninterrupted run,
+/// split tet mesh included (its crack-face set is the last frame's, not the bonds').
+#[test]
+fn a_stop_during_a_frame_checkpoints_between_steps_and_resumes_to_the_same_bytes() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    // Five frames of many steps each (a frame takes most of the run's time), and a
+    // cube that cracks on the ground with its split tet mesh written, so that a signal
+    // lands among the steps after bonds broke.
+    let path = dir.path().join("scene.toml");
+    let long_frames = SCENE
+        .replace("fps = 400", "fps = 80")
+        .replace("velocity = [0, -1, 0]", "velocity = [0, -6, 0]")
+        .replace("preview = false", "preview = false\nsurface = \"embedded\"");
+    std::fs::write(&path, long_frames).expect("write scene");
+    let scene = path.to_string_lossy().into_owned();
+    let reference_out = dir.path().join("reference");
+    let r = perifrac(&["run", &scene, "-o", &reference_out.to_string_lossy()]);
+    assert!(r.status.success(), "{}", text(&r));
+    let m = manifest(&reference_out);
+    assert!(m["broken_bonds"].as_u64() > Some(0), "the cube cracks: {m}");
+    let steps_per_frame = m["steps"].as_u64().expect("steps") / 4;
+    let reference = cache_bytes(&reference_out);
+
+    let mut landed = false;
+    for attempt in 0..3 {
+        let out = dir.path().join(format!("stopped-{attempt}"));
+        let child = start(&scene, &out, &[]);
+        wait_for("frame 2", || out.join("particles/0002.ply").exists());
+        std::thread::sleep(Duration::from_millis(100));
+        signal(&child, "TERM");
+        let r = child.wait_with_output().expect("exits");
+        let err = String::from_utf8_lossy(&r.stderr).into_owned();
+        assert_eq!(r.status.code(), Some(3), "{err}");
+        let m = manifest(&out);
+        assert_eq!(m["status"], "interrupted", "{m}");
+        let frames = m["frame_times"].as_array().expect("frames").len() as u64;
+        let checkpoint = std::fs::read(out.join("checkpoint/state.bin")).expect("checkpoint");
+        let word = |at: usize| u64::from_le_bytes(checkpoint[at..at + 8].try_into().expect("8"));
+        let (frame, steps) = (word(20), word(28));
+        assert_eq!(frame, frames, "the checkpoint's frame is the last on disk");
+        let message = m["message"].as_str().expect("a message");
+        if message.contains("stopped during frame") {
+            let into = steps - (frame - 1) * steps_per_frame;
+            assert!(
+                (1..steps_per_frame).contains(&into),
+                "{into} steps into a frame of {steps_per_frame}: {message}"
+            );
+            assert!(
+                message.contains(&format!("after {into} of its")),
+                "{message}"
+            );
+            landed = true;
+        }
+        resume(&scene, &out);
+        assert_same_cache(&out, &reference, &format!("stopped: {message}"));
+        assert_eq!(temporary_files(&out), Vec::<PathBuf>::new());
+        if landed {
+            break;
+        }
+    }
+    assert!(
+        landed,
+        "no stop landed among a frame's steps in three tries"
+    );
+}
+
 #[test]
 fn sigterm_stops_cleanly_with_a_checkpoint_and_resumes_to_the_same_bytes() {
     stop_with("TERM", "SIGTERM");
