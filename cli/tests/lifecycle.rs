@@ -550,3 +550,40 @@ fn verify_names_a_deleted_frame_and_a_flipped_byte() {
         assert!(text(r).contains("0007.ply"), "{what}: {}", text(r));
     }
 }
+
+/// `verify` also covers `scene.toml` and what the stages after the run leave (here the
+/// previews `render` writes), as the manifest recorded them.
+#[test]
+fn verify_names_a_changed_scene_and_a_damaged_preview() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let scene = write_scene(dir.path());
+    let out = dir.path().join("out");
+    let o = out.to_string_lossy().into_owned();
+    let r = perifrac(&["run", &scene, "-o", &o]);
+    assert!(r.status.success(), "{}", text(&r));
+    let r = perifrac(&["render", &o, "--size", "32x24"]);
+    assert!(r.status.success(), "{}", text(&r));
+    assert!(
+        manifest(&out)["files"]
+            .as_object()
+            .is_some_and(|f| f.contains_key("preview/0003.png") && f.contains_key("scene.toml")),
+        "{}",
+        manifest(&out)["files"]
+    );
+    let r = perifrac(&["verify", &o]);
+    assert_eq!(r.status.code(), Some(0), "{}", text(&r));
+
+    let preview = out.join("preview/0003.png");
+    let mut bytes = std::fs::read(&preview).expect("read");
+    let middle = bytes.len() / 2;
+    bytes[middle] ^= 0x01;
+    std::fs::write(&preview, &bytes).expect("write");
+    let mut toml = std::fs::read_to_string(out.join("scene.toml")).expect("read");
+    toml.push('\n');
+    std::fs::write(out.join("scene.toml"), toml).expect("write");
+    let r = perifrac(&["verify", &o]);
+    assert_eq!(r.status.code(), Some(2), "{}", text(&r));
+    let t = text(&r);
+    assert!(t.contains("preview/0003.png"), "{t}");
+    assert!(t.contains("scene.toml"), "{t}");
+}
