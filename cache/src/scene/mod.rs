@@ -801,9 +801,8 @@ pub struct OutputSpec {
     pub gltf_damage_colour: bool,
     /// Write `cache.usd`, the whole cache as one USD stage, after the run (and after
     /// the surface stage); `perifrac export usd OUT` writes it for any cache.
-    /// Default false: usd-core 26.11 refuses the stages written so far (see
-    /// docs/usd.md), so a run does not write one unless asked.
-    #[serde(default)]
+    /// Default true.
+    #[serde(default = "default_true")]
     pub usd: bool,
 }
 
@@ -860,7 +859,7 @@ impl Default for OutputSpec {
             preview: true,
             playback_fps: default_playback_fps(),
             gltf_damage_colour: false,
-            usd: false,
+            usd: true,
         }
     }
 }
