@@ -218,10 +218,16 @@ def main(out):
     colliders = stage.GetPrimAtPath("/World/Colliders")
     if colliders:
         for i, child in enumerate(colliders.GetChildren()):
-            op = UsdGeom.Xformable(child).GetOrderedXformOps()[0]
+            ops = UsdGeom.Xformable(child).GetOrderedXformOps()
             for k in range(1, frames + 1):
                 centre = manifest["collider_centers"][k - 1][i]
-                check(np.allclose(op.Get(k), centre, atol=0, rtol=1e-12), f"collider {i} frame {k}")
+                check(np.allclose(ops[0].Get(k), centre, atol=0, rtol=1e-12), f"collider {i} frame {k}")
+                if "collider_rotations" in manifest:
+                    x, y, z, w = manifest["collider_rotations"][k - 1][i]
+                    q = ops[1].Get(k)
+                    check(ops[1].GetOpType() == UsdGeom.XformOp.TypeOrient
+                          and np.allclose([q.GetReal(), *q.GetImaginary()], [w, x, y, z], atol=0, rtol=1e-12),
+                          f"collider {i} frame {k}: orientation")
         print(f"colliders: {len(colliders.GetChildren())} follow manifest.json's centres")
 
     # ParaView collection, read with meshio.
