@@ -64,18 +64,36 @@ def worst(a, b):
 
 def worst_unordered(a, b):
     """The largest distance from a point of either set to the nearest of the other
-    (the sets' Hausdorff distance); inf when their sizes differ."""
+    (the sets' Hausdorff distance) when it is under 1 mm, else inf; inf too when the
+    sizes differ. Neighbours are found in a 1 mm grid (numpy only, fast enough for the
+    demo's 30,000 vertices a frame)."""
     if a.shape != b.shape:
         return float("inf")
+    if not a.size:
+        return 0.0
+    h, half = 1e-3, 1 << 20
+
+    def keys(cells):
+        c = cells + half
+        return (c[:, 0] << 42) | (c[:, 1] << 21) | c[:, 2]
 
     def one_way(p, q):
-        far = 0.0
-        for start in range(0, len(p), 256):
-            d = np.linalg.norm(p[start : start + 256, None, :] - q[None, :, :], axis=2)
-            far = max(far, float(d.min(axis=1).max()))
-        return far
+        order = np.argsort(keys(np.floor(q / h).astype(np.int64)))
+        q = q[order]
+        sorted_keys = keys(np.floor(q / h).astype(np.int64))
+        cells = np.floor(p / h).astype(np.int64)
+        best = np.full(len(p), np.inf)
+        for off in np.array(np.meshgrid([-1, 0, 1], [-1, 0, 1], [-1, 0, 1])).T.reshape(-1, 3):
+            k = keys(cells + off)
+            lo = np.searchsorted(sorted_keys, k, "left")
+            hi = np.searchsorted(sorted_keys, k, "right")
+            for j in range(int((hi - lo).max())):
+                rows = np.nonzero(lo + j < hi)[0]
+                d = np.linalg.norm(p[rows] - q[lo[rows] + j], axis=1)
+                best[rows] = np.minimum(best[rows], d)
+        return float(best.max())
 
-    return max(one_way(a, b), one_way(b, a)) if a.size else 0.0
+    return max(one_way(a, b), one_way(b, a))
 
 
 def main(out):
