@@ -2,8 +2,10 @@
 //! the atomic write every file of it goes through: a temporary name in the same
 //! directory, then a rename, so a killed run never leaves a half-written file.
 //!
-//! Frames are numbered from 1; every file that carries time shows frame k at
-//! (k − 1)/`playback_fps` seconds ([`playback_time`]).
+//! Frames are numbered from 1; every file that carries time shows frame k on
+//! timeline frame k, (k − 1)/`playback_fps` seconds after frame 1 ([`playback_time`];
+//! `animated.glb` keys it at k/`playback_fps` s, where Blender's glTF importer puts
+//! frame k).
 //!
 //! Frames are numbered from 1 and named with four digits (`NNNN`); turntable views
 //! with three (`turntable_NNN.png`).
