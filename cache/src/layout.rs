@@ -96,16 +96,6 @@ impl Layout {
         self.root.join("cache.usd")
     }
 
-    /// `usd/`, the value-clip layers of `cache.usd`.
-    pub fn usd_dir(&self) -> PathBuf {
-        self.root.join("usd")
-    }
-
-    /// `usd/NNNN.usdc`, the value-clip layer of frame `frame`.
-    pub fn usd_clip(&self, frame: usize) -> PathBuf {
-        self.usd_dir().join(frame_file(frame, "usdc"))
-    }
-
     /// `surface/`.
     pub fn surface_dir(&self) -> PathBuf {
         self.root.join("surface")
@@ -408,7 +398,6 @@ mod tests {
         assert!(layout.debris(3).ends_with("surface/0003_debris.ply"));
         assert!(layout.tets_collection().ends_with("tets/tets.pvd"));
         assert!(layout.usd().ends_with("cache.usd"));
-        assert!(layout.usd_clip(5).ends_with("usd/0005.usdc"));
         assert!(layout.turntable(2).ends_with("preview/turntable_002.png"));
         layout.create().expect("create");
         for frame in [3, 1] {
