@@ -4,11 +4,11 @@
 //! everything else runs on an ordinary thread). The first signal during the simulation
 //! asks the run to stop through its [`StopRequest`]: the run finishes the step it is on
 //! (or the frame it is writing), writes a checkpoint there, marks the manifest
-//! interrupted and returns, and the
-//! command exits with [`EXIT_INTERRUPTED`] and the command that resumes. A second
-//! signal, or one outside the simulation (meshing, surfaces, previews: nothing there to
-//! checkpoint), removes this process's temporary files and exits at once with 128 + the
-//! signal number (130 for Ctrl-C), as a shell reports a process killed by it.
+//! interrupted and returns, and the command exits with [`EXIT_INTERRUPTED`] and the
+//! command that resumes. A second signal, or one outside the simulation (meshing,
+//! surfaces, previews: nothing there to checkpoint), removes this process's temporary
+//! files and exits at once with 128 + the signal number (130 for Ctrl-C), as a shell
+//! reports a process killed by it.
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -77,8 +77,8 @@ impl Watcher {
         })
     }
 
-    /// Whether a signal now asks the run to stop after the step it is on (true) or exits at
-    /// once (false).
+    /// Whether a signal now asks the run to stop after the step it is on (true) or
+    /// exits at once (false).
     pub fn set_simulating(&self, simulating: bool) {
         self.simulating.store(simulating, Ordering::SeqCst);
     }

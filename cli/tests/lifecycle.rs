@@ -340,28 +340,40 @@ fn sigterm_stops_cleanly_with_a_checkpoint_and_resumes_to_the_same_bytes() {
 fn sigint_stops_cleanly_and_a_second_one_quits_at_once() {
     stop_with("INT", "SIGINT");
 
-    // A second signal before the frame is done quits at once. Two SIGINTs sent at
+    // A second signal before the run has stopped quits at once. Two SIGINTs sent at
     // once may merge into one (a signal pending twice is delivered once), so the
     // second is a SIGTERM; both are sent while the process is stopped, so both are
-    // waiting when it goes on and the frame cannot end between them.
+    // waiting when it goes on. A run stops after one step, so on a loaded machine it
+    // can finish its clean stop (exit 3) before the signal thread reads the second
+    // signal: that attempt is retried, and the quit must be seen in three tries.
     let dir = tempfile::tempdir().expect("temp dir");
     let scene = write_scene(dir.path());
-    let out = dir.path().join("out");
-    let child = start(&scene, &out, &[]);
-    wait_for("frame 2", || out.join("particles/0002.ply").exists());
-    signal(&child, "STOP");
-    signal(&child, "INT");
-    signal(&child, "TERM");
-    signal(&child, "CONT");
-    let r = child.wait_with_output().expect("exits");
-    let err = String::from_utf8_lossy(&r.stderr);
-    assert!(
-        matches!(r.status.code(), Some(130 | 143)),
-        "exit {:?}: {err}",
-        r.status.code()
-    );
-    assert!(err.contains("quitting at once"), "{err}");
-    assert_eq!(temporary_files(&out), Vec::<PathBuf>::new());
+    let mut quit = false;
+    for attempt in 0..3 {
+        let out = dir.path().join(format!("out-{attempt}"));
+        let child = start(&scene, &out, &[]);
+        wait_for("frame 2", || out.join("particles/0002.ply").exists());
+        signal(&child, "STOP");
+        signal(&child, "INT");
+        signal(&child, "TERM");
+        signal(&child, "CONT");
+        let r = child.wait_with_output().expect("exits");
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert_eq!(temporary_files(&out), Vec::<PathBuf>::new());
+        if r.status.code() == Some(3) {
+            assert_eq!(manifest(&out)["status"], "interrupted", "{err}");
+            continue;
+        }
+        assert!(
+            matches!(r.status.code(), Some(130 | 143)),
+            "exit {:?}: {err}",
+            r.status.code()
+        );
+        assert!(err.contains("quitting at once"), "{err}");
+        quit = true;
+        break;
+    }
+    assert!(quit, "the second signal never quit at once in three tries");
 }
 
 /// A tmpfs mounted for the test (root only), unmounted on drop.

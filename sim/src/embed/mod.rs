@@ -404,7 +404,7 @@ impl EmbeddedMesh {
                 self.tets.len()
             ));
         }
-        let cracked: Vec<u8> = (0..8 * words.len())
+        let mut cracked: Vec<u8> = (0..8 * words.len())
             .map(|p| (words[p / 8] >> (4 * (p % 8)) & 0xf) as u8)
             .collect();
         if let Some(p) = (self.tets.len()..cracked.len()).find(|&p| cracked[p] != 0) {
@@ -424,7 +424,8 @@ impl EmbeddedMesh {
                 }
             }
         }
-        self.cracked = cracked[..self.tets.len()].to_vec();
+        cracked.truncate(self.tets.len());
+        self.cracked = cracked;
         Ok(())
     }
 

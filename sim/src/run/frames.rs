@@ -2,8 +2,9 @@
 //! tet mesh), the manifest (with each file's size and checksum) and, every
 //! `checkpoint_every` frames, a checkpoint. It stops cleanly three ways: at the
 //! `--frames` limit it checkpoints the last frame, when asked to (a signal) it
-//! checkpoints the world between two steps, and both mark the manifest interrupted; on a blow-up or a failed write it marks the
-//! manifest failed with the message, the frames written so far on disk.
+//! checkpoints the world between two steps, and both mark the manifest interrupted;
+//! on a blow-up or a failed write it marks the manifest failed with the message, the
+//! frames written so far on disk.
 
 use std::time::Instant;
 
@@ -57,8 +58,11 @@ impl<'a> Frames<'a> {
             .frames
             .unwrap_or_else(|| scene.frame_count())
             .min(scene.frame_count());
-
-        let mut run = Frames {
+        let mut manifest = manifest_for(scene, prepared);
+        // `scene.toml` as the run wrote it, so that `perifrac verify` checks it.
+        let record = FileRecord::of(scene.to_toml().as_bytes());
+        manifest.record(&layout.root, &layout.scene(), record);
+        Frames {
             scene,
             layout,
             frames,
@@ -66,23 +70,14 @@ impl<'a> Frames<'a> {
             steps_per_frame: prepared.steps_per_frame,
             broken_total: 0,
             start,
-            manifest: manifest_for(scene, prepared),
+            manifest,
             progress,
             split_time: 0.0,
             output_time: 0.0,
             stop: options.stop.clone(),
             frame_bytes: 0,
             checkpoint_bytes: 0,
-        };
-        run.record_scene();
-        run
-    }
-
-    /// Records `scene.toml` as the run wrote it, so that `perifrac verify` checks it.
-    fn record_scene(&mut self) {
-        let record = FileRecord::of(self.scene.to_toml().as_bytes());
-        self.manifest
-            .record(&self.layout.root, &self.layout.scene(), record);
+        }
     }
 
     /// Continues after the frames a checkpoint left on disk.
@@ -92,8 +87,8 @@ impl<'a> Frames<'a> {
         self.manifest.frame_times = from.manifest.frame_times;
         self.manifest.collider_centers = from.manifest.collider_centers;
         self.manifest.collider_rotations = from.manifest.collider_rotations;
-        self.manifest.files = from.manifest.files;
-        self.record_scene();
+        // The frames' records; `scene.toml`'s is the same (the plan checked the scene).
+        self.manifest.files.extend(from.manifest.files);
         // Where it stood, should nothing be left to run (`--resume --frames` at the
         // frame it stopped at).
         self.manifest.status = from.manifest.status;
