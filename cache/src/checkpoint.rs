@@ -27,8 +27,9 @@ use crate::error::{CacheError, Result};
 /// The first eight bytes of a checkpoint.
 pub const MAGIC: &[u8; 8] = b"PFCKPT02";
 
-/// Version of the container layout after the magic.
-pub const FORMAT_VERSION: u32 = 1;
+/// Version of the layout after the magic: the container and the models' payloads
+/// (2: the embedded mesh's crack-face set, for checkpoints taken during a frame).
+pub const FORMAT_VERSION: u32 = 2;
 
 /// Bytes before the payload: magic, version, four u64, time, payload length.
 const HEADER_LEN: usize = 8 + 4 + 4 * 8 + 8 + 8;

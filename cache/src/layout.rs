@@ -2,8 +2,10 @@
 //! the atomic write every file of it goes through: a temporary name in the same
 //! directory, then a rename, so a killed run never leaves a half-written file.
 //!
-//! Frames are numbered from 1; every file that carries time shows frame k at
-//! (k − 1)/`playback_fps` seconds ([`playback_time`]).
+//! Frames are numbered from 1; every file that carries time shows frame k on
+//! timeline frame k, (k − 1)/`playback_fps` seconds after frame 1 ([`playback_time`];
+//! `animated.glb` keys it at k/`playback_fps` s, where Blender's glTF importer puts
+//! frame k).
 //!
 //! Frames are numbered from 1 and named with four digits (`NNNN`); turntable views
 //! with three (`turntable_NNN.png`).
@@ -12,6 +14,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use crate::error::{CacheError, Result};
+use crate::manifest::Manifest;
 
 /// Paths inside an output directory. No other code derives a cache path.
 #[derive(Debug, Clone)]
@@ -29,6 +32,17 @@ impl Layout {
     /// The layout under `root`.
     pub fn new(root: impl Into<PathBuf>) -> Layout {
         Layout { root: root.into() }
+    }
+
+    /// Records in the manifest every file the stages after the run left in `folders`
+    /// ([`Manifest::record_folders`]) and writes it; a cache whose manifest does not
+    /// read is left as it is (`perifrac verify` reports that).
+    pub fn record_outputs(&self, folders: &[PathBuf]) -> Result<()> {
+        let Ok(mut manifest) = Manifest::read(&self.manifest()) else {
+            return Ok(());
+        };
+        manifest.record_folders(&self.root, folders)?;
+        manifest.write(&self.manifest())
     }
 
     /// `manifest.json`.
@@ -80,16 +94,6 @@ impl Layout {
     /// `cache.usd`, the USD stage of the whole cache (binary `usdc`).
     pub fn usd(&self) -> PathBuf {
         self.root.join("cache.usd")
-    }
-
-    /// `usd/`, the value-clip layers of `cache.usd`.
-    pub fn usd_dir(&self) -> PathBuf {
-        self.root.join("usd")
-    }
-
-    /// `usd/NNNN.usdc`, the value-clip layer of frame `frame`.
-    pub fn usd_clip(&self, frame: usize) -> PathBuf {
-        self.usd_dir().join(frame_file(frame, "usdc"))
     }
 
     /// `surface/`.
@@ -394,7 +398,6 @@ mod tests {
         assert!(layout.debris(3).ends_with("surface/0003_debris.ply"));
         assert!(layout.tets_collection().ends_with("tets/tets.pvd"));
         assert!(layout.usd().ends_with("cache.usd"));
-        assert!(layout.usd_clip(5).ends_with("usd/0005.usdc"));
         assert!(layout.turntable(2).ends_with("preview/turntable_002.png"));
         layout.create().expect("create");
         for frame in [3, 1] {

@@ -1,7 +1,7 @@
 //! `manifest.json`: what a run produced and what it cost.
 
 use std::collections::BTreeMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
@@ -193,6 +193,33 @@ impl Manifest {
         let key = path.strip_prefix(root).unwrap_or(path);
         self.files
             .insert(key.to_string_lossy().replace('\\', "/"), record);
+    }
+
+    /// Records every file in each of `folders` (written after the run by a stage:
+    /// surfaces, volumes, previews), dropping first the records of files that were
+    /// under them, so that `perifrac verify` checks what the stage left. The files are
+    /// read back for their checksums; temporary files (`.NAME.tmp-PID`) are skipped.
+    pub fn record_folders(&mut self, root: &Path, folders: &[PathBuf]) -> Result<()> {
+        for dir in folders {
+            let prefix = dir.strip_prefix(root).unwrap_or(dir);
+            let prefix = format!("{}/", prefix.to_string_lossy().replace('\\', "/"));
+            self.files.retain(|name, _| !name.starts_with(&prefix));
+            let Ok(entries) = std::fs::read_dir(dir) else {
+                continue;
+            };
+            let mut paths: Vec<PathBuf> = entries
+                .flatten()
+                .filter(|e| !e.file_name().to_string_lossy().starts_with('.'))
+                .map(|e| e.path())
+                .filter(|p| p.is_file())
+                .collect();
+            paths.sort();
+            for path in paths {
+                let bytes = std::fs::read(&path).map_err(|e| CacheError::io(&path, e))?;
+                self.record(root, &path, FileRecord::of(&bytes));
+            }
+        }
+        Ok(())
     }
 
     /// Frames written (`frame_times` has one entry a frame).

@@ -42,7 +42,8 @@ pub trait SurfaceEncoder: Sync {
 
     /// A fractured surface animated over frames: `frames[k]` are the positions of
     /// `mesh`'s vertices in cache frame k + 1, at simulation time `times[k]` (s); the
-    /// encoder keys frame k + 1 at its playback time ([`crate::playback_time`]).
+    /// encoder keys frame k + 1 on timeline frame k + 1, at (k + 1)/playback_fps s
+    /// (glTF's time as Blender's importer maps it to frames).
     fn animated(
         &self,
         mesh: &SurfaceMesh,

@@ -36,6 +36,7 @@ use clap::Parser;
 use args::{Cli, Command};
 
 fn main() -> ExitCode {
+    restore_sigpipe();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Run(run) => match args::RunConfig::try_from(run) {
@@ -73,5 +74,17 @@ fn main() -> ExitCode {
             eprintln!("{label}: {:#}", failure.error);
             ExitCode::from(failure.code)
         }
+    }
+}
+
+/// Output piped into a reader that stops early (`perifrac check … | head`) ends the
+/// process quietly, as it does every Unix tool: Rust ignores SIGPIPE, and a write to the
+/// closed pipe would then panic in `println!`.
+fn restore_sigpipe() {
+    #[cfg(unix)]
+    // SAFETY: sets the disposition of one signal to its default before any thread is
+    // started; no handler of ours is replaced.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
 }

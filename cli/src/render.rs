@@ -68,6 +68,9 @@ pub fn previews(
     });
     bar.finish_and_clear();
     let report = report?;
+    // The manifest records the images, so `perifrac verify` checks them too.
+    let layout = Layout::new(out);
+    layout.record_outputs(&[layout.preview_dir()])?;
     for w in &report.warnings {
         eprintln!("warning: {w}");
     }
@@ -90,7 +93,7 @@ pub fn previews(
             1e3 * p.main / n,
             1e3 * p.readback / n,
             1e3 * report.encode / n,
-            Layout::new(out).preview_dir().display()
+            layout.preview_dir().display()
         );
     }
     Ok(report.seconds)

@@ -2,12 +2,13 @@
 //!
 //! A thread waits for the signals (signal-hook's iterator: the handler only wakes it,
 //! everything else runs on an ordinary thread). The first signal during the simulation
-//! asks the run to stop through its [`StopRequest`]: the run finishes the frame it is
-//! on, writes it and a checkpoint, marks the manifest interrupted and returns, and the
-//! command exits with [`EXIT_INTERRUPTED`] and the command that resumes. A second
-//! signal, or one outside the simulation (meshing, surfaces, previews: nothing there to
-//! checkpoint), removes this process's temporary files and exits at once with 128 + the
-//! signal number (130 for Ctrl-C), as a shell reports a process killed by it.
+//! asks the run to stop through its [`StopRequest`]: the run finishes the step it is on
+//! (or the frame it is writing), writes a checkpoint there, marks the manifest
+//! interrupted and returns, and the command exits with [`EXIT_INTERRUPTED`] and the
+//! command that resumes. A second signal, or one outside the simulation (meshing,
+//! surfaces, previews: nothing there to checkpoint), removes this process's temporary
+//! files and exits at once with 128 + the signal number (130 for Ctrl-C), as a shell
+//! reports a process killed by it.
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -51,7 +52,7 @@ impl Watcher {
                 if active.load(Ordering::SeqCst) && stop.reason().is_none() {
                     stop.request(name(signal));
                     eprintln!(
-                        "\n{}: finishing the frame in progress, then writing a checkpoint \
+                        "\n{}: finishing the step in progress, then writing a checkpoint \
                          (send it again, or press Ctrl-C again, to quit at once)",
                         name(signal)
                     );
@@ -76,8 +77,8 @@ impl Watcher {
         })
     }
 
-    /// Whether a signal now asks the run to stop at the next frame (true) or exits at
-    /// once (false).
+    /// Whether a signal now asks the run to stop after the step it is on (true) or
+    /// exits at once (false).
     pub fn set_simulating(&self, simulating: bool) {
         self.simulating.store(simulating, Ordering::SeqCst);
     }

@@ -104,6 +104,11 @@ fn embedded_files(layout: &Layout) -> Vec<PathBuf> {
     files
 }
 
+/// Records the surfaces and volumes in the manifest, so `perifrac verify` checks them.
+fn record_surfaces(layout: &Layout) -> Result<(), Failure> {
+    Ok(layout.record_outputs(&[layout.surface_dir(), layout.vdb_dir()])?)
+}
+
 /// Files `NNNN<suffix>` in `dir`.
 fn frame_files(dir: &Path, suffix: &str) -> Vec<PathBuf> {
     let Ok(entries) = std::fs::read_dir(dir) else {
@@ -136,6 +141,7 @@ pub fn embedded_stage(out: &Path, output: &OutputSpec, quiet: bool) -> Result<()
         });
     bar.finish_and_clear();
     let r = report?;
+    record_surfaces(&layout)?;
     if !quiet {
         eprintln!(
             "surfaced {} frames (embedded) in {:.1} s, extraction {:.2} s a frame: last frame \
@@ -170,6 +176,7 @@ pub fn sheet_stage(out: &Path, output: &OutputSpec, quiet: bool) -> Result<(), F
     });
     bar.finish_and_clear();
     let frames = frames?;
+    record_surfaces(&layout)?;
     if !quiet {
         eprintln!(
             "surfaced {frames} frames (sheet) in {:.1} s; output in {}",
@@ -202,6 +209,7 @@ pub fn stage(out: &Path, output: &OutputSpec, quiet: bool) -> Result<(), Failure
     });
     bar.finish_and_clear();
     let (frames, total) = total?;
+    record_surfaces(&layout)?;
     if !quiet {
         let n = frames as f64;
         let s = &total.seconds;

@@ -112,6 +112,31 @@ fn check_prints_the_cost() {
     }
 }
 
+/// Output into a pipe whose reader is gone (`perifrac check … | head`) ends the process
+/// quietly, as SIGPIPE ends any Unix tool, never with a panic.
+#[test]
+fn check_into_a_closed_pipe_does_not_panic() {
+    use std::os::unix::process::ExitStatusExt;
+    let dir = tempfile::tempdir().expect("temp dir");
+    let scene = write_scene(dir.path(), TINY);
+    let mut child = Command::new(env!("CARGO_BIN_EXE_perifrac"))
+        .args(["check", &scene])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("the binary starts");
+    // The reader goes before `check` has meshed the scene and printed a line.
+    drop(child.stdout.take());
+    let out = child.wait_with_output().expect("exits");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(
+        out.status.success() || out.status.signal() == Some(13),
+        "{:?}: {err}",
+        out.status
+    );
+}
+
 #[test]
 fn bad_scenes_exit_with_2_and_name_file_line_and_key() {
     let dir = tempfile::tempdir().expect("temp dir");

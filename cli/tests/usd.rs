@@ -83,9 +83,6 @@ fn dcc_check(out: &Path) -> bool {
 }
 
 #[test]
-#[ignore = "known defect: usd-core 26.11 refuses the stage (\"Invalid children found in \
-            primChildren field\" for every prim with children, from openusd 0.6's crate writer); \
-            run with --ignored to reproduce"]
 fn cache_usd_opens_in_usd_core_and_blender() {
     let dir = tempfile::tempdir().unwrap();
     let scene = dir.path().join("scene.toml");

@@ -11,7 +11,9 @@
 //! into the base colour), and, for the animation, one morph target a frame with a
 //! step-keyed weights animation (Blender imports it as one object with shape keys).
 //! The animation is keyed at the playback time base: cache frame k at
-//! (k − 1)/[`Glb::playback_fps`] s, its morph target named `frame_NNNN`
+//! k/[`Glb::playback_fps`] s, where Blender's glTF importer puts timeline frame k
+//! (it maps t to frame t·fps; its exporter writes the same), so played from frame 1
+//! cache frame k shows (k − 1)/playback_fps s in; its morph target is named `frame_NNNN`
 //! (`mesh.extras.targetNames`, which Blender reads), the frames' simulation times in
 //! `mesh.extras.simulation_times` and the time bases in the animation's `extras`.
 //!
@@ -33,8 +35,8 @@ use crate::RenderError;
 /// scene's `[output]` settings it needs.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Glb {
-    /// Frames per second of playback: the animation shows cache frame k at
-    /// (k − 1)/`playback_fps` s (`[output] playback_fps`).
+    /// Frames per second of playback: the animation keys cache frame k at
+    /// k/`playback_fps` s, timeline frame k (`[output] playback_fps`).
     pub playback_fps: f64,
     /// Also write damage as the vertex colour `COLOR_0` (`[output] gltf_damage_colour`).
     pub damage_colour: bool,
@@ -388,7 +390,8 @@ pub fn crack_glb(surface: &SurfaceMesh, options: &Glb) -> Result<Vec<u8>, Render
 /// vertex positions of cache frame k + 1, at simulation time `times[k]` (s), one
 /// morph target each (its deltas from `surface.positions`, named `frame_NNNN` in
 /// `mesh.extras.targetNames`), and a step-interpolated weights animation that shows
-/// target k alone from playback time k/`options.playback_fps` on. The simulation
+/// target k alone from playback time (k + 1)/`options.playback_fps` on (cache frame
+/// k + 1 on timeline frame k + 1). The simulation
 /// times go to `mesh.extras.simulation_times`.
 pub fn animated_glb(
     surface: &SurfaceMesh,
@@ -455,9 +458,10 @@ pub fn animated_glb(
         Some(extras),
     );
     drop(targets);
-    // Keyframes at the playback time base, and one-hot weights (target k at key k).
+    // Keyframes at the playback time base, cache frame k at k/playback_fps s (timeline
+    // frame k), and one-hot weights (target k at key k).
     let playback: Vec<f32> = (1..=n)
-        .map(|frame| perifrac_cache::playback_time(frame, options.playback_fps) as f32)
+        .map(|frame| (frame as f64 / options.playback_fps) as f32)
         .collect();
     let view = push_view_plain(
         &mut root,
@@ -479,8 +483,8 @@ pub fn animated_glb(
     ));
     let animation_extras = serde_json::json!({
         "playback_fps": options.playback_fps,
-        "time_base": "cache frame k (from 1) is keyed at (k - 1) / playback_fps s; \
-                      its simulation time is mesh.extras.simulation_times[k - 1]",
+        "time_base": "cache frame k (from 1) is keyed at k / playback_fps s, timeline \
+                      frame k; its simulation time is mesh.extras.simulation_times[k - 1]",
     });
     root.push(json::Animation {
         extensions: None,
@@ -855,8 +859,8 @@ mod tests {
         let input = &doc["accessors"][doc["animations"][0]["samplers"][0]["input"]
             .as_u64()
             .unwrap() as usize];
-        assert_eq!(input["min"], serde_json::json!([0.0]));
-        assert_eq!(input["max"][0].as_f64().unwrap() as f32, 2.0 / 25.0);
+        assert_eq!(input["min"][0].as_f64().unwrap() as f32, 1.0 / 25.0);
+        assert_eq!(input["max"][0].as_f64().unwrap() as f32, 3.0 / 25.0);
         let extras = &doc["meshes"][0]["extras"];
         assert_eq!(
             extras["targetNames"],

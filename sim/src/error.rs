@@ -37,13 +37,15 @@ pub enum SimError {
     #[error("{0}")]
     Refused(String),
     /// The run was asked to stop (a signal, through [`crate::run::StopRequest`]): it
-    /// finished the frame it was on and checkpointed it.
-    #[error("interrupted by {reason}: stopped after frame {frame}, checkpointed")]
+    /// finished the step it was on and checkpointed the world there.
+    #[error("interrupted by {reason}: frames to {frame} written, checkpointed at step {step}")]
     Interrupted {
         /// Who asked (e.g. `SIGTERM`).
         reason: String,
         /// The last frame written, and the checkpoint's frame.
         frame: usize,
+        /// The step the checkpoint holds.
+        step: u64,
     },
     /// The simulation became unstable.
     #[error(

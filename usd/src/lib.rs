@@ -17,7 +17,7 @@
 //! | `Surface` | `Mesh` with time-sampled topology, `normals`, primvar `damage`; `GeomSubset`s `surface` and `crack` (family `materialBind`) | `surface/NNNN.glb` (embedded method) |
 //! | `Fragments/fragment_N` | one `Mesh` a fragment, `visibility` time-sampled where a frame lacks it | `surface/NNNN.glb` (vdb method) |
 //! | `Volume` | `Volume` with `OpenVDBAsset` fields `surface` and `v`, `filePath` time-sampled | `vdb/NNNN.vdb` |
-//! | `Colliders/collider_N` | `Xform` with time-sampled `xformOp:translate`, a `Sphere`, `Cube` or ground `Mesh` child | `scene.toml`, `manifest.json` |
+//! | `Colliders/collider_N` | `Xform` with time-sampled `xformOp:translate` (and `xformOp:orient` where the manifest has rotations), a `Sphere`, `Cube` or ground `Mesh` child | `scene.toml`, `manifest.json` |
 //! | `Looks/surface`, `Looks/crack` | `Material` with a `UsdPreviewSurface` | the glTF materials' colours |
 //!
 //! Velocities: `velocities` are in metres per second of *playback* (the simulation
@@ -682,6 +682,7 @@ fn colliders(
         return Ok(0);
     }
     let group = stage.def(world, "Colliders", "Xform")?;
+    let frames = manifest.frame_times.len();
     for (i, collider) in scene.colliders.iter().enumerate() {
         let start = match collider {
             ColliderSpec::Ground { height, .. } => [0.0, *height, 0.0],
@@ -710,12 +711,30 @@ fn colliders(
         };
         let xform = stage.def(&group, &name, "Xform")?;
         stage.animated(&xform, "xformOp:translate", "double3", translate, vec![])?;
+        // The manifest's rotations (written when the scene has a mesh collider): a
+        // mesh collider is x ↦ centre + R (x − pivot), so translate then orient.
+        let mut order = vec!["xformOp:translate"];
+        if !manifest.collider_rotations.is_empty() {
+            let orient: Samples = (0..frames)
+                .map(|k| {
+                    let [x, y, z, w] = manifest
+                        .collider_rotations
+                        .get(k)
+                        .and_then(|rotations| rotations.get(i))
+                        .copied()
+                        .unwrap_or([0.0, 0.0, 0.0, 1.0]);
+                    ((k + 1) as f64, Value::Quatd(gf::quatd(w, x, y, z)))
+                })
+                .collect();
+            stage.animated(&xform, "xformOp:orient", "quatd", orient, vec![])?;
+            order.push("xformOp:orient");
+        }
         stage.attribute(
             &xform,
             "xformOpOrder",
             "token[]",
             true,
-            Value::token_vec(["xformOp:translate"]),
+            Value::token_vec(order),
             vec![],
         )?;
         match collider {
@@ -768,7 +787,8 @@ fn colliders(
                 )?;
             }
             // A mesh collider's transform only: its geometry stays in its own file
-            // (the scene's `path`), which the prim does not reference yet.
+            // (the scene's `path`, read by perifrac-sim's mesh loader), which the prim
+            // does not reference yet.
             ColliderSpec::Mesh { .. } => {}
             ColliderSpec::Ground { .. } => {
                 // A square 20 m on a side at the plane's height (the plane is infinite).
@@ -840,6 +860,7 @@ mod tests {
             fps: 1000.0,
             frame_times: vec![0.0, 0.001],
             collider_centers: vec![vec![[0.0, 1.0, 0.0]], vec![[0.0, 0.9, 0.0]]],
+            collider_rotations: vec![vec![[0.0, 0.0, 0.0, 1.0]], vec![[0.6, 0.0, 0.0, 0.8]]],
             ..Manifest::default()
         };
         manifest.write(&layout.manifest()).unwrap();
@@ -897,6 +918,12 @@ mod tests {
             panic!("the collider does not move");
         };
         assert_eq!(samples[1].1, Value::Vec3d(gf::vec3d(0.0, 0.9, 0.0)));
+        let orient = openusd::sdf::Path::new("/World/Colliders/sphere_0.xformOp:orient").unwrap();
+        let Value::TimeSamples(samples) = field(&orient, "timeSamples").into_owned() else {
+            panic!("the collider's rotations are not time-sampled");
+        };
+        // [x, y, z, w] in the manifest, (w, x, y, z) in USD.
+        assert_eq!(samples[1].1, Value::Quatd(gf::quatd(0.8, 0.6, 0.0, 0.0)));
         // The same cache gives the same bytes.
         let first = std::fs::read(layout.usd()).unwrap();
         write_stage(&layout).unwrap();

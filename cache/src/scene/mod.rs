@@ -818,9 +818,11 @@ pub struct OutputSpec {
     #[serde(default)]
     pub embedded: EmbeddedSpec,
     /// The playback time base of every file that carries time (`cache.usd`,
-    /// `surface/animated.glb`, `tets/tets.pvd`): cache frame k is shown at
-    /// (k − 1)/`playback_fps` seconds. The simulation time of each frame stays in
-    /// `manifest.json` (`frame_times`) and in each file's metadata. Default 24.
+    /// `surface/animated.glb`, `tets/tets.pvd`): cache frame k is on timeline frame
+    /// k, (k − 1)/`playback_fps` seconds after frame 1 (`animated.glb` keys it at
+    /// k/`playback_fps` s, as Blender counts glTF time). The simulation time of each
+    /// frame stays in `manifest.json` (`frame_times`) and in each file's metadata.
+    /// Default 24.
     #[serde(default = "default_playback_fps")]
     pub playback_fps: f64,
     /// Also write damage as the glTF vertex colour `COLOR_0` of the fractured surfaces.
@@ -830,9 +832,8 @@ pub struct OutputSpec {
     pub gltf_damage_colour: bool,
     /// Write `cache.usd`, the whole cache as one USD stage, after the run (and after
     /// the surface stage); `perifrac export usd OUT` writes it for any cache.
-    /// Default false: usd-core 26.11 refuses the stages written so far (see
-    /// docs/usd.md), so a run does not write one unless asked.
-    #[serde(default)]
+    /// Default true.
+    #[serde(default = "default_true")]
     pub usd: bool,
 }
 
@@ -889,7 +890,7 @@ impl Default for OutputSpec {
             preview: true,
             playback_fps: default_playback_fps(),
             gltf_damage_colour: false,
-            usd: false,
+            usd: true,
         }
     }
 }

@@ -373,9 +373,66 @@ impl EmbeddedMesh {
         added
     }
 
+    /// The crack-face set for a checkpoint: four bits a tet (bit f: face f), eight
+    /// tets a word. It is the set as of the last frame written, which a checkpoint
+    /// taken during a frame cannot rebuild from the bonds (bonds broken since that frame
+    /// are not in it yet).
+    pub fn crack_faces(&self) -> Vec<u32> {
+        self.cracked
+            .chunks(8)
+            .map(|tets| {
+                tets.iter()
+                    .enumerate()
+                    .fold(0, |word, (i, &bits)| word | (bits as u32) << (4 * i))
+            })
+            .collect()
+    }
+
+    /// Words of [`Self::crack_faces`].
+    pub fn crack_face_words(&self) -> usize {
+        self.tets.len().div_ceil(8)
+    }
+
+    /// Sets the crack-face set from [`Self::crack_faces`] of a checkpoint, after checking
+    /// that every face in it is an interior face whose bond is broken and that it is in
+    /// the set from both sides; the error says which face is not.
+    pub fn restore_crack_faces(&mut self, words: &[u32], bonds: &Bonds) -> Result<(), String> {
+        if words.len() != self.crack_face_words() {
+            return Err(format!(
+                "{} words of crack faces for {} tets",
+                words.len(),
+                self.tets.len()
+            ));
+        }
+        let mut cracked: Vec<u8> = (0..8 * words.len())
+            .map(|p| (words[p / 8] >> (4 * (p % 8)) & 0xf) as u8)
+            .collect();
+        if let Some(p) = (self.tets.len()..cracked.len()).find(|&p| cracked[p] != 0) {
+            return Err(format!("crack faces set for tet {p}, past the last tet"));
+        }
+        for (p, &bits) in cracked.iter().enumerate().take(self.tets.len()) {
+            for f in (0..4).filter(|f| bits & (1 << f) != 0) {
+                let q = self.adjacent[p][f];
+                let valid = q != NONE
+                    && bonds.neighbours[self.face_bond[p][f]] & BROKEN != 0
+                    && cracked[q as usize] & (1 << self.back_face(p as u32, f as u8)) != 0;
+                if !valid {
+                    return Err(format!(
+                        "face {f} of tet {p} is in the crack-face set but is not a cracked \
+                         interior face"
+                    ));
+                }
+            }
+        }
+        cracked.truncate(self.tets.len());
+        self.cracked = cracked;
+        Ok(())
+    }
+
     /// Restores the topology written at a frame (tets and parents, from
-    /// `tets/NNNN.vtu`) and the crack-face set from the bonds' broken flags.
-    pub fn restore(&mut self, tets: Vec<[u32; 4]>, parent: Vec<u32>, bonds: &Bonds) -> Result<()> {
+    /// `tets/NNNN.vtu`); the crack-face set is restored first
+    /// ([`Self::restore_crack_faces`]).
+    pub fn restore(&mut self, tets: Vec<[u32; 4]>, parent: Vec<u32>) -> Result<()> {
         if tets.len() != self.tets.len() || parent.len() < self.original {
             return Err(SimError::Refused(format!(
                 "the split tet mesh to resume from has {} tets and {} vertices; the scene has {} \
@@ -424,8 +481,7 @@ impl EmbeddedMesh {
         for p in 0..self.tets.len() {
             let adjacent = self.adjacent[p];
             for (f, &q) in adjacent.iter().enumerate() {
-                if q != NONE && bonds.neighbours[self.face_bond[p][f]] & BROKEN != 0 {
-                    self.cracked[p] |= 1 << f;
+                if q != NONE && self.cracked[p] & (1 << f) != 0 {
                     let open = {
                         let t = self.tets[p];
                         !TET_FACES[f]

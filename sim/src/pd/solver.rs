@@ -190,6 +190,9 @@ impl Model for Peridynamics {
         if let Some(p) = &m.plastic {
             out.put_f64_slice(&p.extension);
         }
+        if let Some(mesh) = &self.embedded {
+            out.put_u32_slice(&mesh.crack_faces());
+        }
     }
 
     fn broken_bonds(&self) -> u64 {
@@ -209,6 +212,11 @@ impl Model for Peridynamics {
         m.bonds.neighbours = neighbours;
         if let Some(p) = &mut m.plastic {
             p.extension = input.take_finite_f64_slice("plastic extensions", p.extension.len())?;
+        }
+        if let Some(mesh) = &mut self.embedded {
+            let words = input.take_u32_slice("crack faces", mesh.crack_face_words())?;
+            mesh.restore_crack_faces(&words, &m.bonds)
+                .map_err(|message| input.error("crack faces", message))?;
         }
         m.update_damage();
         m.update_yielded();
@@ -255,6 +263,6 @@ impl Model for Peridynamics {
             .iter()
             .map(|&p| if p < 0 { NO_PARENT } else { p as u32 })
             .collect();
-        mesh.restore(last.tets, parent, &self.model.bonds)
+        mesh.restore(last.tets, parent)
     }
 }

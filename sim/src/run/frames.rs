@@ -1,18 +1,19 @@
 //! The frame loop: step the world to each output frame, write its particles (and split
 //! tet mesh), the manifest (with each file's size and checksum) and, every
 //! `checkpoint_every` frames, a checkpoint. It stops cleanly three ways: at the
-//! `--frames` limit and when asked to (a signal) it checkpoints the last frame and
-//! marks the manifest interrupted; on a blow-up or a failed write it marks the
-//! manifest failed with the message, the frames written so far on disk.
+//! `--frames` limit it checkpoints the last frame, when asked to (a signal) it
+//! checkpoints the world between two steps, and both mark the manifest interrupted;
+//! on a blow-up or a failed write it marks the manifest failed with the message, the
+//! frames written so far on disk.
 
 use std::time::Instant;
 
 use super::resume::Resumed;
 use super::{Prepared, Progress, RunOptions, scene_hash};
-use crate::cache::Layout;
 use crate::cache::checkpoint::{Checkpoint, Encoder};
-use crate::cache::manifest::{BodyInfo, Manifest, Status, Timings};
+use crate::cache::manifest::{BodyInfo, FileRecord, Manifest, Status, Timings};
 use crate::cache::ply::ParticleFrame;
+use crate::cache::{CacheError, Layout, human_bytes};
 use crate::contact::ColliderShape;
 use crate::error::{Result, SimError};
 use crate::scene::Scene;
@@ -37,6 +38,10 @@ pub struct Frames<'a> {
     output_time: f64,
     /// Where a request to stop comes from.
     stop: super::StopRequest,
+    /// Bytes of the files of the last frame written, and of the last checkpoint (for
+    /// a full disk's message).
+    frame_bytes: u64,
+    checkpoint_bytes: u64,
 }
 
 impl<'a> Frames<'a> {
@@ -53,6 +58,10 @@ impl<'a> Frames<'a> {
             .frames
             .unwrap_or_else(|| scene.frame_count())
             .min(scene.frame_count());
+        let mut manifest = manifest_for(scene, prepared);
+        // `scene.toml` as the run wrote it, so that `perifrac verify` checks it.
+        let record = FileRecord::of(scene.to_toml().as_bytes());
+        manifest.record(&layout.root, &layout.scene(), record);
         Frames {
             scene,
             layout,
@@ -61,11 +70,13 @@ impl<'a> Frames<'a> {
             steps_per_frame: prepared.steps_per_frame,
             broken_total: 0,
             start,
-            manifest: manifest_for(scene, prepared),
+            manifest,
             progress,
             split_time: 0.0,
             output_time: 0.0,
             stop: options.stop.clone(),
+            frame_bytes: 0,
+            checkpoint_bytes: 0,
         }
     }
 
@@ -76,7 +87,8 @@ impl<'a> Frames<'a> {
         self.manifest.frame_times = from.manifest.frame_times;
         self.manifest.collider_centers = from.manifest.collider_centers;
         self.manifest.collider_rotations = from.manifest.collider_rotations;
-        self.manifest.files = from.manifest.files;
+        // The frames' records; `scene.toml`'s is the same (the plan checked the scene).
+        self.manifest.files.extend(from.manifest.files);
         // Where it stood, should nothing be left to run (`--resume --frames` at the
         // frame it stopped at).
         self.manifest.status = from.manifest.status;
@@ -108,102 +120,181 @@ impl<'a> Frames<'a> {
     }
 
     fn frames(&mut self, world: &mut World, setup: &Timings) -> Result<()> {
-        let (scene, layout, frames) = (self.scene, self.layout, self.frames);
-        for frame in self.first..=frames + 1 {
-            if frame > 1 {
-                self.advance(world, frame)?;
-            }
-            let t = Instant::now();
-            let mut frame_split = 0.0;
-            let mut wrote_tets = false;
-            if scene.output.particles {
-                let path = layout.particles(frame);
-                let record = particle_frame(world, frame).write(&path)?;
-                self.manifest.record(&layout.root, &path, record);
-            }
-            for part in &mut world.parts {
-                let s = Instant::now();
-                if let Some(tets) = part.model.tet_frame() {
-                    frame_split += s.elapsed().as_secs_f64();
-                    let path = layout.tets(frame);
-                    let record = tets.write(&path)?;
-                    self.manifest.record(&layout.root, &path, record);
-                    wrote_tets = true;
-                }
-                if scene.output.writes_sheets()
-                    && let Some(sheet) = part.model.sheet_frame()
-                {
-                    let path = layout.sheet(frame);
-                    let record = sheet.write(&path)?;
-                    self.manifest.record(&layout.root, &path, record);
-                }
-            }
-            self.split_time += frame_split;
-            self.manifest.frame_times.push(world.time);
-            if wrote_tets {
-                crate::cache::vtu::write_collection(
-                    &layout.tets_collection(),
-                    &self.manifest.frame_times,
-                    scene.output.playback_fps,
-                )?;
-            }
-            self.manifest
-                .collider_centers
-                .push(world.colliders.iter().map(|c| c.center).collect());
-            if world
-                .colliders
-                .iter()
-                .any(|c| matches!(c.shape, ColliderShape::Mesh(_)))
+        for frame in self.first..=self.frames + 1 {
+            if frame > 1
+                && let Some(reason) = self.advance(world, frame)?
             {
-                self.manifest
-                    .collider_rotations
-                    .push(world.colliders.iter().map(|c| c.orientation()).collect());
+                return self.stop_during(world, setup, frame, reason);
             }
-            let last = frame == frames + 1;
-            let stop = self.stop.reason().filter(|_| !last);
-            let (status, message) = match (&stop, last) {
-                (Some(reason), _) => (
-                    Status::Interrupted,
-                    format!("{reason}: stopped after frame {frame}; --resume continues"),
-                ),
-                (None, false) => (Status::Running, String::new()),
-                (None, true) if frames == scene.frame_count() => (Status::Complete, String::new()),
-                (None, true) => (
-                    Status::Interrupted,
-                    format!(
-                        "stopped after frame {frame} as asked (--frames {frames}); --resume \
-                         continues"
-                    ),
-                ),
-            };
-            let every = scene.output.checkpoint_every;
-            let on_schedule = every > 0 && frame % every == 0 && !last;
-            let stopping = status == Status::Interrupted;
-            (self.manifest.status, self.manifest.message) = (status, message);
-            self.finish(world, setup);
-            // The manifest before the checkpoint: a kill between the two leaves a
-            // manifest ahead of the checkpoint, which a resume cuts back.
-            self.manifest.write(&layout.manifest())?;
-            // A run stopped before the scene's end checkpoints where it stopped.
-            if on_schedule || stopping {
-                self.checkpoint(world, frame)?;
-            }
-            self.output_time += t.elapsed().as_secs_f64() - frame_split;
-            (self.progress)(Progress {
-                frame,
-                frames: frames + 1,
-                steps: world.steps,
-                steps_per_frame: self.steps_per_frame,
-            });
-            if let Some(reason) = stop {
-                return Err(SimError::Interrupted { reason, frame });
+            if let Some(reason) = self
+                .write_frame(world, setup, frame)
+                .map_err(|e| self.with_frame_need(e))?
+            {
+                return Err(SimError::Interrupted {
+                    reason,
+                    frame,
+                    step: world.steps,
+                });
             }
         }
         Ok(())
     }
 
-    /// Writes the checkpoint of the world as it is at `frame`.
-    fn checkpoint(&self, world: &World, frame: usize) -> Result<()> {
+    /// Writes `frame`: its files, the manifest and (on schedule, or when stopping) a
+    /// checkpoint; returns the reason when a stop was asked for.
+    fn write_frame(
+        &mut self,
+        world: &mut World,
+        setup: &Timings,
+        frame: usize,
+    ) -> Result<Option<String>> {
+        let (scene, layout, frames) = (self.scene, self.layout, self.frames);
+        let t = Instant::now();
+        let mut bytes = 0;
+        let mut frame_split = 0.0;
+        let mut wrote_tets = false;
+        if scene.output.particles {
+            let path = layout.particles(frame);
+            let record = particle_frame(world, frame).write(&path)?;
+            bytes += record.bytes;
+            self.manifest.record(&layout.root, &path, record);
+        }
+        for part in &mut world.parts {
+            let s = Instant::now();
+            if let Some(tets) = part.model.tet_frame() {
+                frame_split += s.elapsed().as_secs_f64();
+                let path = layout.tets(frame);
+                let record = tets.write(&path)?;
+                bytes += record.bytes;
+                self.manifest.record(&layout.root, &path, record);
+                wrote_tets = true;
+            }
+            if scene.output.writes_sheets()
+                && let Some(sheet) = part.model.sheet_frame()
+            {
+                let path = layout.sheet(frame);
+                let record = sheet.write(&path)?;
+                bytes += record.bytes;
+                self.manifest.record(&layout.root, &path, record);
+            }
+        }
+        self.split_time += frame_split;
+        self.manifest.frame_times.push(world.time);
+        if wrote_tets {
+            crate::cache::vtu::write_collection(
+                &layout.tets_collection(),
+                &self.manifest.frame_times,
+                scene.output.playback_fps,
+            )?;
+        }
+        self.manifest
+            .collider_centers
+            .push(world.colliders.iter().map(|c| c.center).collect());
+        if world
+            .colliders
+            .iter()
+            .any(|c| matches!(c.shape, ColliderShape::Mesh(_)))
+        {
+            self.manifest
+                .collider_rotations
+                .push(world.colliders.iter().map(|c| c.orientation()).collect());
+        }
+        let last = frame == frames + 1;
+        let stop = self.stop.reason().filter(|_| !last);
+        let (status, message) = match (&stop, last) {
+            (Some(reason), _) => (
+                Status::Interrupted,
+                format!("{reason}: stopped after frame {frame}; --resume continues"),
+            ),
+            (None, false) => (Status::Running, String::new()),
+            (None, true) if frames == scene.frame_count() => (Status::Complete, String::new()),
+            (None, true) => (
+                Status::Interrupted,
+                format!(
+                    "stopped after frame {frame} as asked (--frames {frames}); --resume \
+                     continues"
+                ),
+            ),
+        };
+        let every = scene.output.checkpoint_every;
+        let on_schedule = every > 0 && frame % every == 0 && !last;
+        let stopping = status == Status::Interrupted;
+        (self.manifest.status, self.manifest.message) = (status, message);
+        self.finish(world, setup);
+        // The manifest before the checkpoint: a kill between the two leaves a
+        // manifest ahead of the checkpoint, which a resume cuts back.
+        self.manifest.write(&layout.manifest())?;
+        // A run stopped before the scene's end checkpoints where it stopped.
+        if on_schedule || stopping {
+            self.checkpoint(world, frame)?;
+        }
+        self.output_time += t.elapsed().as_secs_f64() - frame_split;
+        (self.progress)(Progress {
+            frame,
+            frames: frames + 1,
+            steps: world.steps,
+            steps_per_frame: self.steps_per_frame,
+        });
+        self.frame_bytes = bytes;
+        Ok(stop)
+    }
+
+    /// Adds to a full disk's message what a whole frame of this cache writes (its
+    /// files, and the checkpoint on checkpoint frames), from the last frame written.
+    fn with_frame_need(&self, error: SimError) -> SimError {
+        use std::io::ErrorKind::{QuotaExceeded, StorageFull};
+        match error {
+            SimError::Cache(CacheError::Write {
+                path,
+                error,
+                mut hint,
+            }) if matches!(error.kind(), StorageFull | QuotaExceeded) && self.frame_bytes > 0 => {
+                hint.push_str(&format!(
+                    "; each frame of this cache writes about {}",
+                    human_bytes(self.frame_bytes)
+                ));
+                if self.checkpoint_bytes > 0 {
+                    hint.push_str(&format!(
+                        " and each checkpoint {}",
+                        human_bytes(self.checkpoint_bytes)
+                    ));
+                }
+                SimError::Cache(CacheError::Write { path, error, hint })
+            }
+            other => other,
+        }
+    }
+
+    /// Stops a run asked to stop during `frame`: the manifest says where, the
+    /// checkpoint holds the world between two steps (with the frames up to `frame` − 1
+    /// on disk), and a resume takes the rest of the frame's steps from there.
+    fn stop_during(
+        &mut self,
+        world: &World,
+        setup: &Timings,
+        frame: usize,
+        reason: String,
+    ) -> Result<()> {
+        let into = world.steps - (frame - 2) as u64 * self.steps_per_frame as u64;
+        self.manifest.status = Status::Interrupted;
+        self.manifest.message = format!(
+            "{reason}: stopped during frame {frame}, after {into} of its {} steps; --resume \
+             continues from there",
+            self.steps_per_frame
+        );
+        self.finish(world, setup);
+        self.manifest.write(&self.layout.manifest())?;
+        self.checkpoint(world, frame - 1)?;
+        Err(SimError::Interrupted {
+            reason,
+            frame: frame - 1,
+            step: world.steps,
+        })
+    }
+
+    /// Writes the checkpoint of the world as it is at `frame` (the last frame on
+    /// disk; the world may be part way to the next one).
+    fn checkpoint(&mut self, world: &World, frame: usize) -> Result<()> {
         let mut payload = Encoder::new();
         world.save(&mut payload);
         let checkpoint = Checkpoint {
@@ -214,17 +305,27 @@ impl<'a> Frames<'a> {
             time: world.time,
             payload: payload.finish(),
         };
-        Ok(checkpoint.write(&self.layout.checkpoint())?)
+        checkpoint.write(&self.layout.checkpoint())?;
+        self.checkpoint_bytes = checkpoint.payload.len() as u64;
+        Ok(())
     }
 
-    /// The steps from frame − 1 to `frame`, then the blow-up check; a blow-up names
-    /// the last good frame.
-    fn advance(&mut self, world: &mut World, frame: usize) -> Result<()> {
-        let stepped = (0..self.steps_per_frame).try_for_each(|_| {
-            self.broken_total += world.step()? as u64;
-            Ok(())
-        });
-        match stepped.and_then(|_| world.check_blowup()) {
+    /// The steps from frame − 1 to `frame` not taken yet (a run resumed from a
+    /// checkpoint written during a frame starts part way), then the blow-up check; a
+    /// blow-up names the last good frame. A request to stop is looked at before each
+    /// step: its reason is returned with the world between two steps.
+    fn advance(&mut self, world: &mut World, frame: usize) -> Result<Option<String>> {
+        let end = (frame - 1) as u64 * self.steps_per_frame as u64;
+        let stepped = (|| {
+            while world.steps < end {
+                if let Some(reason) = self.stop.reason() {
+                    return Ok(Some(reason));
+                }
+                self.broken_total += world.step()? as u64;
+            }
+            world.check_blowup().map(|_| None)
+        })();
+        match stepped {
             Err(SimError::BlowUp {
                 step,
                 time,

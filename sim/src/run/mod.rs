@@ -32,13 +32,14 @@ pub struct RunOptions {
     /// meshes before any bond is built ([`crate::memory::estimate_memory`]).
     pub memory_limit: Option<u64>,
     /// Asked from outside to stop (the CLI asks on SIGINT, SIGTERM, SIGHUP): the run
-    /// finishes the frame it is on, writes it and a checkpoint, marks the manifest
-    /// interrupted and returns [`SimError::Interrupted`].
+    /// finishes the step it is on (or the frame it is writing), writes a checkpoint
+    /// there, marks the manifest interrupted and returns [`SimError::Interrupted`].
     pub stop: StopRequest,
 }
 
 /// A request to stop a run, shared between the run and whoever may ask (a signal
-/// watcher): the run looks at it after each frame. The physics never sees it.
+/// watcher): the run looks at it before each step and after each frame. The physics
+/// never sees it.
 #[derive(Debug, Clone, Default)]
 pub struct StopRequest(Arc<Mutex<Option<String>>>);
 
