@@ -1334,9 +1334,9 @@ resolution = 0.1
         let (line, key, message) = error(&format!("{GOOD}\n[output.vdb]\nadaptivity = 1.5\n"));
         assert_eq!((line, key.as_str()), (15, "output.vdb.adaptivity"));
         assert!(message.contains("[0, 1]"), "{message}");
-        let (_, key, message) = error(&format!("{GOOD}\n[output.vdb]\nvoxel_size = 0.9\n"));
+        let (_, key, message) = error(&format!("{GOOD}\n[output.vdb]\nvoxel_size = 1.0\n"));
         assert_eq!(key, "output.vdb.voxel_size");
-        assert!(message.contains("voxel_size ≤ 0.827"), "{message}");
+        assert!(message.contains("voxel_size ≤ 0.931"), "{message}");
         let (_, key, _) = error(&format!("{GOOD}\n[output]\nsurface = \"marching\"\n"));
         assert_eq!(key, "output.surface");
     }
