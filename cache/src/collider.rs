@@ -143,7 +143,10 @@ impl ColliderMesh {
         let positions: Vec<[f32; 3]> = (0..vertices)
             .map(|i| [0, 1, 2].map(|k| float(12 * i + 4 * k)))
             .collect();
-        if let Some(i) = positions.iter().position(|p| !p.iter().all(|v| v.is_finite())) {
+        if let Some(i) = positions
+            .iter()
+            .position(|p| !p.iter().all(|v| v.is_finite()))
+        {
             return Err(format!("vertex {i} has a non-finite position"));
         }
         let faces_at = 12 * vertices;
@@ -217,7 +220,10 @@ impl MovingCollider {
         let k = frame.wrapping_sub(1);
         (
             self.centers.get(k).copied().unwrap_or(self.mesh.pivot),
-            self.rotations.get(k).copied().unwrap_or([0.0, 0.0, 0.0, 1.0]),
+            self.rotations
+                .get(k)
+                .copied()
+                .unwrap_or([0.0, 0.0, 0.0, 1.0]),
         )
     }
 }

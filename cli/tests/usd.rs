@@ -161,19 +161,41 @@ fn a_mesh_collider_is_in_the_stage_and_the_animated_glb() {
     let out = dir.path().join("out");
     let out_str = out.to_str().unwrap();
     perifrac(&["run", scene.to_str().unwrap(), "-o", out_str, "--quiet"]);
+    // The same bytes with one thread.
+    let one = dir.path().join("one");
+    let one_str = one.to_str().unwrap();
+    perifrac(&[
+        "run",
+        scene.to_str().unwrap(),
+        "-o",
+        one_str,
+        "--quiet",
+        "--threads",
+        "1",
+    ]);
+    assert!(
+        std::fs::read(one.join("colliders/mesh_1.ply")).unwrap()
+            == std::fs::read(out.join("colliders/mesh_1.ply")).unwrap(),
+        "the collider mesh depends on the thread count"
+    );
     // The stages read the cache's copy of the table: its source may go.
     std::fs::remove_file(&table).unwrap();
     perifrac(&["surface", out_str, "--method", "embedded", "--quiet"]);
     perifrac(&["export", "usd", out_str, "--quiet"]);
     if cfg!(feature = "gl") {
-        perifrac(&["render", out_str, "--frame", "6", "--size", "64x48", "--quiet"]);
+        perifrac(&[
+            "render", out_str, "--frame", "6", "--size", "64x48", "--quiet",
+        ]);
     }
     let mesh = perifrac_cache::collider::ColliderMesh::read(&out.join("colliders/mesh_1.ply"))
         .expect("the run wrote the table's geometry");
     // table.obj: 40 vertices, 60 triangles; the pivot is its placed box's centre.
     assert_eq!((mesh.positions.len(), mesh.triangles.len()), (40, 60));
     assert_eq!(mesh.pivot, [0.0, 0.15, 0.0]);
-    assert!(!out.join("colliders/mesh_0.ply").exists(), "the ground has no mesh");
+    assert!(
+        !out.join("colliders/mesh_0.ply").exists(),
+        "the ground has no mesh"
+    );
     dcc_check(&out, &["--rests-on-colliders"]);
 
     // A damaged collider mesh: `verify` names it, `export usd` refuses it (exit 2),
@@ -203,7 +225,9 @@ fn a_mesh_collider_is_in_the_stage_and_the_animated_glb() {
     );
     if cfg!(feature = "gl") {
         let render = Command::new(env!("CARGO_BIN_EXE_perifrac"))
-            .args(["render", out_str, "--frame", "1", "--size", "64x48", "--quiet"])
+            .args([
+                "render", out_str, "--frame", "1", "--size", "64x48", "--quiet",
+            ])
             .output()
             .unwrap();
         assert_eq!(render.status.code(), Some(2));

@@ -566,7 +566,9 @@ mod tests {
         };
         mesh.write(&layout.collider_mesh(0)).unwrap();
         let cache = Cache::open(dir.path()).unwrap();
-        let g = cache.geometry(1, ColorBy::Auto, &Ranges::default()).unwrap();
+        let g = cache
+            .geometry(1, ColorBy::Auto, &Ranges::default())
+            .unwrap();
         let corners: Vec<[f32; 3]> = g
             .mesh_vertices
             .chunks_exact(geometry::MESH_STRIDE)
@@ -577,7 +579,10 @@ mod tests {
         assert_eq!(corners.len(), 12);
         assert_eq!(corners[0], [1.0, 2.0, 3.0]);
         let moved = corners[2];
-        assert!((0..3).all(|k| (moved[k] - [1.0, 2.0, 2.0][k]).abs() < 1e-6), "{moved:?}");
+        assert!(
+            (0..3).all(|k| (moved[k] - [1.0, 2.0, 2.0][k]).abs() < 1e-6),
+            "{moved:?}"
+        );
     }
 
     #[test]

@@ -132,7 +132,12 @@ impl FrameGeometry {
 
     /// Appends a collider's triangles with flat faces (each triangle its own three
     /// vertices and its face normal), as the solver sees them.
-    pub fn push_flat_mesh(&mut self, positions: &[[f32; 3]], triangles: &[[u32; 3]], color: [f32; 3]) {
+    pub fn push_flat_mesh(
+        &mut self,
+        positions: &[[f32; 3]],
+        triangles: &[[u32; 3]],
+        color: [f32; 3],
+    ) {
         let corners: Vec<[f32; 3]> = triangles
             .iter()
             .filter(|t| t.iter().all(|&v| (v as usize) < positions.len()))
@@ -392,11 +397,23 @@ mod tests {
     fn a_collider_turns_then_moves_with_flat_faces() {
         // A quarter turn about y takes x to −z.
         let h = std::f64::consts::FRAC_1_SQRT_2;
-        let p = posed(&[[0.0; 3], [1.0, 0.0, 0.0]], [1.0, 2.0, 3.0], [0.0, h, 0.0, h]);
+        let p = posed(
+            &[[0.0; 3], [1.0, 0.0, 0.0]],
+            [1.0, 2.0, 3.0],
+            [0.0, h, 0.0, h],
+        );
         assert_eq!(p[0], [1.0, 2.0, 3.0]);
-        assert!((0..3).all(|k| (p[1][k] - [1.0, 2.0, 2.0][k]).abs() < 1e-6), "{p:?}");
+        assert!(
+            (0..3).all(|k| (p[1][k] - [1.0, 2.0, 2.0][k]).abs() < 1e-6),
+            "{p:?}"
+        );
         let mut g = FrameGeometry::default();
-        let square = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 0.0, 1.0], [0.0, 0.0, 1.0]];
+        let square = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 0.0, 1.0],
+            [0.0, 0.0, 1.0],
+        ];
         g.push_flat_mesh(&square, &[[0, 2, 1], [0, 3, 2], [0, 1, 9]], [1.0; 3]);
         // The triangle past the vertices is dropped; each face has its own normal.
         assert_eq!((g.triangle_count(), g.vertex_count()), (2, 6));

@@ -567,13 +567,21 @@ fn push_collider(
             "collider '{name}' has no triangles or a non-finite position"
         )));
     }
-    if let Some(&i) = mesh.triangles.iter().flatten().find(|&&i| i as usize >= count) {
+    if let Some(&i) = mesh
+        .triangles
+        .iter()
+        .flatten()
+        .find(|&&i| i as usize >= count)
+    {
         return Err(invalid(format!(
             "collider '{name}' has index {i} past its {count} vertices"
         )));
     }
     let poses: Vec<([f64; 3], [f64; 4])> = (1..=frames).map(|k| collider.pose(k)).collect();
-    if !poses.iter().all(|(c, r)| c.iter().chain(r).all(|x| x.is_finite())) {
+    if !poses
+        .iter()
+        .all(|(c, r)| c.iter().chain(r).all(|x| x.is_finite()))
+    {
         return Err(invalid(format!("collider '{name}' has a non-finite pose")));
     }
     let view = push_view(root, bin, vec3_bytes(&mesh.positions), Target::ArrayBuffer);
@@ -636,7 +644,12 @@ fn push_collider(
     );
     let rotation = root.push(accessor(view, frames, ComponentType::F32, Type::Vec4, None));
     Ok([
-        (node, Property::Translation, Interpolation::Linear, translation),
+        (
+            node,
+            Property::Translation,
+            Interpolation::Linear,
+            translation,
+        ),
         (node, Property::Rotation, Interpolation::Linear, rotation),
     ])
 }
@@ -987,7 +1000,11 @@ mod tests {
                 pivot: [0.0, 0.3, 0.0],
             },
             centers: vec![[0.0, 0.3, 0.0], [0.1, 0.3, 0.0], [0.2, 0.3, 0.0]],
-            rotations: vec![[0.0, 0.0, 0.0, 1.0], [0.0, 0.38268343236508984, 0.0, 0.9238795325112867], [0.0, h, 0.0, h]],
+            rotations: vec![
+                [0.0, 0.0, 0.0, 1.0],
+                [0.0, 0.38268343236508984, 0.0, 0.9238795325112867],
+                [0.0, h, 0.0, h],
+            ],
         }
     }
 
@@ -1068,8 +1085,14 @@ mod tests {
         let frames = vec![p.clone(), p[..3].to_vec()];
         let err = animated_glb(&s, &[0.0, 0.1], &frames, &[], &Glb::default()).unwrap_err();
         assert!(err.to_string().contains("frame 2 has 3 positions"), "{err}");
-        let err =
-            animated_glb(&s, &[0.1, 0.1], &[p.clone(), p.clone()], &[], &Glb::default()).unwrap_err();
+        let err = animated_glb(
+            &s,
+            &[0.1, 0.1],
+            &[p.clone(), p.clone()],
+            &[],
+            &Glb::default(),
+        )
+        .unwrap_err();
         assert!(err.to_string().contains("increasing"), "{err}");
         let err = crack_glb(
             &SurfaceMesh {

@@ -795,7 +795,12 @@ fn colliders(
                 let Some(collider) = meshes.iter().find(|m| m.index == i) else {
                     return Err(format!("mesh collider {i} has no colliders/mesh_{i}.ply"));
                 };
-                collider_mesh(stage, &xform, &collider.mesh.positions, &collider.mesh.triangles)?;
+                collider_mesh(
+                    stage,
+                    &xform,
+                    &collider.mesh.positions,
+                    &collider.mesh.triangles,
+                )?;
             }
             ColliderSpec::Ground { .. } => {
                 // A square 20 m on a side at the plane's height (the plane is infinite).
@@ -860,7 +865,11 @@ fn collider_mesh(
     let indices: Vec<i32> = triangles.iter().flatten().map(|&v| v as i32).collect();
     let values = [
         ("points", "point3f[]", vec3f(positions)),
-        ("faceVertexCounts", "int[]", Value::IntVec(vec![3; triangles.len()])),
+        (
+            "faceVertexCounts",
+            "int[]",
+            Value::IntVec(vec![3; triangles.len()]),
+        ),
         ("faceVertexIndices", "int[]", Value::IntVec(indices)),
         ("extent", "float3[]", extent(positions, 0.0)),
     ];
