@@ -4,14 +4,19 @@
 # cache.usd against the PLY and glTF files), meshio (tets/tets.pvd), and Blender
 # itself (PyPI bpy, headless: File > Import > USD and glTF). See docs/usd.md.
 #
-#   scripts/dcc-check.sh OUT
+#   scripts/dcc-check.sh OUT [--rests-on-colliders]
+#
+# --rests-on-colliders: the scene's particles rest on its mesh colliders at the last frame
+# (checked in usd-core and in Blender).
 #
 # The Python packages go into a virtual environment, $PERIFRAC_DCC_VENV (default
 # target/dcc-venv), made on first use. Exit code 0: all checks passed; 77: the wheels
 # cannot be installed on this platform (pip's message is printed); else a check failed.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
-out="${1:?usage: scripts/dcc-check.sh OUT}"
+out="${1:?usage: scripts/dcc-check.sh OUT [--rests-on-colliders]}"
+shift
+options=("$@")
 venv="${PERIFRAC_DCC_VENV:-$here/../target/dcc-venv}"
 python="${PYTHON:-python3}"
 if [ ! -x "$venv/bin/python" ]; then
@@ -25,11 +30,11 @@ if ! "$venv/bin/python" -c "import pxr, meshio, numpy" 2>/dev/null; then
     exit 77
   fi
 fi
-"$venv/bin/python" "$here/dcc/usd_check.py" "$out"
+"$venv/bin/python" "$here/dcc/usd_check.py" "$out" ${options[@]+"${options[@]}"}
 if ! "$venv/bin/python" -c "import bpy" 2>/dev/null; then
   if ! "$venv/bin/pip" install -q bpy; then
     echo "SKIPPED (Blender import only): pip could not install bpy for $("$venv/bin/python" -V) on this platform" >&2
     exit 77
   fi
 fi
-"$venv/bin/python" "$here/dcc/blender_check.py" "$out"
+"$venv/bin/python" "$here/dcc/blender_check.py" "$out" ${options[@]+"${options[@]}"}

@@ -91,6 +91,18 @@ impl Layout {
         self.tets_dir().join("tets.pvd")
     }
 
+    /// `colliders/`.
+    pub fn colliders_dir(&self) -> PathBuf {
+        self.root.join("colliders")
+    }
+
+    /// `colliders/mesh_N.ply`, the geometry of mesh collider `index` (its place in the
+    /// scene's `[[collider]]` list, from 0) in its own frame.
+    pub fn collider_mesh(&self, index: usize) -> PathBuf {
+        self.colliders_dir()
+            .join(format!("{}.ply", crate::collider::mesh_name(index)))
+    }
+
     /// `cache.usd`, the USD stage of the whole cache (binary `usdc`).
     pub fn usd(&self) -> PathBuf {
         self.root.join("cache.usd")
@@ -179,8 +191,9 @@ impl Layout {
     }
 
     /// Removes the cache in the directory: the manifest, the resolved scene and the
-    /// `particles/`, `tets/`, `sheet/`, `surface/`, `vdb/`, `preview/` and `checkpoint/`
-    /// directories (nothing else). `perifrac run --force` calls it before a new run.
+    /// `particles/`, `tets/`, `sheet/`, `colliders/`, `surface/`, `vdb/`, `preview/` and
+    /// `checkpoint/` directories (nothing else). `perifrac run --force` calls it before
+    /// a new run.
     pub fn clear(&self) -> Result<()> {
         for dir in self.directories() {
             match std::fs::remove_dir_all(&dir) {
@@ -202,11 +215,12 @@ impl Layout {
     }
 
     /// Every directory of the layout below the root.
-    fn directories(&self) -> [PathBuf; 7] {
+    fn directories(&self) -> [PathBuf; 8] {
         [
             self.particles_dir(),
             self.tets_dir(),
             self.sheet_dir(),
+            self.colliders_dir(),
             self.surface_dir(),
             self.vdb_dir(),
             self.preview_dir(),
@@ -398,6 +412,7 @@ mod tests {
         assert!(layout.debris(3).ends_with("surface/0003_debris.ply"));
         assert!(layout.tets_collection().ends_with("tets/tets.pvd"));
         assert!(layout.usd().ends_with("cache.usd"));
+        assert!(layout.collider_mesh(2).ends_with("colliders/mesh_2.ply"));
         assert!(layout.turntable(2).ends_with("preview/turntable_002.png"));
         layout.create().expect("create");
         for frame in [3, 1] {

@@ -5,19 +5,21 @@
 //!
 //! | type | what it is |
 //! |---|---|
-//! | [`Layout`] | every path of an output directory (`manifest.json`, `scene.toml`, `particles/NNNN.ply`, `tets/NNNN.vtu`, `tets/tets.pvd`, `cache.usd`, `usd/NNNN.usdc`, `surface/NNNN.glb`, `surface/animated.glb`, `surface/NNNN_debris.ply`, `vdb/NNNN.vdb`, `preview/…`, `checkpoint/state.bin`) |
+//! | [`Layout`] | every path of an output directory (`manifest.json`, `scene.toml`, `particles/NNNN.ply`, `tets/NNNN.vtu`, `tets/tets.pvd`, `colliders/mesh_N.ply`, `cache.usd`, `usd/NNNN.usdc`, `surface/NNNN.glb`, `surface/animated.glb`, `surface/NNNN_debris.ply`, `vdb/NNNN.vdb`, `preview/…`, `checkpoint/state.bin`) |
 //! | [`write_atomic`] | the one way a cache file is written (temporary name, [`temporary_path`], then rename) |
 //! | [`scene::Scene`] | the scene file format, its defaults and validation; [`scene::Scene::load`] also reads the resolved `OUT/scene.toml` |
 //! | [`ply::ParticleFrame`] | a particle frame (float PLY: standard columns, then a model's extra columns); [`ply::encode_points`] / [`ply::FloatPly`] for other point files |
 //! | [`vtu::TetFrame`] | the split tet mesh of a frame (VTK XML); [`vtu::write_collection`] the ParaView `.pvd` that gives the frames their times |
 //! | [`manifest::Manifest`] | `manifest.json`: what a run produced and what it cost |
 //! | [`checkpoint::Checkpoint`] | the versioned, checksummed checkpoint container; a model writes its state into the payload with [`checkpoint::Encoder`] and reads it with [`checkpoint::Decoder`] |
+//! | [`collider::ColliderMesh`] | a mesh collider's triangles in its own frame (`colliders/mesh_N.ply`), written once by the run; [`collider::mesh_colliders`] reads them with their poses per frame for the previews, `cache.usd` and `animated.glb` |
 //! | [`mesh::SurfaceMesh`] | a surface as the surface stage makes it and the glTF writer writes it; [`mesh::SurfaceEncoder`] is how the surface stage has it encoded |
 //! | [`verify::verify`] | a cache checked against its manifest: frames present, sizes and checksums as written, finite positions |
 //! | [`CacheError`] | every failure, naming the file (and, for scenes, line, column and key) |
 #![warn(missing_docs)]
 
 pub mod checkpoint;
+pub mod collider;
 pub mod error;
 mod layout;
 pub mod manifest;

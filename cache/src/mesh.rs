@@ -3,6 +3,8 @@
 //! interface through which the surface stage has its files encoded without
 //! depending on the glTF writer.
 
+use crate::collider::MovingCollider;
+
 /// A triangle surface: shared vertex arrays, the original surface's triangles and the
 /// crack faces' triangles (counter-clockwise seen from outside).
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -43,12 +45,14 @@ pub trait SurfaceEncoder: Sync {
     /// A fractured surface animated over frames: `frames[k]` are the positions of
     /// `mesh`'s vertices in cache frame k + 1, at simulation time `times[k]` (s); the
     /// encoder keys frame k + 1 on timeline frame k + 1, at (k + 1)/playback_fps s
-    /// (glTF's time as Blender's importer maps it to frames).
+    /// (glTF's time as Blender's importer maps it to frames). The scene's mesh
+    /// `colliders` go beside it, each moved rigidly to its pose of each frame.
     fn animated(
         &self,
         mesh: &SurfaceMesh,
         times: &[f32],
         frames: &[Vec<[f32; 3]>],
+        colliders: &[MovingCollider],
     ) -> Result<Vec<u8>, EncodeError>;
 
     /// Plain meshes of one frame (e.g. one a fragment), each with its own name.

@@ -1,6 +1,6 @@
 //! Fuzzing of every reader of outside input in the cache crate: the scene parser,
-//! the particle PLY, the manifest, the split tet mesh (VTU) and the checkpoint
-//! container. Each target feeds random and mutated inputs to the reader and asks
+//! the particle PLY, the manifest, the split tet mesh (VTU), a mesh collider's PLY
+//! and the checkpoint container. Each target feeds random and mutated inputs to the reader and asks
 //! only that it returns (an error or a value), never panics; a checkpoint changed
 //! anywhere must also be refused.
 //!
@@ -12,6 +12,7 @@
 use std::path::{Path, PathBuf};
 
 use perifrac_cache::checkpoint::{Checkpoint, Encoder};
+use perifrac_cache::collider::ColliderMesh;
 use perifrac_cache::manifest::Manifest;
 use perifrac_cache::ply::ParticleFrame;
 use perifrac_cache::scene::Scene;
@@ -79,6 +80,7 @@ fn read(target: &str, bytes: &[u8]) -> Result<(), String> {
         "checkpoint" => Checkpoint::decode(bytes, Path::new("state.bin"))
             .map(drop)
             .map_err(|e| e.to_string()),
+        "collider" => ColliderMesh::from_bytes(bytes).map(drop),
         other => panic!("no fuzz target {other}"),
     }
 }
@@ -137,11 +139,24 @@ fn seed(target: &str) -> Vec<u8> {
             }
             .encode()
         }
+        "collider" => ColliderMesh {
+            positions: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+            triangles: vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
+            pivot: [0.0, 0.15, 0.0],
+        }
+        .to_bytes(),
         other => panic!("no fuzz target {other}"),
     }
 }
 
-const TARGETS: [&str; 5] = ["scene", "particles", "manifest", "vtu", "checkpoint"];
+const TARGETS: [&str; 6] = [
+    "scene",
+    "particles",
+    "manifest",
+    "vtu",
+    "checkpoint",
+    "collider",
+];
 
 /// One edit of an input: overwrite, insert or delete bytes at a position (taken
 /// modulo the length), or cut the input there.

@@ -38,7 +38,7 @@ impl From<SurfaceError> for Failure {
 pub fn command(config: &SurfaceConfig, quiet: bool) -> Result<(), Failure> {
     set_threads(config.threads)?;
     crate::verify::warn(&config.out);
-    let scene = Scene::load(&Layout::new(&config.out).scene())?;
+    let scene = Scene::load_cached(&Layout::new(&config.out).scene())?;
     match config.method {
         SurfaceMethodArg::Vdb => stage(&config.out, &scene.output, quiet),
         SurfaceMethodArg::Embedded => embedded_stage(&config.out, &scene.output, quiet),

@@ -61,9 +61,17 @@ fn text(o: &Output) -> String {
     )
 }
 
+/// Writes [`SCENE`] with a static mesh collider beside the cube (the table of
+/// assets/meshes/table.obj, 2 m away: it touches nothing), so that its
+/// `colliders/mesh_1.ply` is among the bytes a resumed run must reproduce.
 fn write_scene(dir: &Path) -> String {
     let path = dir.join("scene.toml");
-    std::fs::write(&path, SCENE).expect("write scene");
+    let table = Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/meshes/table.obj");
+    let collider = format!(
+        "\n[[collider]]\ntype = \"mesh\"\npath = {:?}\ntranslation = [2.0, 0.0, 0.0]\n",
+        table.to_string_lossy()
+    );
+    std::fs::write(&path, format!("{SCENE}{collider}")).expect("write scene");
     path.to_string_lossy().into_owned()
 }
 

@@ -3,8 +3,11 @@
 //! `perifrac surface --method vdb` and `perifrac export usd` on the same cache; after
 //! each, `scripts/dcc-check.sh` opens the cache with Pixar's usd-core (validator, every
 //! time sample against the PLY and glTF files, tets.pvd through meshio) and with Blender
-//! (PyPI bpy: USD and glTF import). The Python side skips, loudly, only where pip has no
-//! wheel for this platform (exit code 77).
+//! (PyPI bpy: USD and glTF import). A second scene drops a block on a moving, turning
+//! table that is a mesh collider: its geometry (`colliders/mesh_1.ply`) must be in
+//! `cache.usd` and `surface/animated.glb`, posed as the manifest says, with the block
+//! resting on its top. The Python side skips, loudly, only where pip has no wheel for
+//! this platform (exit code 77).
 
 use std::path::Path;
 use std::process::{Command, Output};
@@ -60,12 +63,13 @@ fn perifrac(args: &[&str]) -> Output {
     out
 }
 
-/// Runs `scripts/dcc-check.sh` on `out`; returns false when it skipped.
-fn dcc_check(out: &Path) -> bool {
+/// Runs `scripts/dcc-check.sh` on `out` with `options`; returns false when it skipped.
+fn dcc_check(out: &Path, options: &[&str]) -> bool {
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scripts/dcc-check.sh");
     let result = Command::new("bash")
         .arg(script)
         .arg(out)
+        .args(options)
         .output()
         .expect("bash runs");
     let stdout = String::from_utf8_lossy(&result.stdout);
@@ -92,7 +96,7 @@ fn cache_usd_opens_in_usd_core_and_blender() {
     perifrac(&["run", scene.to_str().unwrap(), "-o", out_str, "--quiet"]);
     let usd = std::fs::read(out.join("cache.usd")).expect("run wrote cache.usd");
     assert_eq!(&usd[..8], b"PXR-USDC", "binary usdc");
-    let checked = dcc_check(&out);
+    let checked = dcc_check(&out, &[]);
 
     // The vdb method's fragments and volumes, written by `export usd`.
     if cfg!(feature = "openvdb") {
@@ -101,8 +105,134 @@ fn cache_usd_opens_in_usd_core_and_blender() {
         perifrac(&["export", "usd", out_str, "--quiet"]);
         assert!(out.join("cache.usd").is_file());
         if checked {
-            dcc_check(&out);
+            dcc_check(&out, &[]);
         }
+    }
+}
+
+/// A soft block set down on the table of assets/scenes/vase-table.toml, which slides
+/// 2 cm and turns 10° under it; the table is the second collider (`mesh_1`).
+const TABLE_SCENE: &str = r#"[scene]
+name = "usd-table"
+duration = 0.05
+fps = 100.0
+gravity = [0.0, -9.81, 0.0]
+
+[materials.m]
+density = 1000.0
+bulk_modulus = 1e5
+shear_modulus = 1e5
+
+[[body]]
+material = "m"
+shape = { type = "box", center = [0.0, 0.35, 0.0], size = [0.1, 0.1, 0.1] }
+resolution = 0.025
+
+[[collider]]
+type = "ground"
+
+[[collider]]
+type = "mesh"
+path = "TABLE"
+friction = 0.8
+keyframes = [
+  { time = 0.0 },
+  { time = 0.05, translation = [0.02, 0.0, 0.0], rotation = [0.0, 10.0, 0.0] },
+]
+
+[output]
+surface = "embedded"
+checkpoint_every = 0
+preview = false
+playback_fps = 25
+"#;
+
+#[test]
+fn a_mesh_collider_is_in_the_stage_and_the_animated_glb() {
+    let dir = tempfile::tempdir().unwrap();
+    let table = dir.path().join("table.obj");
+    std::fs::copy(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/meshes/table.obj"),
+        &table,
+    )
+    .unwrap();
+    let scene = dir.path().join("scene.toml");
+    std::fs::write(&scene, TABLE_SCENE.replace("TABLE", "table.obj")).unwrap();
+    let out = dir.path().join("out");
+    let out_str = out.to_str().unwrap();
+    perifrac(&["run", scene.to_str().unwrap(), "-o", out_str, "--quiet"]);
+    // The same bytes with one thread.
+    let one = dir.path().join("one");
+    let one_str = one.to_str().unwrap();
+    perifrac(&[
+        "run",
+        scene.to_str().unwrap(),
+        "-o",
+        one_str,
+        "--quiet",
+        "--threads",
+        "1",
+    ]);
+    assert!(
+        std::fs::read(one.join("colliders/mesh_1.ply")).unwrap()
+            == std::fs::read(out.join("colliders/mesh_1.ply")).unwrap(),
+        "the collider mesh depends on the thread count"
+    );
+    // The stages read the cache's copy of the table: its source may go.
+    std::fs::remove_file(&table).unwrap();
+    perifrac(&["surface", out_str, "--method", "embedded", "--quiet"]);
+    perifrac(&["export", "usd", out_str, "--quiet"]);
+    if cfg!(feature = "gl") {
+        perifrac(&[
+            "render", out_str, "--frame", "6", "--size", "64x48", "--quiet",
+        ]);
+    }
+    let mesh = perifrac_cache::collider::ColliderMesh::read(&out.join("colliders/mesh_1.ply"))
+        .expect("the run wrote the table's geometry");
+    // table.obj: 40 vertices, 60 triangles; the pivot is its placed box's centre.
+    assert_eq!((mesh.positions.len(), mesh.triangles.len()), (40, 60));
+    assert_eq!(mesh.pivot, [0.0, 0.15, 0.0]);
+    assert!(
+        !out.join("colliders/mesh_0.ply").exists(),
+        "the ground has no mesh"
+    );
+    dcc_check(&out, &["--rests-on-colliders"]);
+
+    // A damaged collider mesh: `verify` names it, `export usd` refuses it (exit 2),
+    // naming the file and the fix.
+    let file = out.join("colliders/mesh_1.ply");
+    let bytes = std::fs::read(&file).unwrap();
+    std::fs::write(&file, &bytes[..bytes.len() - 5]).unwrap();
+    let verify = Command::new(env!("CARGO_BIN_EXE_perifrac"))
+        .args(["verify", out_str])
+        .output()
+        .unwrap();
+    assert!(!verify.status.success());
+    assert!(
+        String::from_utf8_lossy(&verify.stdout).contains("mesh_1.ply")
+            || String::from_utf8_lossy(&verify.stderr).contains("mesh_1.ply"),
+        "{verify:?}"
+    );
+    let export = Command::new(env!("CARGO_BIN_EXE_perifrac"))
+        .args(["export", "usd", out_str])
+        .output()
+        .unwrap();
+    assert_eq!(export.status.code(), Some(2));
+    let text = String::from_utf8_lossy(&export.stderr);
+    assert!(
+        text.contains("colliders/mesh_1.ply") && text.contains("--force"),
+        "{text}"
+    );
+    if cfg!(feature = "gl") {
+        let render = Command::new(env!("CARGO_BIN_EXE_perifrac"))
+            .args([
+                "render", out_str, "--frame", "1", "--size", "64x48", "--quiet",
+            ])
+            .output()
+            .unwrap();
+        assert_eq!(render.status.code(), Some(2));
+        let text = String::from_utf8_lossy(&render.stderr);
+        assert!(text.contains("colliders/mesh_1.ply"), "{text}");
     }
 }
 

@@ -25,7 +25,9 @@ mod tet;
 mod union_find;
 mod vector;
 
-pub use nalgebra::{Matrix3, RealField, Rotation3, SVD, SymmetricEigen, UnitQuaternion, Vector3};
+pub use nalgebra::{
+    Matrix3, Quaternion, RealField, Rotation3, SVD, SymmetricEigen, UnitQuaternion, Vector3,
+};
 pub use random::SplitMix64;
 pub use sum::det_sum;
 pub use tet::TET_FACES;

@@ -1,5 +1,6 @@
 //! Reading an output directory for previews: which frames exist, the colliders and the
-//! ground from the resolved `scene.toml`, per-frame collider positions from
+//! ground from the resolved `scene.toml`, mesh colliders' geometry from
+//! `colliders/mesh_N.ply`, per-frame collider positions and rotations from
 //! `manifest.json`, particles from `particles/NNNN.ply`, surfaces from
 //! `surface/NNNN.glb` (embedded or VDB meshes, with crack faces and `_DAMAGE`), turned
 //! into [`FrameGeometry`].
@@ -7,6 +8,7 @@
 use std::path::Path;
 
 use perifrac_cache::Layout;
+use perifrac_cache::collider::{MovingCollider, mesh_colliders};
 use perifrac_cache::manifest::Manifest;
 use perifrac_cache::mesh::SurfaceMesh;
 use perifrac_cache::ply::ParticleFrame;
@@ -51,6 +53,8 @@ pub struct Cache {
     pub frames: Vec<usize>,
     manifest: Option<Manifest>,
     colliders: Vec<ColliderSpec>,
+    /// The mesh colliders' geometry and poses, in scene order.
+    meshes: Vec<MovingCollider>,
     ground: Option<f32>,
     /// Particle radius of each body (half its resolution λ).
     radii: Vec<f32>,
@@ -58,7 +62,8 @@ pub struct Cache {
 }
 
 impl Cache {
-    /// Opens `root`: it needs `scene.toml` and at least one particle or surface frame.
+    /// Opens `root`: it needs `scene.toml`, at least one particle or surface frame and,
+    /// for each mesh collider, its `colliders/mesh_N.ply`.
     pub fn open(root: &Path) -> Result<Cache, RenderError> {
         let layout = Layout::new(root);
         if !layout.scene().is_file() {
@@ -67,7 +72,7 @@ impl Cache {
                 message: "not found; is this the output directory of a `perifrac run`?".into(),
             });
         }
-        let scene = Scene::load(&layout.scene())?;
+        let scene = Scene::load_cached(&layout.scene())?;
         let manifest = Manifest::read(&layout.manifest()).ok();
         let mut frames = layout.particle_frames();
         frames.extend(layout.surface_frames());
@@ -80,6 +85,7 @@ impl Cache {
                     .into(),
             });
         }
+        let meshes = mesh_colliders(&layout, &scene, manifest.as_ref())?;
         let ground = scene.colliders.iter().find_map(|c| match c {
             ColliderSpec::Ground { height, .. } => Some(*height as f32),
             _ => None,
@@ -94,6 +100,7 @@ impl Cache {
                 .map(|b| 0.5 * b.resolution as f32)
                 .collect(),
             colliders: scene.colliders,
+            meshes,
             ground,
             fps: scene.scene.fps,
         })
@@ -148,10 +155,14 @@ impl Cache {
             match c {
                 ColliderSpec::Sphere { radius, .. } => g.push_sphere(center, *radius as f32, color),
                 ColliderSpec::Box { size, .. } => g.push_box(center, size.map(|v| v as f32), color),
-                // Mesh colliders are not drawn: the render stage has no mesh reader
-                // (their poses are in the manifest for other tools).
+                // The ground is the renderer's floor; mesh colliders below.
                 ColliderSpec::Ground { .. } | ColliderSpec::Mesh { .. } => {}
             }
+        }
+        for collider in &self.meshes {
+            let (center, rotation) = collider.pose(frame);
+            let positions = geometry::posed(&collider.mesh.positions, center, rotation);
+            g.push_flat_mesh(&positions, &collider.mesh.triangles, color);
         }
     }
 
@@ -500,6 +511,78 @@ mod tests {
         );
         f.extra = vec![("temperature".into(), vec![300.0])];
         assert_eq!(temperature(&f, Path::new("p")).unwrap(), [300.0]);
+    }
+
+    #[test]
+    fn a_mesh_collider_is_drawn_at_the_frames_pose() {
+        use perifrac_cache::collider::ColliderMesh;
+        let dir = tempfile::tempdir().unwrap();
+        let layout = Layout::new(dir.path());
+        layout.create().unwrap();
+        let table = Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/meshes/table.obj");
+        let scene = format!(
+            "[scene]\nname = \"t\"\n\n[materials.m]\ndensity = 1000.0\nbulk_modulus = 1e5\n\
+             shear_modulus = 1e5\n\n[[body]]\nmaterial = \"m\"\nresolution = 0.02\nshape = \
+             {{ type = \"box\", center = [0, 0.4, 0], size = [0.1, 0.1, 0.1] }}\n\n\
+             [[collider]]\ntype = \"mesh\"\npath = {:?}\n",
+            table.to_str().unwrap()
+        );
+        std::fs::write(layout.scene(), scene).unwrap();
+        // A quarter turn about y at frame 1: x ↦ −z.
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        Manifest {
+            frame_times: vec![0.0],
+            collider_centers: vec![vec![[1.0, 2.0, 3.0]]],
+            collider_rotations: vec![vec![[0.0, h, 0.0, h]]],
+            ..Manifest::default()
+        }
+        .write(&layout.manifest())
+        .unwrap();
+        ParticleFrame {
+            frame: 1,
+            position: vec![[0.0, 0.4, 0.0]],
+            velocity: vec![[0.0; 3]],
+            damage: vec![0.0],
+            plastic: vec![0.0],
+            material: vec![0.0],
+            fragment: vec![0.0],
+            ..ParticleFrame::default()
+        }
+        .write(&layout.particles(1))
+        .unwrap();
+        let err = Cache::open(dir.path()).unwrap_err();
+        let text = err.to_string();
+        assert!(
+            matches!(&err, RenderError::Cache(c) if c.is_bad_input())
+                && text.contains("colliders/mesh_0.ply")
+                && text.contains("--force"),
+            "{text}"
+        );
+        std::fs::create_dir_all(layout.colliders_dir()).unwrap();
+        let mesh = ColliderMesh {
+            positions: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+            triangles: vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
+            pivot: [0.0, 0.15, 0.0],
+        };
+        mesh.write(&layout.collider_mesh(0)).unwrap();
+        let cache = Cache::open(dir.path()).unwrap();
+        let g = cache
+            .geometry(1, ColorBy::Auto, &Ranges::default())
+            .unwrap();
+        let corners: Vec<[f32; 3]> = g
+            .mesh_vertices
+            .chunks_exact(geometry::MESH_STRIDE)
+            .filter(|v| v[9] == Shading::Collider as u32 as f32)
+            .map(|v| [v[0], v[1], v[2]])
+            .collect();
+        // Four flat triangles; the file's vertex 1, (1, 0, 0), at (1, 2, 2).
+        assert_eq!(corners.len(), 12);
+        assert_eq!(corners[0], [1.0, 2.0, 3.0]);
+        let moved = corners[2];
+        assert!(
+            (0..3).all(|k| (moved[k] - [1.0, 2.0, 2.0][k]).abs() < 1e-6),
+            "{moved:?}"
+        );
     }
 
     #[test]

@@ -3,7 +3,7 @@
 //! the ground height; and the colour maps that turn per-particle or per-vertex values
 //! into colours.
 
-use perifrac_math::{add, cross, normalize, scale, sub};
+use perifrac_math::{Quaternion, UnitQuaternion, Vector3, add, cross, normalize, scale, sub};
 
 use crate::camera::{self, Bounds, Mat4};
 
@@ -130,6 +130,33 @@ impl FrameGeometry {
         );
     }
 
+    /// Appends a collider's triangles with flat faces (each triangle its own three
+    /// vertices and its face normal), as the solver sees them.
+    pub fn push_flat_mesh(
+        &mut self,
+        positions: &[[f32; 3]],
+        triangles: &[[u32; 3]],
+        color: [f32; 3],
+    ) {
+        let corners: Vec<[f32; 3]> = triangles
+            .iter()
+            .filter(|t| t.iter().all(|&v| (v as usize) < positions.len()))
+            .flat_map(|t| t.map(|v| positions[v as usize]))
+            .collect();
+        let indices: Vec<u32> = (0..corners.len() as u32).collect();
+        let normals: Vec<[f32; 3]> = corners
+            .chunks_exact(3)
+            .flat_map(|t| [normalize(cross(sub(t[1], t[0]), sub(t[2], t[0]))); 3])
+            .collect();
+        self.push_mesh(
+            &corners,
+            Some(&normals),
+            &|_| color,
+            &indices,
+            Shading::Collider,
+        );
+    }
+
     /// Appends an axis-aligned box (flat faces).
     pub fn push_box(&mut self, center: [f32; 3], size: [f32; 3], color: [f32; 3]) {
         let mut positions = Vec::new();
@@ -210,6 +237,20 @@ impl FrameGeometry {
                 .filter(|p| inside([p[0], p[1], p[2]]))
                 .count()
     }
+}
+
+/// `positions` moved to the pose x ↦ `center` + R x, R the unit quaternion `rotation`
+/// [x, y, z, w] (a mesh collider at a frame: `manifest.json`'s centre and rotation).
+pub fn posed(positions: &[[f32; 3]], center: [f64; 3], rotation: [f64; 4]) -> Vec<[f32; 3]> {
+    let [x, y, z, w] = rotation;
+    let r = UnitQuaternion::from_quaternion(Quaternion::new(w, x, y, z));
+    positions
+        .iter()
+        .map(|p| {
+            let q = r * Vector3::new(p[0] as f64, p[1] as f64, p[2] as f64);
+            [0, 1, 2].map(|k| (center[k] + q[k]) as f32)
+        })
+        .collect()
 }
 
 /// Area-weighted vertex normals.
@@ -350,6 +391,34 @@ mod tests {
         let (a, b) = (damage_color(0.0), damage_color(1.0));
         assert!(a[2] > a[0] && b[0] > b[2], "{a:?} {b:?}");
         assert_eq!(damage_color(f32::NAN), damage_color(0.0));
+    }
+
+    #[test]
+    fn a_collider_turns_then_moves_with_flat_faces() {
+        // A quarter turn about y takes x to −z.
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        let p = posed(
+            &[[0.0; 3], [1.0, 0.0, 0.0]],
+            [1.0, 2.0, 3.0],
+            [0.0, h, 0.0, h],
+        );
+        assert_eq!(p[0], [1.0, 2.0, 3.0]);
+        assert!(
+            (0..3).all(|k| (p[1][k] - [1.0, 2.0, 2.0][k]).abs() < 1e-6),
+            "{p:?}"
+        );
+        let mut g = FrameGeometry::default();
+        let square = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 0.0, 1.0],
+            [0.0, 0.0, 1.0],
+        ];
+        g.push_flat_mesh(&square, &[[0, 2, 1], [0, 3, 2], [0, 1, 9]], [1.0; 3]);
+        // The triangle past the vertices is dropped; each face has its own normal.
+        assert_eq!((g.triangle_count(), g.vertex_count()), (2, 6));
+        let normal = &g.mesh_vertices[3..6];
+        assert_eq!(normal, [0.0, 1.0, 0.0]);
     }
 
     #[test]

@@ -26,6 +26,7 @@
 
 use gltf_json as json;
 use json::validation::{Checked, USize64};
+use perifrac_cache::collider::MovingCollider;
 use perifrac_cache::mesh::{EncodeError, SurfaceEncoder, SurfaceMesh};
 use perifrac_cache::scene::OutputSpec;
 
@@ -68,8 +69,9 @@ impl SurfaceEncoder for Glb {
         mesh: &SurfaceMesh,
         times: &[f32],
         frames: &[Vec<[f32; 3]>],
+        colliders: &[MovingCollider],
     ) -> Result<Vec<u8>, EncodeError> {
-        Ok(animated_glb(mesh, times, frames, self)?)
+        Ok(animated_glb(mesh, times, frames, colliders, self)?)
     }
 
     fn meshes(&self, meshes: &[SurfaceMesh]) -> Result<Vec<u8>, EncodeError> {
@@ -393,10 +395,16 @@ pub fn crack_glb(surface: &SurfaceMesh, options: &Glb) -> Result<Vec<u8>, Render
 /// target k alone from playback time (k + 1)/`options.playback_fps` on (cache frame
 /// k + 1 on timeline frame k + 1). The simulation
 /// times go to `mesh.extras.simulation_times`.
+///
+/// Each of `colliders` is a mesh (its triangles in its own frame, material
+/// "collider", no normals: viewers shade it flat) on a node named like it whose
+/// translation and rotation are keyed at the same times, linearly (slerp for the
+/// rotation), from the collider's pose at each frame.
 pub fn animated_glb(
     surface: &SurfaceMesh,
     times: &[f32],
     frames: &[Vec<[f32; 3]>],
+    colliders: &[MovingCollider],
     options: &Glb,
 ) -> Result<Vec<u8>, RenderError> {
     use json::accessor::{ComponentType, Type};
@@ -486,30 +494,164 @@ pub fn animated_glb(
         "time_base": "cache frame k (from 1) is keyed at k / playback_fps s, timeline \
                       frame k; its simulation time is mesh.extras.simulation_times[k - 1]",
     });
+    let mut channels = vec![(
+        node,
+        json::animation::Property::MorphTargetWeights,
+        json::animation::Interpolation::Step,
+        output,
+    )];
+    for collider in colliders {
+        channels.extend(push_collider(&mut root, &mut bin, collider, n)?);
+    }
+    let (channels, samplers) = channels
+        .into_iter()
+        .enumerate()
+        .map(|(c, (node, property, interpolation, output))| {
+            let channel = json::animation::Channel {
+                sampler: json::Index::new(c as u32),
+                target: json::animation::Target {
+                    extensions: None,
+                    extras: Default::default(),
+                    node,
+                    path: Checked::Valid(property),
+                },
+                extensions: None,
+                extras: Default::default(),
+            };
+            let sampler = json::animation::Sampler {
+                extensions: None,
+                extras: Default::default(),
+                input,
+                interpolation: Checked::Valid(interpolation),
+                output,
+            };
+            (channel, sampler)
+        })
+        .unzip();
     root.push(json::Animation {
         extensions: None,
         extras: serde_json::value::to_raw_value(&animation_extras).ok(),
-        channels: vec![json::animation::Channel {
-            sampler: json::Index::new(0),
-            target: json::animation::Target {
-                extensions: None,
-                extras: Default::default(),
-                node,
-                path: Checked::Valid(json::animation::Property::MorphTargetWeights),
-            },
-            extensions: None,
-            extras: Default::default(),
-        }],
+        channels,
         name: Some("frames".into()),
-        samplers: vec![json::animation::Sampler {
-            extensions: None,
-            extras: Default::default(),
-            input,
-            interpolation: Checked::Valid(json::animation::Interpolation::Step),
-            output,
-        }],
+        samplers,
     });
     finish(root, bin)
+}
+
+/// An animation channel's node, property, interpolation and output accessor.
+type Channel = (
+    json::Index<json::Node>,
+    json::animation::Property,
+    json::animation::Interpolation,
+    json::Index<json::Accessor>,
+);
+
+/// Writes a mesh collider's mesh and node (added to the scene) at its pose of frame
+/// 1, and the outputs of its translation and rotation over `frames` frames; returns
+/// the two animation channels.
+fn push_collider(
+    root: &mut json::Root,
+    bin: &mut Vec<u8>,
+    collider: &MovingCollider,
+    frames: usize,
+) -> Result<[Channel; 2], RenderError> {
+    use json::accessor::{ComponentType, Type};
+    use json::animation::{Interpolation, Property};
+    use json::buffer::Target;
+
+    let mesh = &collider.mesh;
+    let name = &collider.name;
+    let count = mesh.positions.len();
+    if mesh.triangles.is_empty() || !mesh.positions.iter().flatten().all(|x| x.is_finite()) {
+        return Err(invalid(format!(
+            "collider '{name}' has no triangles or a non-finite position"
+        )));
+    }
+    if let Some(&i) = mesh
+        .triangles
+        .iter()
+        .flatten()
+        .find(|&&i| i as usize >= count)
+    {
+        return Err(invalid(format!(
+            "collider '{name}' has index {i} past its {count} vertices"
+        )));
+    }
+    let poses: Vec<([f64; 3], [f64; 4])> = (1..=frames).map(|k| collider.pose(k)).collect();
+    if !poses
+        .iter()
+        .all(|(c, r)| c.iter().chain(r).all(|x| x.is_finite()))
+    {
+        return Err(invalid(format!("collider '{name}' has a non-finite pose")));
+    }
+    let view = push_view(root, bin, vec3_bytes(&mesh.positions), Target::ArrayBuffer);
+    let positions = root.push(accessor(
+        view,
+        count,
+        ComponentType::F32,
+        Type::Vec3,
+        Some(bounds(&mesh.positions)),
+    ));
+    let view = push_view(
+        root,
+        bin,
+        mesh.triangles.iter().flatten().map(|i| i.to_le_bytes()),
+        Target::ElementArrayBuffer,
+    );
+    let indices = root.push(accessor(
+        view,
+        3 * mesh.triangles.len(),
+        ComponentType::U32,
+        Type::Scalar,
+        None,
+    ));
+    let material = root.push(material("collider", [0.36, 0.40, 0.46, 1.0], 0.4));
+    let gltf_mesh = root.push(json::Mesh {
+        extensions: None,
+        extras: Default::default(),
+        name: Some(name.clone()),
+        primitives: vec![json::mesh::Primitive {
+            attributes: [(Checked::Valid(json::mesh::Semantic::Positions), positions)]
+                .into_iter()
+                .collect(),
+            extensions: None,
+            extras: Default::default(),
+            indices: Some(indices),
+            material: Some(material),
+            mode: Checked::Valid(json::mesh::Mode::Triangles),
+            targets: None,
+        }],
+        weights: None,
+    });
+    let translations: Vec<[f32; 3]> = poses.iter().map(|(c, _)| c.map(|x| x as f32)).collect();
+    let rotations: Vec<[f32; 4]> = poses.iter().map(|(_, r)| r.map(|x| x as f32)).collect();
+    let node = root.push(json::Node {
+        mesh: Some(gltf_mesh),
+        name: Some(name.clone()),
+        translation: Some(translations[0]),
+        rotation: Some(json::scene::UnitQuaternion(rotations[0])),
+        ..Default::default()
+    });
+    if let Some(scene) = root.scenes.first_mut() {
+        scene.nodes.push(node);
+    }
+    let view = push_view_plain(root, bin, vec3_bytes(&translations));
+    let translation = root.push(accessor(view, frames, ComponentType::F32, Type::Vec3, None));
+    let view = push_view_plain(
+        root,
+        bin,
+        rotations.iter().flat_map(|q| q.map(f32::to_le_bytes)),
+    );
+    let rotation = root.push(accessor(view, frames, ComponentType::F32, Type::Vec4, None));
+    Ok([
+        (
+            node,
+            Property::Translation,
+            Interpolation::Linear,
+            translation,
+        ),
+        (node, Property::Rotation, Interpolation::Linear, rotation),
+    ])
 }
 
 /// A buffer view without a target (animation data), at a 4-byte boundary.
@@ -821,9 +963,15 @@ mod tests {
         let file = dir.path().join("animated.glb");
         std::fs::write(
             &file,
-            animated_glb(&s, &[0.0, 1e-4, 2e-4], &frames, &Glb::default()).unwrap(),
+            animated_glb(&s, &[0.0, 1e-4, 2e-4], &frames, &[], &Glb::default()).unwrap(),
         )
         .unwrap();
+        let report = validate(&file);
+        assert_eq!(report["numErrors"], 0, "{report:#}");
+        // With a mesh collider turning and moving beside it.
+        let table = table();
+        let glb = animated_glb(&s, &[0.0, 1e-4, 2e-4], &frames, &[table], &Glb::default());
+        std::fs::write(&file, glb.unwrap()).unwrap();
         let report = validate(&file);
         assert_eq!(report["numErrors"], 0, "{report:#}");
         let file = dir.path().join("frame.glb");
@@ -837,6 +985,57 @@ mod tests {
         std::fs::write(&file, crack_glb(&s, &options).unwrap()).unwrap();
         let report = validate(&file);
         assert_eq!(report["numErrors"], 0, "{report:#}");
+    }
+
+    /// A tetrahedron collider that moves along x and turns about y over three frames.
+    fn table() -> MovingCollider {
+        let (p, _, i) = tetrahedron();
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        MovingCollider {
+            index: 1,
+            name: "mesh_1".into(),
+            mesh: perifrac_cache::collider::ColliderMesh {
+                positions: p,
+                triangles: i.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect(),
+                pivot: [0.0, 0.3, 0.0],
+            },
+            centers: vec![[0.0, 0.3, 0.0], [0.1, 0.3, 0.0], [0.2, 0.3, 0.0]],
+            rotations: vec![
+                [0.0, 0.0, 0.0, 1.0],
+                [0.0, 0.38268343236508984, 0.0, 0.9238795325112867],
+                [0.0, h, 0.0, h],
+            ],
+        }
+    }
+
+    #[test]
+    fn a_mesh_collider_is_a_node_keyed_at_each_frame() {
+        let (p, n, i) = tetrahedron();
+        let s = crack_tet(&p, &n, &[0.0; 4], &i);
+        let frames: Vec<Vec<[f32; 3]>> = (0..3).map(|_| p.clone()).collect();
+        let glb = animated_glb(&s, &[0.0, 1e-4, 2e-4], &frames, &[table()], &Glb::default());
+        let doc = json_chunk(&glb.unwrap());
+        assert_eq!(doc["scenes"][0]["nodes"], serde_json::json!([0, 1]));
+        let node = &doc["nodes"][1];
+        assert_eq!(node["name"], "mesh_1");
+        assert_eq!(node["translation"][1].as_f64().unwrap() as f32, 0.3);
+        let primitive = &doc["meshes"][1]["primitives"][0];
+        assert!(primitive["attributes"]["POSITION"].is_u64() && primitive["indices"].is_u64());
+        let animation = &doc["animations"][0];
+        let paths: Vec<&str> = animation["channels"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|c| c["target"]["path"].as_str().unwrap())
+            .collect();
+        assert_eq!(paths, ["weights", "translation", "rotation"]);
+        let samplers = animation["samplers"].as_array().unwrap();
+        assert!(samplers.iter().all(|s| s["input"] == samplers[0]["input"]));
+        assert_eq!(samplers[2]["interpolation"], "LINEAR");
+        let mut short = table();
+        short.mesh.triangles[0][1] = 7;
+        let err = animated_glb(&s, &[0.0, 1e-4, 2e-4], &frames, &[short], &Glb::default());
+        assert!(err.unwrap_err().to_string().contains("index 7"));
     }
 
     /// The JSON chunk of a .glb.
@@ -854,7 +1053,7 @@ mod tests {
             playback_fps: 25.0,
             damage_colour: false,
         };
-        let glb = animated_glb(&s, &[0.0, 1e-4, 2e-4], &frames, &options).unwrap();
+        let glb = animated_glb(&s, &[0.0, 1e-4, 2e-4], &frames, &[], &options).unwrap();
         let doc = json_chunk(&glb);
         let input = &doc["accessors"][doc["animations"][0]["samplers"][0]["input"]
             .as_u64()
@@ -884,10 +1083,16 @@ mod tests {
         let d = [0.0; 4];
         let s = crack_tet(&p, &n, &d, &i);
         let frames = vec![p.clone(), p[..3].to_vec()];
-        let err = animated_glb(&s, &[0.0, 0.1], &frames, &Glb::default()).unwrap_err();
+        let err = animated_glb(&s, &[0.0, 0.1], &frames, &[], &Glb::default()).unwrap_err();
         assert!(err.to_string().contains("frame 2 has 3 positions"), "{err}");
-        let err =
-            animated_glb(&s, &[0.1, 0.1], &[p.clone(), p.clone()], &Glb::default()).unwrap_err();
+        let err = animated_glb(
+            &s,
+            &[0.1, 0.1],
+            &[p.clone(), p.clone()],
+            &[],
+            &Glb::default(),
+        )
+        .unwrap_err();
         assert!(err.to_string().contains("increasing"), "{err}");
         let err = crack_glb(
             &SurfaceMesh {

@@ -8,12 +8,17 @@ and checks what they would see:
   surface/NNNN.glb within 1e-6 m; the point cloud carries `damage` and `fragment` and its
   points at frame N match particles/NNNN.ply; points, meshes, volumes and colliders are in
   one coordinate system (the y-up cache turned z-up by one rotation, as glTF imports are).
+  Each mesh collider (colliders/mesh_N.ply) is a mesh object with the PLY's vertices, posed
+  at frames 1 and N as manifest.json says; with --rests-on-colliders, the lowest particle of
+  frame N lies on its top (within -0.1 and 1 particle spacing).
 - File > Import > glTF of OUT/surface/animated.glb (embedded method): every frame 1..N shows
-  its own cache frame (the shape key named frame_NNNN alone, vertices of that frame).
+  its own cache frame (the shape key named frame_NNNN alone, vertices of that frame), and
+  each mesh collider's node shows it posed as the manifest says at frames 1..N.
 
-usage: python blender_check.py OUT
+usage: python blender_check.py OUT [--rests-on-colliders]
 """
 
+import json
 import sys
 import tomllib
 from pathlib import Path
@@ -23,7 +28,9 @@ import numpy as np
 from mathutils import Matrix
 
 sys.path.insert(0, str(Path(__file__).parent))
-from usd_check import check, read_glb, read_ply  # noqa: E402
+from usd_check import check, posed_collider, read_collider, read_glb, read_ply  # noqa: E402
+
+RESTS = "--rests-on-colliders" in sys.argv
 
 TOLERANCE = 1e-6  # metres
 
@@ -101,6 +108,8 @@ def main(out):
     scene_toml = tomllib.loads((out / "scene.toml").read_text())
     playback_fps = scene_toml["output"]["playback_fps"]
     frames = len(list((out / "particles").glob("[0-9][0-9][0-9][0-9].ply")))
+    manifest = json.loads((out / "manifest.json").read_text())
+    mesh_colliders = sorted(int(p.stem[len("mesh_"):]) for p in (out / "colliders").glob("mesh_*.ply"))
 
     bpy.ops.wm.read_factory_settings(use_empty=True)
     scene = bpy.context.scene
@@ -155,6 +164,30 @@ def main(out):
                 check(err <= TOLERANCE, f"frame {frame}: {name} off by {err} m from the .glb")
         print(f"blender usd: frame {frame} points within {TOLERANCE} m of the PLY, meshes of the .glb, "
               f"point attributes {sorted(names - {'position'})}")
+    # Mesh colliders: Blender 5.0 makes each collider's Xform and its `shape` child one
+    # object named `shape`, so the collider is found by its vertices: the one mesh
+    # object with the PLY's vertices posed as the manifest says at frame 1, then N.
+    for index in mesh_colliders:
+        count = len(read_collider(out / "colliders" / f"mesh_{index}.ply")[0])
+        scene.frame_set(1)
+        expected = y_up_to_blender(posed_collider(out, manifest, index, 1))
+        found = [o for o in scene.objects if o.type == "MESH" and o.name != "Surface"
+                 and worst(evaluated_vertices(o), expected) <= TOLERANCE]
+        check(len(found) == 1, f"mesh_{index}: objects {[o.name for o in found]} (of "
+              f"{sorted(o.name for o in scene.objects)}) with its {count} vertices posed at frame 1")
+        scene.frame_set(frames)
+        got = evaluated_vertices(found[0])
+        err = worst(got, y_up_to_blender(posed_collider(out, manifest, index, frames)))
+        check(err <= TOLERANCE, f"frame {frames}: mesh_{index} off by {err} m")
+        if RESTS:
+            pos, _ = evaluated_points(cloud_obj)
+            top, lowest = got[:, 2].max(), pos[:, 2].min()
+            spacing = max(b["resolution"] for b in scene_toml["body"])
+            check(-0.1 * spacing <= lowest - top <= spacing,
+                  f"frame {frames}: the lowest particle (z = {lowest}) is not on mesh_{index}'s top (z = {top})")
+        print(f"blender usd: mesh collider mesh_{index} (object {found[0].name}, {count} vertices) posed "
+              f"as the manifest says at frames 1 and {frames}"
+              + (f"; the lowest particle {lowest - top:.4f} m above its top" if RESTS else ""))
     # One coordinate system: every imported object under the same y-up -> z-up rotation.
     rotation = Matrix.Rotation(np.pi / 2, 4, "X")
     for obj in scene.objects:
@@ -177,19 +210,19 @@ def main(out):
         scene.render.fps = round(playback_fps)
         scene.render.fps_base = round(playback_fps) / playback_fps
         bpy.ops.import_scene.gltf(filepath=str(animated))
-        obj = next(o for o in scene.objects if o.type == "MESH")
+        obj = next(o for o in scene.objects if o.type == "MESH" and o.data.shape_keys)
         keys = obj.data.shape_keys.key_blocks
         names = [k.name for k in keys][1:]
         check(names == [f"frame_{k:04}" for k in range(1, frames + 1)], f"shape keys {names[:3]}...")
         action = obj.data.shape_keys.animation_data.action
         start, end = action.frame_range
         check(round(start) == 1 and round(end) == frames, f"animation keyed over {start}..{end}")
-        import json
         import struct
         data = animated.read_bytes()
         n = struct.unpack_from("<I", data, 12)[0]
         doc = json.loads(data[20:20 + n])
-        [(_, base, _)] = read_glb(animated)
+        # The surface is the first mesh; mesh colliders follow.
+        (_, base, _) = read_glb(animated)[0]
         for frame in range(1, frames + 1):
             scene.frame_set(frame)
             on = [k.name for k in keys[1:] if k.value > 0.5]
@@ -208,8 +241,18 @@ def main(out):
             check(err <= TOLERANCE, f"frame {frame}: animated.glb off by {err} m")
         print(f"blender gltf: animated.glb frames 1..{frames} each show their own cache frame "
               f"(shape key frame_NNNN, within {TOLERANCE} m)")
+        for index in mesh_colliders:
+            node = scene.objects.get(f"mesh_{index}")
+            check(node is not None and node.type == "MESH",
+                  f"animated.glb: no mesh object mesh_{index} in {sorted(o.name for o in scene.objects)}")
+            for frame in range(1, frames + 1):
+                scene.frame_set(frame)
+                expected = y_up_to_blender(posed_collider(out, manifest, index, frame))
+                err = worst_unordered(evaluated_vertices(node), expected)
+                check(err <= TOLERANCE, f"frame {frame}: mesh_{index} in animated.glb off by {err} m")
+            print(f"blender gltf: mesh collider mesh_{index} posed as the manifest says at frames 1..{frames}")
     print("blender_check: all checks passed")
 
 
 if __name__ == "__main__":
-    main(sys.argv[-1])
+    main([a for a in sys.argv[1:] if not a.startswith("--")][-1])

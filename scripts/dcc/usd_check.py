@@ -2,10 +2,13 @@
 perifrac's writer: the validator (UsdUtils.ComplianceChecker) finds no errors, the stage
 metadata give the axes, units and playback time base, and every time sample equals the
 cache files it was made of (particles/NNNN.ply read by a PLY parser written here,
-surface/NNNN.glb by a glTF parser written here). Also reads tets/tets.pvd and each of its
-.vtu files with meshio. Exit code 0 when all holds; prints what it checked.
+surface/NNNN.glb by a glTF parser written here, colliders/mesh_N.ply likewise), mesh
+colliders posed at every frame as manifest.json says. Also reads tets/tets.pvd and each of
+its .vtu files with meshio. With --rests-on-colliders, also that the lowest particle of the
+last frame lies on the top of a mesh collider (within -0.1 and 1 particle spacing λ).
+Exit code 0 when all holds; prints what it checked.
 
-usage: python usd_check.py OUT
+usage: python usd_check.py OUT [--rests-on-colliders]
 """
 
 import json
@@ -36,6 +39,45 @@ def read_ply(path):
     values = np.frombuffer(data[end:], dtype="<f4", count=count * len(names))
     values = values.reshape(count, len(names))
     return {n: values[:, i] for i, n in enumerate(names)}
+
+
+def read_collider(path):
+    """(positions (n,3) f4, triangles (m,3), pivot) of a colliders/mesh_N.ply: float x y z,
+    then faces as a uchar count and uint indices."""
+    data = path.read_bytes()
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    header = data[:end].decode("ascii").splitlines()
+    assert header[1] == "format binary_little_endian 1.0", header[1]
+    counts, pivot = {}, None
+    for line in header:
+        words = line.split()
+        if words[:1] == ["element"]:
+            counts[words[1]] = int(words[2])
+        elif words[:2] == ["comment", "pivot"]:
+            pivot = [float(w) for w in words[2:]]
+    n, m = counts["vertex"], counts["face"]
+    positions = np.frombuffer(data, "<f4", n * 3, end).reshape(n, 3)
+    faces = np.frombuffer(data, np.dtype([("k", "u1"), ("i", "<u4", 3)]), m, end + 12 * n)
+    assert (faces["k"] == 3).all(), "faces are triangles"
+    return positions, faces["i"].astype(np.int64), pivot
+
+
+def rotate(q, p):
+    """Points p (n,3) rotated by the unit quaternion q = [x, y, z, w]."""
+    x, y, z, w = q
+    r = np.array([
+        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+    ])
+    return np.asarray(p, "f8") @ r.T
+
+
+def posed_collider(out, manifest, index, frame):
+    """The world points of mesh collider `index` at `frame`, from its PLY and the manifest."""
+    positions, _, _ = read_collider(out / "colliders" / f"mesh_{index}.ply")
+    centre = manifest["collider_centers"][frame - 1][index]
+    return rotate(manifest["collider_rotations"][frame - 1][index], positions) + centre
 
 
 def read_glb(path):
@@ -165,6 +207,7 @@ def main(out):
             check(np.array_equal(np.array(pv.GetPrimvar(name).Get(k), "f4"), ply[name]),
                   f"frame {k}: extra column {name} differs")
     print(f"particles: {frames} frames equal the PLY files (points, velocities, primvars)")
+    points_at_last = np.array(points.GetPointsAttr().Get(frames), dtype="f8")
 
     # Surfaces.
     surface = stage.GetPrimAtPath("/World/Surface")
@@ -229,6 +272,35 @@ def main(out):
                           and np.allclose([q.GetReal(), *q.GetImaginary()], [w, x, y, z], atol=0, rtol=1e-12),
                           f"collider {i} frame {k}: orientation")
         print(f"colliders: {len(colliders.GetChildren())} follow manifest.json's centres")
+        for child in colliders.GetChildren():
+            if not child.GetName().startswith("mesh_"):
+                continue
+            index = int(child.GetName()[len("mesh_"):])
+            positions, triangles, _ = read_collider(out / "colliders" / f"mesh_{index}.ply")
+            shape = UsdGeom.Mesh(stage.GetPrimAtPath(child.GetPath().AppendChild("shape")))
+            check(shape, f"{child.GetName()} has no Mesh child 'shape'")
+            points = np.array(shape.GetPointsAttr().Get(), "f4")
+            check(points.shape == positions.shape and np.array_equal(points, positions),
+                  f"{child.GetName()}: {len(points)} points, colliders/mesh_{index}.ply has {len(positions)}")
+            check(np.array_equal(np.array(shape.GetFaceVertexIndicesAttr().Get()), triangles.reshape(-1))
+                  and set(shape.GetFaceVertexCountsAttr().Get()) == {3},
+                  f"{child.GetName()}: triangles differ from the PLY")
+            for k in range(1, frames + 1):
+                m = np.array(UsdGeom.Xformable(shape).ComputeLocalToWorldTransform(k))
+                world = points.astype("f8") @ m[:3, :3] + m[3, :3]
+                err = np.abs(world - posed_collider(out, manifest, index, k)).max()
+                check(err < 1e-6, f"{child.GetName()} frame {k}: off by {err} m from the manifest's pose")
+            print(f"mesh collider {child.GetName()}: {len(points)} points and {len(triangles)} triangles "
+                  f"of colliders/mesh_{index}.ply, posed as the manifest says at frames 1..{frames}")
+            if RESTS:
+                top = world[:, 1].max()
+                lowest = points_at_last[:, 1].min()
+                spacing = max(b["resolution"] for b in scene["body"])
+                check(-0.1 * spacing <= lowest - top <= spacing,
+                      f"the lowest particle at y = {lowest} is not on {child.GetName()}'s top at y = {top} "
+                      f"(within -0.1 and 1 spacing {spacing})")
+                print(f"mesh collider {child.GetName()}: its top at the last frame, y = {top:.4f} m, is "
+                      f"{lowest - top:.4f} m under the lowest particle (spacing {spacing} m)")
 
     # ParaView collection, read with meshio.
     pvd = out / "tets" / "tets.pvd"
@@ -246,6 +318,8 @@ def main(out):
         print(f"tets.pvd: {frames} frames at (k-1)/{playback_fps} s, each .vtu read by meshio")
     print("usd_check: all checks passed")
 
+
+RESTS = "--rests-on-colliders" in sys.argv
 
 if __name__ == "__main__":
     main(sys.argv[1])

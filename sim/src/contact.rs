@@ -14,6 +14,7 @@ use std::sync::Arc;
 use perifrac_math::{UnitQuaternion, Vector3, dot, from_vector, mat_vec, norm, sub};
 use rayon::prelude::*;
 
+use crate::cache::collider::ColliderMesh;
 use crate::error::{Result, SimError};
 use crate::geometry::mesh::{MeshSdf, TriMesh};
 use crate::geometry::sdf::Sdf;
@@ -40,6 +41,8 @@ pub enum ColliderShape {
 #[derive(Debug)]
 pub struct MeshCollider {
     sdf: MeshSdf,
+    /// The placed mesh (what the cache's `colliders/mesh_N.ply` is made of).
+    surface: TriMesh,
     /// Bounds of the placed mesh, for a quick rejection.
     lo: [f64; 3],
     hi: [f64; 3],
@@ -91,6 +94,22 @@ impl MeshCollider {
 }
 
 impl MeshCollider {
+    /// The placed mesh less the pivot, in f32: the collider's geometry as the cache
+    /// stores it (`colliders/mesh_N.ply`), posed at each frame by the manifest's centre
+    /// and rotation.
+    pub fn cache_mesh(&self) -> ColliderMesh {
+        ColliderMesh {
+            positions: self
+                .surface
+                .vertices
+                .iter()
+                .map(|v| [0, 1, 2].map(|k| (v[k] - self.pivot[k]) as f32))
+                .collect(),
+            triangles: self.surface.triangles.clone(),
+            pivot: self.pivot,
+        }
+    }
+
     /// The fastest any point of the mesh moves over its keyframes (m/s): |Ṫ| + |ω| ×
     /// the farthest corner of its bounds from the pivot, over the segments.
     pub fn max_speed(&self) -> f64 {
@@ -278,6 +297,7 @@ impl Collider {
                 };
                 let mesh = MeshCollider {
                     sdf,
+                    surface,
                     lo,
                     hi,
                     pivot,

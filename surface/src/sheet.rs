@@ -10,8 +10,10 @@ use std::collections::HashSet;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use perifrac_cache::Layout;
+use perifrac_cache::collider::mesh_colliders;
 use perifrac_cache::manifest::Manifest;
 use perifrac_cache::mesh::{SurfaceEncoder, SurfaceMesh};
+use perifrac_cache::scene::Scene;
 use perifrac_cache::sheet::SheetFrame;
 use perifrac_math::{add, cross, normalize, scale, sub};
 use rayon::prelude::*;
@@ -120,6 +122,9 @@ pub fn stage(
             layout.sheet(1).display()
         )));
     }
+    // The scene's mesh colliders, which animated.glb carries beside the surface.
+    let scene = Scene::load_cached(&layout.scene())?;
+    let colliders = mesh_colliders(layout, &scene, Some(&manifest))?;
     let dir = layout.surface_dir();
     std::fs::create_dir_all(&dir).map_err(|e| SurfaceError::io(&dir, e))?;
     let start = std::time::Instant::now();
@@ -160,7 +165,7 @@ pub fn stage(
     write(
         &layout.animated_surface(),
         "surface/animated.glb".into(),
-        encoder.animated(&base, &times, &animated),
+        encoder.animated(&base, &times, &animated, &colliders),
     )?;
     manifest.timings.surface = start.elapsed().as_secs_f64();
     manifest.write(&layout.manifest())?;

@@ -17,7 +17,7 @@
 //! | `Surface` | `Mesh` with time-sampled topology, `normals`, primvar `damage`; `GeomSubset`s `surface` and `crack` (family `materialBind`) | `surface/NNNN.glb` (embedded method) |
 //! | `Fragments/fragment_N` | one `Mesh` a fragment, `visibility` time-sampled where a frame lacks it | `surface/NNNN.glb` (vdb method) |
 //! | `Volume` | `Volume` with `OpenVDBAsset` fields `surface` and `v`, `filePath` time-sampled | `vdb/NNNN.vdb` |
-//! | `Colliders/collider_N` | `Xform` with time-sampled `xformOp:translate` (and `xformOp:orient` where the manifest has rotations), a `Sphere`, `Cube` or ground `Mesh` child | `scene.toml`, `manifest.json` |
+//! | `Colliders/sphere_N`, `box_N`, `ground_N`, `mesh_N` | `Xform` with time-sampled `xformOp:translate` (and `xformOp:orient` where the manifest has rotations), a `Sphere`, `Cube`, ground `Mesh` or the mesh collider's `Mesh` child | `scene.toml`, `manifest.json`, `colliders/mesh_N.ply` |
 //! | `Looks/surface`, `Looks/crack` | `Material` with a `UsdPreviewSurface` | the glTF materials' colours |
 //!
 //! Velocities: `velocities` are in metres per second of *playback* (the simulation
@@ -33,6 +33,7 @@ use std::time::Instant;
 
 use openusd::gf;
 use openusd::sdf::{AssetPath, Value};
+use perifrac_cache::collider::{MovingCollider, mesh_colliders};
 use perifrac_cache::manifest::Manifest;
 use perifrac_cache::mesh::SurfaceMesh;
 use perifrac_cache::ply::ParticleFrame;
@@ -105,7 +106,7 @@ const CRACK_LOOK: ([f32; 3], f32) = ([0.85, 0.45, 0.3], 0.9);
 /// `manifest.json`, particle, surface and `.vdb` files.
 pub fn write_stage(layout: &Layout) -> Result<UsdReport, UsdError> {
     let start = Instant::now();
-    let scene = Scene::load(&layout.scene())?;
+    let scene = Scene::load_cached(&layout.scene())?;
     let manifest = Manifest::read(&layout.manifest())?;
     let frames = manifest.frame_times.len();
     if frames == 0 {
@@ -145,7 +146,8 @@ pub fn write_stage(layout: &Layout) -> Result<UsdReport, UsdError> {
         volume(&mut stage, &world, layout, frames).map_err(encode)?;
         report.volume = true;
     }
-    report.colliders = colliders(&mut stage, &world, &scene, &manifest).map_err(encode)?;
+    let meshes = mesh_colliders(layout, &scene, Some(&manifest))?;
+    report.colliders = colliders(&mut stage, &world, &scene, &manifest, &meshes).map_err(encode)?;
     let authored = start.elapsed().as_secs_f64();
     let bytes = stage.into_usdc().map_err(encode)?;
     perifrac_cache::write_atomic(&target, &bytes)?;
@@ -671,12 +673,15 @@ fn volume(stage: &mut Layer, world: &str, layout: &Layout, frames: usize) -> Res
 }
 
 /// `/World/Colliders`: each collider an `Xform` at its centre in each frame
-/// (`manifest.json`'s `collider_centers`, else its scene position) with its shape.
+/// (`manifest.json`'s `collider_centers`, else its scene position) with its shape;
+/// a mesh collider's shape is its mesh from `meshes` (`colliders/mesh_N.ply`, in
+/// the collider's frame).
 fn colliders(
     stage: &mut Layer,
     world: &str,
     scene: &Scene,
     manifest: &Manifest,
+    meshes: &[MovingCollider],
 ) -> Result<usize, String> {
     if scene.colliders.is_empty() {
         return Ok(0);
@@ -786,10 +791,17 @@ fn colliders(
                     vec![],
                 )?;
             }
-            // A mesh collider's transform only: its geometry stays in its own file
-            // (the scene's `path`, read by perifrac-sim's mesh loader), which the prim
-            // does not reference yet.
-            ColliderSpec::Mesh { .. } => {}
+            ColliderSpec::Mesh { .. } => {
+                let Some(collider) = meshes.iter().find(|m| m.index == i) else {
+                    return Err(format!("mesh collider {i} has no colliders/mesh_{i}.ply"));
+                };
+                collider_mesh(
+                    stage,
+                    &xform,
+                    &collider.mesh.positions,
+                    &collider.mesh.triangles,
+                )?;
+            }
             ColliderSpec::Ground { .. } => {
                 // A square 20 m on a side at the plane's height (the plane is infinite).
                 let h = 10.0f32;
@@ -839,6 +851,39 @@ fn colliders(
         }
     }
     Ok(scene.colliders.len())
+}
+
+/// The `Mesh` child `shape` of a mesh collider's `Xform`: its triangles in the
+/// collider's frame (the `Xform` poses them).
+fn collider_mesh(
+    stage: &mut Layer,
+    xform: &str,
+    positions: &[[f32; 3]],
+    triangles: &[[u32; 3]],
+) -> Result<(), String> {
+    let shape = stage.def(xform, "shape", "Mesh")?;
+    let indices: Vec<i32> = triangles.iter().flatten().map(|&v| v as i32).collect();
+    let values = [
+        ("points", "point3f[]", vec3f(positions)),
+        (
+            "faceVertexCounts",
+            "int[]",
+            Value::IntVec(vec![3; triangles.len()]),
+        ),
+        ("faceVertexIndices", "int[]", Value::IntVec(indices)),
+        ("extent", "float3[]", extent(positions, 0.0)),
+    ];
+    for (name, type_name, value) in values {
+        stage.attribute(&shape, name, type_name, false, value, vec![])?;
+    }
+    stage.attribute(
+        &shape,
+        "subdivisionScheme",
+        "token",
+        true,
+        Value::token("none"),
+        vec![],
+    )
 }
 
 #[cfg(test)]

@@ -44,6 +44,10 @@ pub struct Scene {
     /// The directory mesh paths are relative to (the scene file's directory).
     #[serde(skip)]
     pub base_dir: PathBuf,
+    /// Read from a cache ([`Scene::load_cached`]): the source files it names (meshes,
+    /// transforms) need not exist any more.
+    #[serde(skip)]
+    cached: bool,
 }
 
 /// `[scene]`: name, timing, gravity.
@@ -1054,6 +1058,18 @@ fn default_vdb_min_fragment_particles() -> usize {
 impl Scene {
     /// Reads, resolves and validates a scene file.
     pub fn load(path: &Path) -> Result<Scene> {
+        Scene::read(path, false)
+    }
+
+    /// Reads the resolved scene of a cache (`OUT/scene.toml`) for the stages that read
+    /// the cache: validated as [`Scene::load`] does, except that the mesh and transforms
+    /// files it names need not exist any more (those stages read the cache's own copies:
+    /// particles, `colliders/mesh_N.ply`).
+    pub fn load_cached(path: &Path) -> Result<Scene> {
+        Scene::read(path, true)
+    }
+
+    fn read(path: &Path, cached: bool) -> Result<Scene> {
         let bytes = std::fs::read(path).map_err(|e| CacheError::io(path, e))?;
         let text = String::from_utf8(bytes).map_err(|e| {
             let at = e.utf8_error().valid_up_to();
@@ -1075,12 +1091,16 @@ impl Scene {
             .parent()
             .map(Path::to_path_buf)
             .unwrap_or_else(|| PathBuf::from("."));
-        Scene::parse(&text, path, &base_dir)
+        Scene::parse_as(&text, path, &base_dir, cached)
     }
 
     /// Parses and validates scene text; `file` names it in messages and `base_dir`
     /// resolves mesh paths.
     pub fn parse(text: &str, file: &Path, base_dir: &Path) -> Result<Scene> {
+        Scene::parse_as(text, file, base_dir, false)
+    }
+
+    fn parse_as(text: &str, file: &Path, base_dir: &Path, cached: bool) -> Result<Scene> {
         let mut scene: Scene = toml::from_str(text).map_err(|e| {
             let (line, column) = e
                 .span()
@@ -1096,6 +1116,7 @@ impl Scene {
             }
         })?;
         scene.base_dir = base_dir.to_path_buf();
+        scene.cached = cached;
         for (i, body) in scene.bodies.iter_mut().enumerate() {
             if body.name.is_empty() {
                 body.name = format!("body{i}");

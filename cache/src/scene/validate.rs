@@ -838,7 +838,7 @@ fn shape(scene: &Scene, path: &[&str], s: &ShapeSpec) -> Check {
             finite3(&with("rotation"), *rotation)?;
             finite3(&with("translation"), *translation)?;
             let full = scene.base_dir.join(file);
-            if !full.is_file() {
+            if !scene.cached && !full.is_file() {
                 return Err(issue(
                     &with("path"),
                     format!(
@@ -976,7 +976,7 @@ fn collider(scene: &Scene, i: &str, c: &ColliderSpec) -> Check {
             }
             if let Some(file) = transforms {
                 let full = scene.base_dir.join(file);
-                if !full.is_file() {
+                if !scene.cached && !full.is_file() {
                     return Err(issue(
                         &p("transforms"),
                         format!(

@@ -80,6 +80,23 @@ impl<'a> Frames<'a> {
         }
     }
 
+    /// Writes the geometry of each mesh collider, `colliders/mesh_N.ply` (the placed
+    /// mesh less its pivot; the manifest poses it at each frame), and records it. The
+    /// same scene gives the same bytes, so a resumed run rewrites them unchanged.
+    pub fn write_collider_meshes(&mut self, world: &World) -> Result<()> {
+        for (i, collider) in world.colliders.iter().enumerate() {
+            let ColliderShape::Mesh(mesh) = &collider.shape else {
+                continue;
+            };
+            let dir = self.layout.colliders_dir();
+            std::fs::create_dir_all(&dir).map_err(|e| SimError::io(&dir, e))?;
+            let path = self.layout.collider_mesh(i);
+            let record = mesh.cache_mesh().write(&path)?;
+            self.manifest.record(&self.layout.root, &path, record);
+        }
+        Ok(())
+    }
+
     /// Continues after the frames a checkpoint left on disk.
     pub fn resume_from(&mut self, from: Resumed) {
         self.first = from.frame + 1;

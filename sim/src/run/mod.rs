@@ -143,6 +143,7 @@ pub fn run_prepared(
     }
     write_atomic(&layout.scene(), scene.to_toml().as_bytes())?;
     let mut frames = frames::Frames::new(scene, layout, &prepared, options, start, progress);
+    frames.write_collider_meshes(&prepared.world)?;
     if let Some(earlier) = earlier
         && layout.checkpoint().is_file()
     {

@@ -7,9 +7,10 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use perifrac_cache::Layout;
+use perifrac_cache::collider::mesh_colliders;
 use perifrac_cache::manifest::Manifest;
 use perifrac_cache::mesh::SurfaceEncoder;
-use perifrac_cache::scene::EmbeddedSpec;
+use perifrac_cache::scene::{EmbeddedSpec, Scene};
 use perifrac_cache::vtu::TetFrame;
 use rayon::prelude::*;
 
@@ -102,6 +103,9 @@ pub fn stage(
             layout.tets(1).display()
         )));
     }
+    // The scene's mesh colliders, which animated.glb carries beside the surface.
+    let scene = Scene::load_cached(&layout.scene())?;
+    let colliders = mesh_colliders(layout, &scene, Some(&manifest))?;
     let dir = layout.surface_dir();
     std::fs::create_dir_all(&dir).map_err(|e| SurfaceError::io(&dir, e))?;
     let start = Instant::now();
@@ -149,7 +153,7 @@ pub fn stage(
     write(
         &layout.animated_surface(),
         "surface/animated.glb".into(),
-        encoder.animated(&base.mesh, &times, &positions),
+        encoder.animated(&base.mesh, &times, &positions, &colliders),
     )?;
     manifest.timings.surface = extraction;
     manifest.write(&layout.manifest())?;
