@@ -29,13 +29,19 @@
 //! ```
 //!
 //! with F_p the deformation gradient of particle p's intact bonds (the correspondence
-//! estimate F = (Σ_j η_ij ⊗ ξ_ij V_j) K⁻¹, K = Σ_j ξ_ij ⊗ ξ_ij V_j; F = I where the
-//! intact bonds do not span 3-D). It is exact for every affine motion (rigid
-//! rotations of fragments included) and needs no per-step work; see the test
-//! `affine_motion_is_exact`.
+//! estimate F = (Σ_j η_ij ⊗ ξ_ij V_j) K⁻¹, K = Σ_j ξ_ij ⊗ ξ_ij V_j) where it can be
+//! trusted, else its rotation ([`deformation_gradients`]). It is exact for every
+//! affine motion (rigid rotations of fragments included) and needs no per-step work;
+//! see the test `affine_motion_is_exact`. Where the particles of a vertex's tets
+//! disagree (a sliver hanging on by one face, a tet pushed through its neighbours),
+//! neither Chen's average nor ours keeps every tet positively oriented, so tets
+//! left below 5% of their rest volume are mended afterwards
+//! (`EmbeddedMesh::untangle`, a departure from Chen §5.2); figures in
+//! docs/embedded.md.
 
 use perifrac_math::{
-    TET_FACES, UnionFind, cross, det3, dot, inverse3, mat_mul, norm, signed_volume, sub, to_matrix,
+    TET_FACES, UnionFind, add, cross, det3, dot, inverse3, mat_mul, norm, signed_volume, sub,
+    to_matrix,
 };
 use rayon::prelude::*;
 
@@ -50,9 +56,9 @@ pub const NONE: u32 = u32::MAX;
 pub const NO_PARENT: u32 = u32::MAX;
 /// Fraction of its rest volume below which [`EmbeddedMesh::positions`] mends a tet.
 pub const MIN_VOLUME_FRACTION: f64 = 0.05;
-/// Rounds of [`EmbeddedMesh::untangle`]'s first stage.
+/// Rounds of `EmbeddedMesh::untangle`'s first stage.
 pub const UNTANGLE_ROUNDS: usize = 8;
-/// Largest fragment (in tets) that [`EmbeddedMesh::untangle`] may place rigidly.
+/// Largest fragment (in tets) that `EmbeddedMesh::untangle` may place rigidly.
 pub const SMALL_FRAGMENT: usize = 64;
 
 /// The embedded mesh of all bodies: tet p belongs to particle p.
@@ -520,7 +526,8 @@ impl EmbeddedMesh {
     /// Vertex positions for particles at `position`, from their reference positions
     /// `reference`, masses `mass` and gradients `gradient` (from
     /// [`deformation_gradients`]): Chen Eq. 20–21 weights on first-order predictions
-    /// (see the module doc), then [`Self::untangle`].
+    /// (see the module doc), then the untangling of tets below
+    /// [`MIN_VOLUME_FRACTION`] of their rest volume (`untangle`).
     pub fn positions(
         &self,
         reference: &[[f64; 3]],
@@ -697,9 +704,7 @@ impl EmbeddedMesh {
                 let mut j = i;
                 let mut sum = [0.0; 3];
                 while j < target.len() && target[j].0 == v {
-                    for a in 0..3 {
-                        sum[a] += target[j].1[a];
-                    }
+                    sum = add(sum, target[j].1);
                     j += 1;
                 }
                 let n = (j - i) as f64;
