@@ -2,7 +2,8 @@
 //!
 //! Neighbours are found with a k-d tree (`kiddo`) in parallel; each family is sorted
 //! by neighbour index so that sums over it run in a fixed order and results do not
-//! depend on the thread count. Bonds only join particles of the same body.
+//! depend on the thread count. Bonds only join particles of the same body and, for a
+//! body that is not convex, only through its material ([`Solid`]).
 //!
 //! The surface correction of Chen et al. §6 ("Choice of δ") lives here too. A family
 //! cut by a free surface, or too small to be isotropic (δ ≈ λ on a tet lattice), has
@@ -14,10 +15,11 @@
 //! homogeneous deformation wherever positive weights can do it.
 
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
-use perifrac_math::{UnionFind, dist, sub};
+use perifrac_math::{UnionFind, dist, lerp, sub};
 use rayon::prelude::*;
 
 use crate::error::{Result, SimError};
+use crate::geometry::Sdf;
 
 /// High bit of a neighbour index: the bond is broken.
 pub const BROKEN: u32 = 1 << 31;
@@ -150,7 +152,7 @@ pub fn count_bonds(positions: &[[f64; 3]], body: &[u32], delta: &[f64]) -> Resul
     let tree = build_tree(positions)?;
     Ok((0..positions.len())
         .into_par_iter()
-        .map(|i| neighbours_of(&tree, positions, body, delta, i).len())
+        .map(|i| neighbours_of(&tree, positions, body, delta, &[], i).len())
         .sum())
 }
 
@@ -159,11 +161,48 @@ fn build_tree(positions: &[[f64; 3]]) -> Result<ImmutableKdTree<f64, 3>> {
         .map_err(|e| SimError::Refused(format!("could not build the neighbour search tree: {e:?}")))
 }
 
+/// The material a bond must stay inside (issue 13): a body's shape as a signed
+/// distance, sampled along each bond. Families found by distance alone join particles
+/// across slots, notches and gaps narrower than δ.
+pub struct Solid<'a> {
+    /// The body's signed distance (negative inside).
+    pub sdf: &'a dyn Sdf,
+    /// Largest distance between samples along a bond (0.2λ).
+    pub step: f64,
+    /// Largest signed distance a sample may have (0.05λ: the tet mesh's boundary and
+    /// the particles near it stray that far from the exact surface).
+    pub tolerance: f64,
+}
+
+impl Solid<'_> {
+    /// The solid of a body of resolution λ.
+    pub fn of(sdf: &dyn Sdf, lambda: f64) -> Solid<'_> {
+        Solid {
+            sdf,
+            step: 0.2 * lambda,
+            tolerance: 0.05 * lambda,
+        }
+    }
+
+    /// Whether the segment a–b stays inside: no sample strictly between the ends lies
+    /// more than `tolerance` outside. A slot of width w is found when w/2 − step/2 >
+    /// tolerance (any w above 0.3λ). Sampled from the end given first; callers pass
+    /// the lower particle index first so that i→j and j→i agree to the bit.
+    pub fn contains_segment(&self, a: [f64; 3], b: [f64; 3]) -> bool {
+        let samples = (dist(a, b) / self.step).ceil().max(1.0) as usize;
+        (1..samples).all(|k| {
+            let t = k as f64 / samples as f64;
+            self.sdf.distance(lerp(a, b, t)) <= self.tolerance
+        })
+    }
+}
+
 fn neighbours_of(
     tree: &ImmutableKdTree<f64, 3>,
     positions: &[[f64; 3]],
     body: &[u32],
     delta: &[f64],
+    solids: &[Option<Solid>],
     i: usize,
 ) -> Vec<u32> {
     let d = delta[i];
@@ -182,6 +221,13 @@ fn neighbours_of(
             let r2 = (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2);
             r2 <= d * d
         })
+        .filter(|&j| {
+            let solid = solids.get(body[i] as usize).and_then(Option::as_ref);
+            solid.is_none_or(|s| {
+                let (lo, hi) = (i.min(j as usize), i.max(j as usize));
+                s.contains_segment(positions[lo], positions[hi])
+            })
+        })
         .collect();
     family.sort_unstable();
     family
@@ -197,6 +243,20 @@ pub fn build(
     delta: &[f64],
     surface_correction: bool,
 ) -> Result<(Bonds, Corrections)> {
+    build_through(positions, volumes, body, delta, surface_correction, &[])
+}
+
+/// [`build`], keeping only the bonds that stay inside their body's solid
+/// (`solids[body]`, see [`Solid`]); a body without one (`None`, or past the end of
+/// `solids`: a convex shape, where every bond is inside) pays nothing.
+pub fn build_through(
+    positions: &[[f64; 3]],
+    volumes: &[f64],
+    body: &[u32],
+    delta: &[f64],
+    surface_correction: bool,
+    solids: &[Option<Solid>],
+) -> Result<(Bonds, Corrections)> {
     let n = positions.len();
     if n >= INDEX as usize {
         return Err(SimError::Refused(format!(
@@ -206,7 +266,7 @@ pub fn build(
     let tree = build_tree(positions)?;
     let families: Vec<Vec<u32>> = (0..n)
         .into_par_iter()
-        .map(|i| neighbours_of(&tree, positions, body, delta, i))
+        .map(|i| neighbours_of(&tree, positions, body, delta, solids, i))
         .collect();
     let mut offsets = Vec::with_capacity(n + 1);
     offsets.push(0usize);

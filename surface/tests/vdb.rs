@@ -89,7 +89,7 @@ fn a_sphere_of_particles_gives_a_closed_mesh_of_its_volume() {
 }
 
 /// Two blocks of particles whose nearest particles are 2 voxels apart, less than a
-/// sphere's diameter (3.1 voxels at the defaults), as across a fresh crack: surfaced
+/// sphere's diameter (3.5 voxels at the defaults), as across a fresh crack: surfaced
 /// per fragment they stay two closed meshes; in one level set they merge.
 #[test]
 fn fragments_two_voxels_apart_stay_apart_only_per_fragment() {
@@ -290,7 +290,7 @@ fn the_vdb_file_reads_back_with_vdb_rs() {
     }
     // A narrow band of signed distance: values within ±3 voxels, both signs present,
     // and voxels as deep as the band goes (a raw union of spheres only holds the
-    // distance to the nearest sphere, never deeper than its radius, 1.55 voxels).
+    // distance to the nearest sphere, never deeper than its radius, 1.74 voxels).
     let dx = s.stats.voxel_size as f32;
     let (mut inside, mut outside, mut deep) = (0, 0, 0);
     for (_, value, _) in grid.iter() {

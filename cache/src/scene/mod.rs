@@ -453,9 +453,38 @@ pub struct BodySpec {
     /// Initial cracks (`[[body.crack]]`): bonds cut before the run starts.
     #[serde(default, rename = "crack")]
     pub cracks: Vec<CrackSpec>,
+    /// Orientation of the body's meshing lattice: `"aligned"` with the scene axes, or
+    /// `"rotated"` by a random rotation drawn from the scene's `seed` and the body's
+    /// index, so that cracks have no preferred lattice directions. Default: `"rotated"`
+    /// for a peridynamic body whose material breaks (`critical_stretch`), `"aligned"`
+    /// otherwise; a mesh body that the turned lattice fits worse than λ/4 (it bevels
+    /// creases the aligned one follows) takes the lattice that fits it better.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lattice: Option<LatticeOrientation>,
+}
+
+/// Orientation of a body's meshing lattice (`lattice` of `[[body]]`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LatticeOrientation {
+    /// Lattice axes along the scene axes, centred on the shape's bounds: a shape
+    /// symmetric about its mid-planes gets a symmetric set of particles.
+    Aligned,
+    /// Lattice turned by a random rotation seeded by the scene's `seed` and the body's
+    /// index: no preferred crack directions; the same seed gives the same bytes.
+    Rotated,
 }
 
 impl BodySpec {
+    /// Whether the body's lattice is rotated: its `lattice` key, by default rotated for
+    /// a peridynamic body whose `material` breaks.
+    pub fn lattice_rotated(&self, material: &MaterialSpec) -> bool {
+        match self.lattice {
+            Some(orientation) => orientation == LatticeOrientation::Rotated,
+            None => self.model == ModelKind::Peridynamics && material.critical_stretch.is_some(),
+        }
+    }
+
     /// The horizon δ in metres: `horizon` (δ/λ) × `resolution` (λ).
     pub fn delta(&self) -> f64 {
         self.horizon * self.resolution
@@ -889,22 +918,25 @@ pub enum SurfaceMethod {
 ///
 /// Lengths are in particle spacings: a particle of a body with mean tet edge λ has
 /// volume λ³/9.1 (the BCC mesher's tets per λ³) and spacing s = (λ³/9.1)^(1/3). The
-/// defaults were calibrated together: spheres twice the particles' volume-equivalent
-/// radius cover the gaps between particles, two mean-curvature passes remove the
-/// bumps and bubbles left, and an offset of −0.6 s takes the surface back to the
-/// body's volume (within 1.5% on spheres 5 and 8 λ in radius).
+/// defaults were calibrated together: spheres 2.25 times the particles'
+/// volume-equivalent radius cover the gaps between particles (the widest, around each
+/// vertex of the BCC lattice, is 0.62λ = 1.29 s from the nearest particle), two
+/// mean-curvature passes remove the bumps, and an offset of −0.8 s takes the surface
+/// back to the body's volume (within 0.2% on spheres 5 and 8 λ in radius).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct VdbSpec {
     /// Voxel edge as a fraction of the particle spacing (of the finest body in the
     /// frame). Particles whose sphere radius is under 1.5 voxels would be dropped by
     /// the rasterizer, so `radius_scale × 0.62 / voxel_size` must be at least 1.5.
-    /// Default 0.8 (spheres of 1.55 voxels in radius at the default `radius_scale`).
+    /// Default 0.8 (spheres of 1.74 voxels in radius at the default `radius_scale`).
     #[serde(default = "default_vdb_voxel_size")]
     pub voxel_size: f64,
     /// Sphere radius as a multiple of the radius of a sphere with the particle's
-    /// volume (0.62 spacings). Below about 2 the spheres leave bubbles inside the body
-    /// that only filtering removes. Default 2.0.
+    /// volume (0.62 spacings). Below about 2.1 the spheres do not reach the middle of
+    /// the gap around each lattice vertex (1.29 spacings from its nearest particles)
+    /// and leave a bubble there wherever a voxel centre falls in it: an inner surface
+    /// in the mesh. Default 2.25.
     #[serde(default = "default_vdb_radius_scale")]
     pub radius_scale: f64,
     /// Smoothing filter: `"none"`, `"mean-curvature"`, `"gaussian"` or `"laplacian"`.
@@ -916,7 +948,7 @@ pub struct VdbSpec {
     pub iterations: usize,
     /// Distance the surface is moved outward after filtering, in particle spacings
     /// (negative: inward), to take the enlarged spheres back to the body's volume.
-    /// Default −0.6.
+    /// Default −0.8.
     #[serde(default = "default_vdb_offset")]
     pub offset: f64,
     /// Mesh adaptivity in [0, 1] (0: uniform polygons the size of a voxel).
@@ -1004,13 +1036,13 @@ fn default_vdb_voxel_size() -> f64 {
     0.8
 }
 fn default_vdb_radius_scale() -> f64 {
-    2.0
+    2.25
 }
 fn default_vdb_iterations() -> usize {
     2
 }
 fn default_vdb_offset() -> f64 {
-    -0.6
+    -0.8
 }
 fn default_vdb_min_fragment_particles() -> usize {
     8
@@ -1302,9 +1334,9 @@ resolution = 0.1
         let (line, key, message) = error(&format!("{GOOD}\n[output.vdb]\nadaptivity = 1.5\n"));
         assert_eq!((line, key.as_str()), (15, "output.vdb.adaptivity"));
         assert!(message.contains("[0, 1]"), "{message}");
-        let (_, key, message) = error(&format!("{GOOD}\n[output.vdb]\nvoxel_size = 0.9\n"));
+        let (_, key, message) = error(&format!("{GOOD}\n[output.vdb]\nvoxel_size = 1.0\n"));
         assert_eq!(key, "output.vdb.voxel_size");
-        assert!(message.contains("voxel_size ≤ 0.827"), "{message}");
+        assert!(message.contains("voxel_size ≤ 0.931"), "{message}");
         let (_, key, _) = error(&format!("{GOOD}\n[output]\nsurface = \"marching\"\n"));
         assert_eq!(key, "output.surface");
     }

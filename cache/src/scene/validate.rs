@@ -442,6 +442,12 @@ fn membrane(scene: &Scene) -> Check {
     for (i, b) in scene.bodies.iter().enumerate() {
         let i = i.to_string();
         let is_membrane = b.model == ModelKind::Membrane;
+        if b.lattice.is_some() && matches!(b.model, ModelKind::Membrane | ModelKind::Mpm) {
+            return Err(issue(
+                &["body", &i, "lattice"],
+                "`lattice` orients the tet mesher's lattice, and membranes and MPM bodies are not tet-meshed: remove it",
+            ));
+        }
         if let Some(first) = first.filter(|_| !is_membrane) {
             return Err(issue(
                 &["body", &i, "model"],

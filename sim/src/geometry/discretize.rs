@@ -1,5 +1,7 @@
 //! Bodies to particles (Chen §5.2): each body is tetrahedralized to edge length ≈ λ
-//! and one particle is placed at each tet's barycentre with the tet's volume; a
+//! (on a lattice centred on the body, turned at random for a breaking body: see the
+//! body's `lattice` key and `docs/lattice.md`) and one particle is placed at each tet's
+//! barycentre with the tet's volume; a
 //! membrane body gets the particles of its sheet instead ([`crate::membrane::sheet`],
 //! an empty tet mesh). All particles are then sorted along a Morton curve so that families sit close in
 //! memory.
@@ -7,8 +9,9 @@
 use rayon::prelude::*;
 
 use super::mesh::{Conformity, MeshSdf, TriMesh, conform};
+use super::sdf::Sdf;
 use super::shape::{placement, to_sdf};
-use super::stuffing::stuff;
+use super::stuffing::{random_rotation, stuff, stuff_rotated};
 use super::{MeshQuality, TetMesh};
 use crate::error::{Result, SimError};
 use crate::membrane::sheet::{self, Sheet};
@@ -35,15 +38,34 @@ pub struct Discretization {
     pub conformity: Vec<Option<Conformity>>,
 }
 
+/// The worst fit (in λ, [`Conformity::max`]) a mesh body keeps the turned lattice
+/// with when its `lattice` key is not given; past it the body is meshed on the aligned
+/// lattice too and keeps the better fit. λ/4 is the fit the mesh import asks of the
+/// meshes it is tested on (`geometry::mesh` tests).
+pub const ROTATED_FIT_BOUND: f64 = 0.25;
+
 /// Meshes every body of the scene and places the particles.
 pub fn discretize(scene: &Scene) -> Result<Discretization> {
     let bodies: Vec<(TetMesh, Option<Conformity>)> = scene
         .bodies
         .par_iter()
-        .map(|b| {
+        .enumerate()
+        .map(|(index, b)| {
             let error = |message: String| SimError::Mesh {
                 body: b.name.clone(),
                 message,
+            };
+            // A breaking body's lattice is turned at random (issue 13: an aligned
+            // lattice's weak planes showed as axis-aligned cracks); others stay aligned
+            // and centred, so symmetric shapes get symmetric particles.
+            let rotation = scene
+                .materials
+                .get(&b.material)
+                .filter(|m| b.lattice_rotated(m))
+                .map(|_| random_rotation(scene.scene.seed, index as u64));
+            let stuff = |sdf: &dyn Sdf, lambda: f64| match rotation {
+                Some(r) => stuff_rotated(sdf, lambda, r),
+                None => stuff(sdf, lambda),
             };
             match (&b.shape, placement(&b.shape)) {
                 // Membranes sample their sheet; MPM bodies seed their own particles.
@@ -54,8 +76,25 @@ pub fn discretize(scene: &Scene) -> Result<Discretization> {
                     let surface = TriMesh::load(&scene.base_dir.join(path), &placement)
                         .map_err(|e| error(e.to_string()))?;
                     let sdf = MeshSdf::new(&surface);
-                    let mut tets = stuff(&sdf, b.resolution).map_err(|e| error(e.to_string()))?;
-                    let fit = conform(&mut tets, &surface, &sdf, b.resolution);
+                    let mesh_on = |rotation: Option<[[f64; 3]; 3]>| {
+                        let mut tets = match rotation {
+                            Some(r) => stuff_rotated(&sdf, b.resolution, r),
+                            None => super::stuffing::stuff(&sdf, b.resolution),
+                        }
+                        .map_err(|e| error(e.to_string()))?;
+                        let fit = conform(&mut tets, &surface, &sdf, b.resolution);
+                        Ok::<_, SimError>((tets, fit))
+                    };
+                    let (tets, fit) = mesh_on(rotation)?;
+                    // A turned lattice bevels creases that an aligned one follows (a mesh
+                    // cube: 0.43λ against 0.000λ) and snapping cannot always restore them.
+                    // By default such a mesh keeps whichever lattice fits it better.
+                    if rotation.is_some() && b.lattice.is_none() && fit.max > ROTATED_FIT_BOUND {
+                        let (aligned, aligned_fit) = mesh_on(None)?;
+                        if aligned_fit.max < fit.max {
+                            return Ok((aligned, Some(aligned_fit)));
+                        }
+                    }
                     Ok((tets, Some(fit)))
                 }
                 (shape, _) => {

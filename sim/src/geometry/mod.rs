@@ -13,7 +13,7 @@ use std::fmt;
 use perifrac_math::{TET_FACES, cross, dist, dot, norm, signed_volume, sub};
 
 pub use self::sdf::{Ball, Cuboid, Cylinder, Difference, Sdf, Union};
-pub use self::stuffing::stuff;
+pub use self::stuffing::{random_rotation, stuff, stuff_rotated};
 
 /// Why a shape could not be meshed.
 #[derive(Debug, Clone, PartialEq)]

@@ -65,3 +65,17 @@ pub fn to_sdf(shape: &ShapeSpec, base_dir: &Path) -> Result<Box<dyn Sdf>, String
         }
     })
 }
+
+/// Whether the shape is certainly convex (a box, slab, sphere or cylinder), so that
+/// every segment between two of its points stays inside it and bonds need no test
+/// against the material ([`crate::family::Solid`]). Unions, differences and mesh
+/// files count as not convex.
+pub fn is_convex(shape: &ShapeSpec) -> bool {
+    matches!(
+        shape,
+        ShapeSpec::Box { .. }
+            | ShapeSpec::Slab { .. }
+            | ShapeSpec::Sphere { .. }
+            | ShapeSpec::Cylinder { .. }
+    )
+}

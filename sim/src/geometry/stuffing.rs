@@ -19,7 +19,7 @@
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 
-use perifrac_math::{dist, lerp, signed_volume};
+use perifrac_math::{dist, dot, lerp, signed_volume, sub};
 
 use super::sdf::Sdf;
 use super::{MeshError, TetMesh};
@@ -72,6 +72,109 @@ const MIN_VOLUME: f64 = 1e-12;
 /// - [`MeshError::EmptyMesh`] if the shape is too thin to produce any tetrahedron.
 pub fn stuff(sdf: &dyn Sdf, edge_length: f64) -> Result<TetMesh, MeshError> {
     stuff_counted(sdf, edge_length).map(|(mesh, _)| mesh)
+}
+
+/// [`stuff`] with the lattice turned by `rotation` (a proper rotation matrix, rows)
+/// about the centre of the shape's bounds: the mesh of the shape turned by Rᵀ, turned
+/// back by R. Boundary vertices still lie on the zero set and every tetrahedron stays
+/// positively oriented (det R = 1); the lattice's axes, and so the directions along
+/// which a mesh is weakest, are those of R instead of the scene's.
+///
+/// # Errors
+/// As [`stuff`].
+pub fn stuff_rotated(
+    sdf: &dyn Sdf,
+    edge_length: f64,
+    rotation: [[f64; 3]; 3],
+) -> Result<TetMesh, MeshError> {
+    let turned = Turned::new(sdf, rotation);
+    let mut mesh = stuff(&turned, edge_length)?;
+    for v in &mut mesh.vertices {
+        *v = turned.to_shape(*v);
+    }
+    Ok(mesh)
+}
+
+/// The shape of `inner` turned by Rᵀ about the centre c of its bounds:
+/// d(p) = d_inner(c + R (p − c)).
+struct Turned<'a> {
+    inner: &'a dyn Sdf,
+    centre: [f64; 3],
+    rotation: [[f64; 3]; 3],
+}
+
+impl<'a> Turned<'a> {
+    fn new(inner: &'a dyn Sdf, rotation: [[f64; 3]; 3]) -> Self {
+        let (lo, hi) = inner.bounds();
+        let centre = [0, 1, 2].map(|k| 0.5 * (lo[k] + hi[k]));
+        Self {
+            inner,
+            centre,
+            rotation,
+        }
+    }
+
+    /// c + R (p − c): a point of the turned shape to the shape.
+    fn to_shape(&self, p: [f64; 3]) -> [f64; 3] {
+        let d = sub(p, self.centre);
+        [0, 1, 2].map(|k| self.centre[k] + dot(self.rotation[k], d))
+    }
+}
+
+impl Sdf for Turned<'_> {
+    fn distance(&self, p: [f64; 3]) -> f64 {
+        self.inner.distance(self.to_shape(p))
+    }
+
+    fn bounds(&self) -> ([f64; 3], [f64; 3]) {
+        // The box around the turned corners of the inner bounds: c + Rᵀ (q − c).
+        let (lo, hi) = self.inner.bounds();
+        let mut min = [f64::INFINITY; 3];
+        let mut max = [f64::NEG_INFINITY; 3];
+        for corner in 0..8 {
+            let q = [0, 1, 2].map(|k| if corner >> k & 1 == 0 { lo[k] } else { hi[k] });
+            let d = sub(q, self.centre);
+            for k in 0..3 {
+                let x = self.centre[k] + (0..3).map(|r| self.rotation[r][k] * d[r]).sum::<f64>();
+                min[k] = min[k].min(x);
+                max[k] = max[k].max(x);
+            }
+        }
+        (min, max)
+    }
+}
+
+/// A uniformly distributed random rotation (rows of the matrix) from `seed` and
+/// `stream` (e.g. a body index): the unit quaternion of Shoemake (1992), "Uniform
+/// random rotations", from three uniform numbers.
+pub fn random_rotation(seed: u64, stream: u64) -> [[f64; 3]; 3] {
+    use std::f64::consts::TAU;
+    let mut rng = perifrac_math::SplitMix64::new(seed ^ stream.wrapping_mul(0xd1b5_4a32_d192_ed03));
+    let (u1, u2, u3) = (rng.next_f64(), rng.next_f64(), rng.next_f64());
+    let (a, b) = ((1.0 - u1).sqrt(), u1.sqrt());
+    let (w, x, y, z) = (
+        a * (TAU * u2).sin(),
+        a * (TAU * u2).cos(),
+        b * (TAU * u3).sin(),
+        b * (TAU * u3).cos(),
+    );
+    [
+        [
+            1.0 - 2.0 * (y * y + z * z),
+            2.0 * (x * y - w * z),
+            2.0 * (x * z + w * y),
+        ],
+        [
+            2.0 * (x * y + w * z),
+            1.0 - 2.0 * (x * x + z * z),
+            2.0 * (y * z - w * x),
+        ],
+        [
+            2.0 * (x * z - w * y),
+            2.0 * (y * z + w * x),
+            1.0 - 2.0 * (x * x + y * y),
+        ],
+    ]
 }
 
 /// The lattice spacing [`stuff`] uses for `edge_length`, and the number of points
@@ -208,7 +311,13 @@ impl Lattice {
                 suggested_edge_length: suggested,
             });
         }
-        let origin = min.map(|x| x - PADDING * h);
+        // Centred on the shape's bounds: the lattice is then mirror symmetric about the
+        // shape's mid-planes, and with the warping order of `warp` so are the tets in
+        // all but a few configurations of the stencils' parity rule (which is not
+        // mirror symmetric), so a symmetric shape gets a symmetric set of tets
+        // (centroid on the axes, no product of inertia), not one shifted by a fraction
+        // of a spacing (0.08λ before).
+        let origin = [0, 1, 2].map(|k| 0.5 * (min[k] + max[k]) - 0.5 * cells_f[k] * h);
         let far = [0, 1, 2].map(|k| origin[k] + cells_f[k] * h);
         if !origin.iter().chain(&far).all(|x| x.is_finite()) {
             // Only an edge length near the largest float gets here.
@@ -521,13 +630,17 @@ fn find_cuts(
 ///
 /// A point is violated by a cut point on one of its edges lying closer than
 /// `ALPHA_LONG` (long edges) or `ALPHA_SHORT` (short edges) times the edge
-/// length. Points are visited in id order and each violated one moves to its
-/// nearest violating cut point that still exists; cut points on edges of a
+/// length. Violations are visited closest first and each violated point moves to
+/// its nearest violating cut point that still exists; cut points on edges of a
 /// warped point cease to exist (those edges now end on the surface).
 fn warp(lattice: &Lattice, values: &mut [f64], cuts: &CutTable) -> KeyMap<[f64; 3]> {
     let long = lattice.h;
     let short = 0.5 * 3f64.sqrt() * lattice.h;
-    let mut violations: Vec<(u32, f64, u32)> = Vec::new();
+    // Distances are compared in units of 1e-9 spacings, so that mirror images, whose
+    // distances differ by rounding only, tie; ties go to the edge direction in a fixed
+    // order (long x, short, long y, long z), which every mirror of the lattice keeps.
+    let quantum = 1e-9 * long;
+    let mut violations: Vec<(i64, [i64; 3], u32, u32)> = Vec::new();
     for (c, cut) in cuts.cuts.iter().enumerate() {
         let [a, b] = cut.ends;
         let same_grid = ((a as usize) < lattice.corners) == ((b as usize) < lattice.corners);
@@ -536,15 +649,21 @@ fn warp(lattice: &Lattice, values: &mut [f64], cuts: &CutTable) -> KeyMap<[f64; 
         } else {
             (short, ALPHA_SHORT)
         };
+        let (ca, cb) = (lattice.coords(a as usize), lattice.coords(b as usize));
+        let direction = [0, 1, 2].map(|k| -(ca[k] - cb[k]).abs());
         if cut.t < alpha {
-            violations.push((a, cut.t * len, c as u32));
+            let d = (cut.t * len / quantum).round() as i64;
+            violations.push((d, direction, a, c as u32));
         } else if 1.0 - cut.t < alpha {
-            violations.push((b, (1.0 - cut.t) * len, c as u32));
+            let d = ((1.0 - cut.t) * len / quantum).round() as i64;
+            violations.push((d, direction, b, c as u32));
         }
     }
-    violations.sort_unstable_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)).then(x.2.cmp(&y.2)));
+    // Closest violation first (Labelle & Shewchuk allow any order): unlike an order by
+    // point id, it treats mirror images alike, so a symmetric shape warps symmetrically.
+    violations.sort_unstable();
     let mut warped = KeyMap::default();
-    for (v, _, c) in violations {
+    for (_, _, v, c) in violations {
         let cut = &cuts.cuts[c as usize];
         let other = cut.ends[0] + cut.ends[1] - v;
         if values[v as usize] == 0.0 || values[other as usize] == 0.0 {
@@ -1194,6 +1313,65 @@ mod tests {
         let b = stuff(&shape, 0.06).expect("mesh");
         assert!(!a.tets.is_empty());
         assert_eq!(a, b);
+    }
+
+    /// Volume-weighted centroid and products of inertia (I_xy, I_yz, I_zx) about it of
+    /// the tets of `mesh`.
+    fn centroid_and_products(mesh: &TetMesh) -> ([f64; 3], [f64; 3]) {
+        let mut m = 0.0;
+        let mut c = [0.0; 3];
+        for t in 0..mesh.tets.len() {
+            let (v, x) = (mesh.volume(t), mesh.barycentre(t));
+            m += v;
+            (0..3).for_each(|k| c[k] += v * x[k]);
+        }
+        c = c.map(|x| x / m);
+        let mut p = [0.0; 3];
+        for t in 0..mesh.tets.len() {
+            let (v, x) = (mesh.volume(t), mesh.barycentre(t));
+            let d = sub(x, c);
+            (0..3).for_each(|k| p[k] += v * d[k] * d[(k + 1) % 3]);
+        }
+        (c, p)
+    }
+
+    /// Issue 13: the lattice sat 0.08λ off the axis of a centred box, so a cantilever
+    /// loaded straight down bent sideways (7.4% of its deflection at 4 particles across).
+    #[test]
+    fn a_centred_box_gets_a_symmetric_mesh() {
+        let shape = Cuboid {
+            center: [0.3, -0.2, 0.1],
+            half_extents: [0.5, 0.1, 0.1],
+        };
+        for lambda in [0.05, 0.0333, 0.025] {
+            let mesh = stuff(&shape, lambda).expect("mesh");
+            let (c, p) = centroid_and_products(&mesh);
+            let inertia = 0.2 * 0.2 * 0.2 * 0.2 * 1.0 / 12.0;
+            let unmatched = [1, 2].map(|k| mirror_mismatch(&mesh, k, shape.center[k]));
+            println!(
+                "λ {lambda}: centroid {c:?}, products {p:?} (of {inertia:e}), tets without a mirror image {unmatched:?}"
+            );
+            for k in 0..3 {
+                assert!((c[k] - shape.center[k]).abs() < 1e-9, "centroid {c:?}");
+                assert!(p[k].abs() < 1e-9 * inertia, "products of inertia {p:?}");
+            }
+            assert_eq!(unmatched, [0; 2], "tets without a mirror image in y and z");
+        }
+    }
+
+    /// Tets whose barycentre has no mirror image in the plane `x[axis] = at` (to 1e-7 m).
+    fn mirror_mismatch(mesh: &TetMesh, axis: usize, at: f64) -> usize {
+        let key = |x: [f64; 3]| x.map(|v| (v * 1e7).round() as i64);
+        let set: std::collections::HashSet<[i64; 3]> = (0..mesh.tets.len())
+            .map(|t| key(mesh.barycentre(t)))
+            .collect();
+        (0..mesh.tets.len())
+            .filter(|&t| {
+                let mut x = mesh.barycentre(t);
+                x[axis] = 2.0 * at - x[axis];
+                !set.contains(&key(x))
+            })
+            .count()
     }
 
     /// A sphere wrinkled at the lattice scale (up to one spacing high): many

@@ -10,9 +10,11 @@ use crate::cache::manifest::Timings;
 use crate::contact::{self, centroid};
 use crate::embed::EmbeddedMesh;
 use crate::error::{Result, SimError};
-use crate::family;
+use crate::family::{self, Solid};
 use crate::fem::{Fem, FemBody, FemModel};
+use crate::geometry::Sdf;
 use crate::geometry::discretize::{Discretization, discretize};
+use crate::geometry::shape::{is_convex, to_sdf};
 use crate::material::Material;
 use crate::membrane::{Membrane, MembraneModel};
 use crate::model::Model;
@@ -123,12 +125,32 @@ fn peridynamic_part(scene: &Scene, disc: &Discretization) -> Result<Part> {
         .iter()
         .map(|&b| scene.bodies[b as usize].delta())
         .collect();
-    let (bonds, corrections) = family::build(
+    // Bonds of a body that is not convex must stay inside its shape (issue 13).
+    let shapes: Vec<Option<Box<dyn Sdf>>> = scene
+        .bodies
+        .iter()
+        .map(|b| {
+            (!is_convex(&b.shape))
+                .then(|| to_sdf(&b.shape, &scene.base_dir))
+                .transpose()
+                .map_err(|message| SimError::Mesh {
+                    body: b.name.clone(),
+                    message,
+                })
+        })
+        .collect::<Result<_>>()?;
+    let solids: Vec<Option<Solid>> = shapes
+        .iter()
+        .zip(&scene.bodies)
+        .map(|(sdf, b)| sdf.as_deref().map(|sdf| Solid::of(sdf, b.resolution)))
+        .collect();
+    let (bonds, corrections) = family::build_through(
         &disc.position,
         &disc.volume,
         &disc.body,
         &delta,
         scene.scene.surface_correction,
+        &solids,
     )?;
     let bodies: Vec<BodyModel> = scene
         .bodies

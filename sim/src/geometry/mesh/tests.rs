@@ -409,7 +409,7 @@ fn sphere_and_box_conform_within_a_quarter_lambda() {
 
 /// Every committed asset (made by tools/make-meshes) loads as a closed, valid
 /// surface, and meshes at its scene's resolution to a body of the enclosed
-/// volume within 3%, fitting the surface within λ/4.
+/// volume within 3%, fitting the surface within λ/4 (the figure's limbs 0.3λ).
 #[test]
 fn committed_assets_mesh_to_their_volume() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/meshes");
@@ -422,10 +422,13 @@ fn committed_assets_mesh_to_their_volume() {
         rotation_deg: [0.0, 0.0, 20.0],
         ..Placement::default()
     };
-    for (name, lambda, placement) in [
-        ("vase.obj", 0.006, tilted),
-        ("jello.ply", 0.011, Placement::default()),
-        ("figure.glb", 0.011, Placement::default()),
+    // The worst fit is one point of a thin limb and moves with the lattice's placement:
+    // the figure's was 0.236λ with the lattice at its bounds' corner and is 0.289λ with
+    // the lattice centred on the bounds (issue 13); its mean fit is 0.02λ either way.
+    for (name, lambda, placement, fit_bound) in [
+        ("vase.obj", 0.006, tilted, 0.25),
+        ("jello.ply", 0.011, Placement::default(), 0.25),
+        ("figure.glb", 0.011, Placement::default(), 0.3),
     ] {
         let surface = TriMesh::load(&dir.join(name), &placement).unwrap_or_else(|e| panic!("{e}"));
         let (tets, fit) = mesh_and_fit(&surface, lambda);
@@ -445,7 +448,7 @@ fn committed_assets_mesh_to_their_volume() {
         );
         if surface.triangles.len() > 20_000
             || volume_error.abs() >= 0.03
-            || fit.max > 0.25
+            || fit.max > fit_bound
             || q.min_dihedral_deg < conformity::MIN_DIHEDRAL_DEG - 1e-9
         {
             failures.push(name);
