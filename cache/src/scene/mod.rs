@@ -455,7 +455,9 @@ pub struct BodySpec {
     pub cracks: Vec<CrackSpec>,
     /// Orientation of the body's meshing lattice: `"aligned"` with the scene axes, or
     /// `"rotated"` by a random rotation drawn from the scene's `seed` and the body's
-    /// index, so that cracks have no preferred lattice directions. Default: `"rotated"`
+    /// index, so that the lattice's preferred crack directions are not the scene's
+    /// axes (within the body cracks still follow the turned lattice: docs/lattice.md).
+    /// Default: `"rotated"`
     /// for a peridynamic body whose material breaks (`critical_stretch`), `"aligned"`
     /// otherwise; a mesh body that the turned lattice fits worse than λ/4 (it bevels
     /// creases the aligned one follows) takes the lattice that fits it better.
@@ -471,7 +473,8 @@ pub enum LatticeOrientation {
     /// symmetric about its mid-planes gets a symmetric set of particles.
     Aligned,
     /// Lattice turned by a random rotation seeded by the scene's `seed` and the body's
-    /// index: no preferred crack directions; the same seed gives the same bytes.
+    /// index: the lattice's preferred crack directions are not the scene's axes; the
+    /// same seed gives the same bytes.
     Rotated,
 }
 
