@@ -343,3 +343,174 @@ fn a_face_without_a_bond_is_reported() {
         "{err}"
     );
 }
+
+/// Breaks every bond of particle `q` (both directions) except those to `keep`.
+fn detach(bonds: &mut Bonds, q: usize, keep: &[usize]) {
+    cut(bonds, |i, j| {
+        (i == q && !keep.contains(&j)) || (j == q && !keep.contains(&i))
+    });
+}
+
+/// The smallest tet volume over its rest volume, and the longest tet edge, of
+/// `positions`.
+fn worst_tet(mesh: &EmbeddedMesh, positions: &[[f64; 3]]) -> (f64, f64) {
+    let mut smallest = f64::INFINITY;
+    let mut longest = 0.0f64;
+    for (p, t) in mesh.tets.iter().enumerate() {
+        let [a, b, c, d] = t.map(|v| positions[v as usize]);
+        smallest = smallest.min(signed_volume(a, b, c, d) / mesh.rest_volume(p));
+        for i in 0..4 {
+            for j in i + 1..4 {
+                let (x, y) = (positions[t[i] as usize], positions[t[j] as usize]);
+                longest = longest.max(norm(sub(x, y)));
+            }
+        }
+    }
+    (smallest, longest)
+}
+
+/// The particle nearest the block's centre.
+fn central(x: &[[f64; 3]]) -> usize {
+    (0..x.len())
+        .min_by(|&a, &b| norm(x[a]).total_cmp(&norm(x[b])))
+        .unwrap()
+}
+
+/// x reflected through the plane through a, b, c.
+fn reflect(x: [f64; 3], [a, b, c]: [[f64; 3]; 3]) -> [f64; 3] {
+    let n = cross(sub(b, a), sub(c, a));
+    let n = n.map(|v| v / norm(n));
+    let h = dot(sub(x, a), n);
+    [0, 1, 2].map(|k| x[k] - 2.0 * h * n[k])
+}
+
+#[test]
+fn a_nearly_detached_particle_does_not_invert_or_stretch_its_tet() {
+    // Regression (issue 13): in the demo, particles left with 3–4 of ~120 bonds had
+    // correspondence gradients with det F = −6.1 or +5.0, and their tets came out
+    // inside out or 5λ long. Here the central particle keeps three bonds and sits
+    // at its mirror image through its three neighbours: the bonds keep their
+    // lengths, F fitted to them is a reflection.
+    let lambda = 0.02;
+    let (disc, mut bonds) = block([0.1, 0.1, 0.1], lambda);
+    let x = disc.position.clone();
+    let q = central(&x);
+    let adjacent: Vec<usize> = EmbeddedMesh::build(&disc, &bonds, &names())
+        .unwrap()
+        .adjacent[q]
+        .iter()
+        .map(|&r| r as usize)
+        .collect();
+    let mut near: Vec<usize> = bonds
+        .range(q)
+        .map(|k| (bonds.neighbours[k] & INDEX) as usize)
+        .filter(|j| !adjacent.contains(j))
+        .collect();
+    near.sort_by(|&a, &b| norm(sub(x[a], x[q])).total_cmp(&norm(sub(x[b], x[q]))));
+    // Of the eight nearest, the three whose bonds span the most volume.
+    let spread =
+        |[a, b, c]: [usize; 3]| det3(&[sub(x[a], x[q]), sub(x[b], x[q]), sub(x[c], x[q])]).abs();
+    let mut keep = [near[0], near[1], near[2]];
+    for a in 0..8 {
+        for b in a + 1..8 {
+            for c in b + 1..8 {
+                if spread([near[a], near[b], near[c]]) > spread(keep) {
+                    keep = [near[a], near[b], near[c]];
+                }
+            }
+        }
+    }
+    detach(&mut bonds, q, &keep);
+    let mut mesh = EmbeddedMesh::build(&disc, &bonds, &names()).unwrap();
+    mesh.update(&bonds);
+    let mut y = x.clone();
+    y[q] = reflect(x[q], keep.map(|j| x[j]));
+    for j in keep {
+        let (rest, now) = (norm(sub(x[j], x[q])), norm(sub(x[j], y[q])));
+        assert!(
+            (rest - now).abs() < 1e-12 * rest,
+            "the bonds keep their lengths"
+        );
+    }
+    // The correspondence F of the kept bonds is a reflection: its tet, placed by
+    // it, would be inside out.
+    let (mut k, mut m) = ([[0.0; 3]; 3], [[0.0; 3]; 3]);
+    for j in keep {
+        let (xi, eta) = (sub(x[j], x[q]), sub(y[j], y[q]));
+        for r in 0..3 {
+            for c in 0..3 {
+                k[r][c] += xi[r] * xi[c];
+                m[r][c] += eta[r] * xi[c];
+            }
+        }
+    }
+    let fitted = mat_mul(&m, &inverse(k).expect("three bonds span 3-D"));
+    assert!(det3(&fitted) < 0.0, "det F = {}", det3(&fitted));
+    let mass: Vec<f64> = disc.volume.iter().map(|v| 2200.0 * v).collect();
+    let gradient = deformation_gradients(&bonds, &x, &y, &disc.volume);
+    assert!(
+        (det3(&gradient[q]) - 1.0).abs() < 1e-9,
+        "a rotation replaces F"
+    );
+    let positions = mesh.positions(&x, &y, &mass, &gradient);
+    let (smallest, longest) = worst_tet(&mesh, &positions);
+    println!(
+        "detached particle: smallest tet {smallest:.3} of its rest volume, longest edge {:.2}λ",
+        longest / lambda
+    );
+    assert!(smallest >= MIN_VOLUME_FRACTION * (1.0 - 1e-9), "{smallest}");
+    assert!(longest < 3.0 * lambda, "{}λ", longest / lambda);
+}
+
+#[test]
+fn a_tet_hanging_by_one_face_and_pushed_through_it_is_mended() {
+    // A tet whose particle keeps only the bond across one face (a compressed bond
+    // does not break), and has been pushed through that face: its three face vertices follow the block, its own vertex
+    // its particle, on the wrong side. The untangling puts it right.
+    let lambda = 0.02;
+    let (disc, mut bonds) = block([0.1, 0.1, 0.1], lambda);
+    let x = disc.position.clone();
+    let q = central(&x);
+    let built = EmbeddedMesh::build(&disc, &bonds, &names()).unwrap();
+    let f = 0;
+    let r = built.adjacent[q][f] as usize;
+    let face = TET_FACES[f].map(|i| built.reference[built.tets[q][i] as usize]);
+    detach(&mut bonds, q, &[r]);
+    let mut mesh = built;
+    mesh.update(&bonds);
+    // The particle goes through the face to 1.5 times its tet's height beyond it.
+    let mut y = x.clone();
+    let mirror = reflect(x[q], face);
+    y[q] = [0, 1, 2].map(|a| x[q][a] + 3.0 * (mirror[a] - x[q][a]));
+    let mass: Vec<f64> = disc.volume.iter().map(|v| 2200.0 * v).collect();
+    let gradient = deformation_gradients(&bonds, &x, &y, &disc.volume);
+    // Eq. 20–21's average alone leaves the tet inside out.
+    let mut plain = vec![[0.0; 3]; mesh.vertex_count()];
+    let mut weight = vec![0.0; mesh.vertex_count()];
+    for (p, t) in mesh.tets.iter().enumerate() {
+        for &v in t {
+            let d = sub(mesh.reference[v as usize], x[p]);
+            let pred = [0, 1, 2].map(|a| y[p][a] + dot(gradient[p][a], d));
+            for a in 0..3 {
+                plain[v as usize][a] += mass[p] * pred[a];
+            }
+            weight[v as usize] += mass[p];
+        }
+    }
+    for (p, w) in plain.iter_mut().zip(&weight) {
+        *p = p.map(|c| c / w);
+    }
+    let [a, b, c, d] = mesh.tets[q].map(|v| plain[v as usize]);
+    assert!(
+        signed_volume(a, b, c, d) < 0.0,
+        "the plain average inverts tet {q}"
+    );
+    let positions = mesh.positions(&x, &y, &mass, &gradient);
+    let (smallest, longest) = worst_tet(&mesh, &positions);
+    println!(
+        "hanging tet: smallest tet {smallest:.3} of its rest volume, longest edge {:.2}λ",
+        longest / lambda
+    );
+    assert!(smallest >= MIN_VOLUME_FRACTION * (1.0 - 1e-9), "{smallest}");
+    assert!(longest < 3.0 * lambda, "{}λ", longest / lambda);
+}

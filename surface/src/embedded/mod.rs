@@ -395,11 +395,19 @@ pub fn surface(frame: &TetFrame, passes: usize) -> EmbeddedSurface {
             let n = area_vector(&points, *f);
             for &v in f {
                 let s = slot[v as usize];
-                if s != u32::MAX && constraint[v as usize] == Some(Constraint::Free) {
+                if s != u32::MAX {
                     for a in 0..3 {
                         normal[s as usize][a] += n[a] / 6.0;
                     }
                 }
+            }
+        }
+        // Rim vertices move along their normal's part within their plane or line:
+        // moving a vertex by h along unit d changes the volume by (n · d) h = |d| h
+        // for d the projection of n.
+        for (n, &v) in normal.iter_mut().zip(&movable) {
+            if let Some(c) = constraint[v as usize] {
+                *n = c.project(*n);
             }
         }
         // dV/dh of fragment k = Σ over its vertices of |area vector|/3 along n̂.
@@ -452,7 +460,10 @@ pub fn surface(frame: &TetFrame, passes: usize) -> EmbeddedSurface {
 
 /// Applies `moves` to the movable vertices, halving (up to four times, then
 /// dropping) the moves of the vertices of any guarded tet that would keep less than
-/// [`MIN_VOLUME_FRACTION`] of its rest volume; returns how many moves were cut.
+/// [`MIN_VOLUME_FRACTION`] of its rest volume, until no tet does; returns how many
+/// moves were cut. Dropping moves can leave a tet whose other vertices still move
+/// below the bound, so the drops repeat until none is (each round drops at least
+/// one move, and with every move dropped the tets are where they started).
 fn guarded_move(
     points: &mut [[f64; 3]],
     movable: &[u32],
@@ -464,7 +475,7 @@ fn guarded_move(
 ) -> usize {
     let start: Vec<[f64; 3]> = movable.iter().map(|&v| points[v as usize]).collect();
     let mut cut = 0;
-    for attempt in 0..=4 {
+    for attempt in 0.. {
         for (i, &v) in movable.iter().enumerate() {
             points[v as usize] = [0, 1, 2].map(|a| start[i][a] + moves[i][a]);
         }
@@ -474,9 +485,7 @@ fn guarded_move(
             .filter(|&(&t, &r)| tet_volume(points, frame.tets[t]) < MIN_VOLUME_FRACTION * r)
             .map(|(&t, _)| t)
             .collect();
-        if bad.is_empty() {
-            return cut;
-        }
+        let before = cut;
         for t in bad {
             for &v in &frame.tets[t] {
                 let s = slot[v as usize];
@@ -493,9 +502,9 @@ fn guarded_move(
                 }
             }
         }
-    }
-    for (i, &v) in movable.iter().enumerate() {
-        points[v as usize] = [0, 1, 2].map(|a| start[i][a] + moves[i][a]);
+        if cut == before {
+            break;
+        }
     }
     cut
 }
