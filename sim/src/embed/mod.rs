@@ -602,11 +602,16 @@ impl EmbeddedMesh {
             }
         }
         let label = sets.labels_of(nv..nv + n);
-        let mut wanted: Vec<u32> = bad.iter().map(|&p| label[p]).collect();
-        wanted.sort_unstable();
-        wanted.dedup();
-        for k in wanted {
-            let members: Vec<usize> = (0..n).filter(|&p| label[p] == k).collect();
+        // The tets of each fragment holding a bad tet, gathered in one pass (in tet
+        // order, fragments in label order: deterministic).
+        let mut fragments: std::collections::BTreeMap<u32, Vec<usize>> =
+            bad.iter().map(|&p| (label[p], Vec::new())).collect();
+        for (p, k) in label.iter().enumerate() {
+            if let Some(members) = fragments.get_mut(k) {
+                members.push(p);
+            }
+        }
+        for members in fragments.into_values() {
             if members.len() > SMALL_FRAGMENT {
                 continue;
             }
