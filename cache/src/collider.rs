@@ -18,6 +18,7 @@ use std::path::Path;
 use crate::error::{CacheError, Result};
 use crate::layout::Layout;
 use crate::manifest::{FileRecord, Manifest};
+use crate::ply::split_header;
 use crate::scene::{ColliderSpec, Scene};
 
 /// A mesh collider's triangles in its own frame.
@@ -69,18 +70,8 @@ impl ColliderMesh {
     /// properties, faces that are not triangles, indices past the vertices,
     /// non-finite positions, a truncated or overlong body).
     pub fn from_bytes(bytes: &[u8]) -> std::result::Result<ColliderMesh, String> {
-        let end = b"end_header\n";
-        let header_len = bytes
-            .windows(end.len())
-            .position(|w| w == end)
-            .ok_or("not a PLY file: no end_header line")?
-            + end.len();
-        let header =
-            std::str::from_utf8(&bytes[..header_len]).map_err(|_| "PLY header is not text")?;
-        let mut lines = header.lines();
-        if lines.next() != Some("ply") {
-            return Err("not a PLY file: the first line is not 'ply'".into());
-        }
+        let (header, header_len) = split_header(bytes)?;
+        let lines = header.lines().skip(1);
         let mut pivot = None;
         let mut counts: Vec<(&str, usize)> = Vec::new();
         let mut properties: Vec<String> = Vec::new();

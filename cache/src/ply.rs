@@ -82,18 +82,8 @@ impl FloatPly {
 
     /// Decodes a binary little-endian PLY with float vertex properties.
     pub fn from_bytes(bytes: &[u8]) -> std::result::Result<FloatPly, String> {
-        let end = b"end_header\n";
-        let header_len = bytes
-            .windows(end.len())
-            .position(|w| w == end)
-            .ok_or("not a PLY file: no end_header line")?
-            + end.len();
-        let header =
-            std::str::from_utf8(&bytes[..header_len]).map_err(|_| "PLY header is not text")?;
-        let mut lines = header.lines();
-        if lines.next() != Some("ply") {
-            return Err("not a PLY file: the first line is not 'ply'".into());
-        }
+        let (header, header_len) = split_header(bytes)?;
+        let lines = header.lines().skip(1);
         let mut count = None;
         let mut names: Vec<String> = Vec::new();
         let mut comments = Vec::new();
@@ -173,6 +163,22 @@ pub struct ParticleFrame {
     /// Further float columns a model adds (name, one value a particle), written after
     /// the standard ones in this order.
     pub extra: Vec<(String, Vec<f32>)>,
+}
+
+/// The text header of a binary PLY (its first line checked to be `ply`) and the
+/// offset of the body after it.
+pub(crate) fn split_header(bytes: &[u8]) -> std::result::Result<(&str, usize), String> {
+    let end = b"end_header\n";
+    let header_len = bytes
+        .windows(end.len())
+        .position(|w| w == end)
+        .ok_or("not a PLY file: no end_header line")?
+        + end.len();
+    let header = std::str::from_utf8(&bytes[..header_len]).map_err(|_| "PLY header is not text")?;
+    if header.lines().next() != Some("ply") {
+        return Err("not a PLY file: the first line is not 'ply'".into());
+    }
+    Ok((header, header_len))
 }
 
 fn zip3([a, b, c]: [Vec<f32>; 3]) -> Vec<[f32; 3]> {
