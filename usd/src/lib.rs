@@ -795,81 +795,39 @@ fn colliders(
                 let Some(collider) = meshes.iter().find(|m| m.index == i) else {
                     return Err(format!("mesh collider {i} has no colliders/mesh_{i}.ply"));
                 };
-                collider_mesh(
+                let triangles = &collider.mesh.triangles;
+                polygon_mesh(
                     stage,
                     &xform,
                     &collider.mesh.positions,
-                    &collider.mesh.triangles,
+                    vec![3; triangles.len()],
+                    triangles.iter().flatten().map(|&v| v as i32).collect(),
                 )?;
             }
             ColliderSpec::Ground { .. } => {
                 // A square 20 m on a side at the plane's height (the plane is infinite).
                 let h = 10.0f32;
                 let corners = [[-h, 0.0, -h], [-h, 0.0, h], [h, 0.0, h], [h, 0.0, -h]];
-                let shape = stage.def(&xform, "shape", "Mesh")?;
-                stage.attribute(
-                    &shape,
-                    "points",
-                    "point3f[]",
-                    false,
-                    vec3f(&corners),
-                    vec![],
-                )?;
-                stage.attribute(
-                    &shape,
-                    "faceVertexCounts",
-                    "int[]",
-                    false,
-                    Value::IntVec(vec![4]),
-                    vec![],
-                )?;
-                stage.attribute(
-                    &shape,
-                    "faceVertexIndices",
-                    "int[]",
-                    false,
-                    Value::IntVec(vec![0, 1, 2, 3]),
-                    vec![],
-                )?;
-                stage.attribute(
-                    &shape,
-                    "extent",
-                    "float3[]",
-                    false,
-                    extent(&corners, 0.0),
-                    vec![],
-                )?;
-                stage.attribute(
-                    &shape,
-                    "subdivisionScheme",
-                    "token",
-                    true,
-                    Value::token("none"),
-                    vec![],
-                )?;
+                polygon_mesh(stage, &xform, &corners, vec![4], vec![0, 1, 2, 3])?;
             }
         }
     }
     Ok(scene.colliders.len())
 }
 
-/// The `Mesh` child `shape` of a mesh collider's `Xform`: its triangles in the
-/// collider's frame (the `Xform` poses them).
-fn collider_mesh(
+/// The `Mesh` child `shape` of a collider's `Xform`: polygons of `counts` corners
+/// (`indices` into `positions`) in the collider's frame (the `Xform` poses them).
+fn polygon_mesh(
     stage: &mut Layer,
     xform: &str,
     positions: &[[f32; 3]],
-    triangles: &[[u32; 3]],
+    counts: Vec<i32>,
+    indices: Vec<i32>,
 ) -> Result<(), String> {
     let shape = stage.def(xform, "shape", "Mesh")?;
-    let indices: Vec<i32> = triangles.iter().flatten().map(|&v| v as i32).collect();
     let values = [
         ("points", "point3f[]", vec3f(positions)),
-        (
-            "faceVertexCounts",
-            "int[]",
-            Value::IntVec(vec![3; triangles.len()]),
-        ),
+        ("faceVertexCounts", "int[]", Value::IntVec(counts)),
         ("faceVertexIndices", "int[]", Value::IntVec(indices)),
         ("extent", "float3[]", extent(positions, 0.0)),
     ];
