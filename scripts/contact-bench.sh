@@ -20,17 +20,10 @@ for name in demo demo-deformable-ball; do
       "$here/assets/scenes/$name.toml" > "$out/$name.toml"
   "$bin" run "$out/$name.toml" -o "$out/$name" --quiet
 done
-python3 - "$out" <<'PY'
-import json, struct, sys, os
+PYTHONPATH="$here/scripts" python3 - "$out" <<'PY'
+import json, sys, os
 out = sys.argv[1]
-def ply(path):
-    data = open(path, 'rb').read()
-    end = data.index(b'end_header\n') + 11
-    head = data[:end].decode().splitlines()
-    n = int(next(l for l in head if l.startswith('element vertex')).split()[2])
-    names = [l.split()[2] for l in head if l.startswith('property')]
-    rows = struct.iter_unpack('<' + 'f' * len(names), data[end:end + 4 * len(names) * n])
-    return [dict(zip(names, r)) for r in rows]
+from cache_ply import particles as ply
 for name in ['demo', 'demo-deformable-ball']:
     d = os.path.join(out, name)
     m = json.load(open(os.path.join(d, 'manifest.json')))

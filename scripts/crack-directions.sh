@@ -33,23 +33,16 @@ if [ -n "$lattice" ]; then
   sed -i "s/^horizon = 1.45 .*/horizon = 1.45\nlattice = \"$lattice\"/" "$out/plate.toml"
 fi
 "$bin" run "$out/plate.toml" -o "$out/plate" --quiet --force
-python3 - "$out/plate" <<'PY'
-import math, os, struct, sys
+PYTHONPATH="$here/scripts" python3 - "$out/plate" <<'PY'
+import math, os, sys
 d = sys.argv[1]
 lam, centre = 0.016, (0.0, 0.2)
-def ply(path):
-    data = open(path, 'rb').read()
-    end = data.index(b'end_header\n') + 11
-    head = data[:end].decode().splitlines()
-    n = int(next(l for l in head if l.startswith('element vertex')).split()[2])
-    names = [l.split()[2] for l in head if l.startswith('property')]
-    rows = struct.iter_unpack('<' + 'f' * len(names), data[end:end + 4 * len(names) * n])
-    return [dict(zip(names, r)) for r in rows]
-last = sorted(os.listdir(os.path.join(d, 'particles')))[-1]
+from cache_ply import particles as ply
+frames = sorted(os.listdir(os.path.join(d, 'particles')))
 # Positions in the plate's plane at the last frame would carry the fragments' flight;
-# the directions are read where the cracks formed, at the rest positions of frame 1.
-first = ply(os.path.join(d, 'particles', sorted(os.listdir(os.path.join(d, 'particles')))[0]))
-end = ply(os.path.join(d, 'particles', last))
+# the directions are read where the cracks formed, at the positions of frame 1.
+first = ply(os.path.join(d, 'particles', frames[0]))
+end = ply(os.path.join(d, 'particles', frames[-1]))
 damaged = [(p['x'], p['y']) for p, q in zip(first, end) if q['damage'] >= 0.35]
 cell = 2.5 * lam
 grid = {}

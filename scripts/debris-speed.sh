@@ -20,17 +20,10 @@ if [ -n "$lattice" ]; then
   sed -i "s/^horizon = 1.45 .*/horizon = 1.45\nlattice = \"$lattice\"/" "$out/demo.toml"
 fi
 "$bin" run "$out/demo.toml" -o "$out/demo" --quiet --force
-python3 - "$out/demo" <<'PY'
-import os, struct, sys
+PYTHONPATH="$here/scripts" python3 - "$out/demo" <<'PY'
+import os, sys
 d = sys.argv[1]
-def ply(path):
-    data = open(path, 'rb').read()
-    end = data.index(b'end_header\n') + 11
-    head = data[:end].decode().splitlines()
-    n = int(next(l for l in head if l.startswith('element vertex')).split()[2])
-    names = [l.split()[2] for l in head if l.startswith('property')]
-    rows = struct.iter_unpack('<' + 'f' * len(names), data[end:end + 4 * len(names) * n])
-    return [dict(zip(names, r)) for r in rows]
+from cache_ply import particles as ply
 for f in sorted(os.listdir(os.path.join(d, 'particles'))):
     p = ply(os.path.join(d, 'particles', f))
     size = {}
