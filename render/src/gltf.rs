@@ -160,6 +160,29 @@ fn push_view(
     })
 }
 
+/// Appends `points` as a vertex buffer of f32 triples and adds its accessor, with
+/// the bounds glTF requires of positions (and morph-target positions).
+fn push_points(
+    root: &mut json::Root,
+    bin: &mut Vec<u8>,
+    points: &[[f32; 3]],
+) -> json::Index<json::Accessor> {
+    use json::accessor::{ComponentType, Type};
+    let view = push_view(
+        root,
+        bin,
+        vec3_bytes(points),
+        json::buffer::Target::ArrayBuffer,
+    );
+    root.push(accessor(
+        view,
+        points.len(),
+        ComponentType::F32,
+        Type::Vec3,
+        Some(bounds(points)),
+    ))
+}
+
 fn accessor(
     view: json::Index<json::buffer::View>,
     count: usize,
@@ -268,14 +291,7 @@ fn push_crack_surface(
     use json::mesh::Semantic;
 
     let count = s.positions.len();
-    let view = push_view(root, bin, vec3_bytes(&s.positions), Target::ArrayBuffer);
-    let positions = root.push(accessor(
-        view,
-        count,
-        ComponentType::F32,
-        Type::Vec3,
-        Some(bounds(&s.positions)),
-    ));
+    let positions = push_points(root, bin, &s.positions);
     let view = push_view(root, bin, vec3_bytes(&s.normals), Target::ArrayBuffer);
     let normals = root.push(accessor(view, count, ComponentType::F32, Type::Vec3, None));
     let colours = options.damage_colour.then(|| {
@@ -298,19 +314,10 @@ fn push_crack_surface(
     ));
     let morph: Vec<json::mesh::MorphTarget> = targets
         .iter()
-        .map(|delta| {
-            let view = push_view(root, bin, vec3_bytes(delta), Target::ArrayBuffer);
-            json::mesh::MorphTarget {
-                positions: Some(root.push(accessor(
-                    view,
-                    count,
-                    ComponentType::F32,
-                    Type::Vec3,
-                    Some(bounds(delta)),
-                ))),
-                normals: None,
-                tangents: None,
-            }
+        .map(|delta| json::mesh::MorphTarget {
+            positions: Some(push_points(root, bin, delta)),
+            normals: None,
+            tangents: None,
         })
         .collect();
     let surface_material = root.push(material("surface", [0.8, 0.8, 0.78, 1.0], 0.5));
@@ -584,14 +591,7 @@ fn push_collider(
     {
         return Err(invalid(format!("collider '{name}' has a non-finite pose")));
     }
-    let view = push_view(root, bin, vec3_bytes(&mesh.positions), Target::ArrayBuffer);
-    let positions = root.push(accessor(
-        view,
-        count,
-        ComponentType::F32,
-        Type::Vec3,
-        Some(bounds(&mesh.positions)),
-    ));
+    let positions = push_points(root, bin, &mesh.positions);
     let view = push_view(
         root,
         bin,
