@@ -5,7 +5,7 @@
 # 8 particles a cell, quadratic B-splines, APIC, fixed corotated elasticity, the same
 # stable step; Taichi on its CPU backend in f32 with one dense grid
 # (scripts/taichi_mpm3d.py), perifrac in f64 on its sparse grid (the ignored test
-# `throughput` in sim/tests/mpm.rs). The runs are interleaved (perifrac, Taichi,
+# `throughput` in sim/tests/mpm.rs, built with the release profile like the binary). The runs are interleaved (perifrac, Taichi,
 # perifrac, …) so that the load of a shared machine falls on both alike; the script
 # prints every run and the ratio perifrac/Taichi as median and range.
 #
@@ -24,11 +24,11 @@ if [ ! -x "$VENV/bin/python" ] || ! "$VENV/bin/python" -c "import taichi" 2>/dev
     "$VENV/bin/pip" install --quiet taichi
 fi
 export MPM_BENCH_RESOLUTION="$DX" MPM_BENCH_STEPS="$STEPS" RAYON_NUM_THREADS="$THREADS"
-cargo test -q -p perifrac-sim --test mpm --no-run 2>/dev/null
+cargo test -q --release -p perifrac-sim --test mpm --no-run 2>/dev/null
 OUT=$(mktemp)
 i=0
 while [ "$i" -lt "$REPEATS" ]; do
-    cargo test -q -p perifrac-sim --test mpm throughput -- --ignored --nocapture --test-threads 1 \
+    cargo test -q --release -p perifrac-sim --test mpm throughput -- --ignored --nocapture --test-threads 1 \
         | grep "particle-steps/s" | sed 's/^/perifrac /' | tee -a "$OUT"
     "$VENV/bin/python" scripts/taichi_mpm3d.py "$DX" "$STEPS" "$THREADS" 2>/dev/null \
         | grep "particle-steps/s" | tee -a "$OUT"

@@ -160,6 +160,10 @@ pub struct SparseGrid {
     previous: Vec<[f64; 3]>,
     /// With anchors only: each node's held mass and momentum (empty otherwise).
     held: Vec<[f64; 4]>,
+    /// Bin neighbourhoods of node velocities, [`SPAN_NODES`] each, for G2P.
+    span_velocity: Vec<[f64; 3]>,
+    /// PIC/FLIP only: the same of v̄_i (empty under APIC).
+    span_previous: Vec<[f64; 3]>,
 }
 
 /// A node is held by the anchors when at least this share of its mass comes from
@@ -194,7 +198,8 @@ impl SparseGrid {
             + self.bin_of.len() * size_of::<u32>()
             + self.blocks.len() * (size_of::<u64>() + size_of::<(u64, u32)>())
             + (self.scatter.len() + self.nodes.len()) * size_of::<[f64; 4]>()
-            + self.previous.len() * size_of::<[f64; 3]>()
+            + (self.previous.len() + self.span_velocity.len() + self.span_previous.len())
+                * size_of::<[f64; 3]>()
             + self.held.len() * size_of::<[f64; 4]>()
     }
 
@@ -304,22 +309,28 @@ impl SparseGrid {
                     let p = p as usize;
                     let s = Stencil::new(position[p], inv_dx);
                     let local = [0, 1, 2].map(|a| (s.base[a] - origin[a]) as usize);
-                    let (m, v, c) = (mass[p], velocity[p], &affine[p]);
+                    let (m, c) = (mass[p], &affine[p]);
+                    // The momentum a node receives, m v + A (x_i − x_p) with
+                    // x_i − x_p = ((i, j, k) − fx) Δx, is q + Δx (i A₀ + j A₁ + k A₂)
+                    // with q = m v − Δx A fx and A_e the columns of A: sums of
+                    // per-axis terms hoisted out of the loops.
+                    let q = [0, 1, 2].map(|a| {
+                        m * velocity[p][a]
+                            - dx * (c[a][0] * s.fx[0] + c[a][1] * s.fx[1] + c[a][2] * s.fx[2])
+                    });
+                    let column = |e: usize, n: usize| [0, 1, 2].map(|a| dx * n as f64 * c[a][e]);
                     for k in 0..3 {
+                        let (wk, ck) = (s.w[2][k], column(2, k));
                         for j in 0..3 {
+                            let (wjk, cj) = (s.w[1][j] * wk, column(1, j));
+                            let row = cube_index(local[0], local[1] + j, local[2] + k, SPAN);
                             for i in 0..3 {
-                                let w = s.w[0][i] * s.w[1][j] * s.w[2][k];
-                                let d = [
-                                    (i as f64 - s.fx[0]) * dx,
-                                    (j as f64 - s.fx[1]) * dx,
-                                    (k as f64 - s.fx[2]) * dx,
-                                ];
-                                let node = &mut buffer
-                                    [cube_index(local[0] + i, local[1] + j, local[2] + k, SPAN)];
+                                let w = s.w[0][i] * wjk;
+                                let ci = column(0, i);
+                                let node = &mut buffer[row + i];
                                 node[0] += w * m;
                                 for a in 0..3 {
-                                    let cd = c[a][0] * d[0] + c[a][1] * d[1] + c[a][2] * d[2];
-                                    node[1 + a] += w * (m * v[a] + cd);
+                                    node[1 + a] += w * (q[a] + ck[a] + cj[a] + ci[a]);
                                 }
                             }
                         }
@@ -416,13 +427,55 @@ impl SparseGrid {
             });
     }
 
+    /// Copies each bin's ([`SPAN`])³ neighbourhood of node velocities (and, with
+    /// `previous`, the velocities before forces) out of the blocks, so that G2P reads
+    /// a particle's 27 nodes at fixed strides: the reverse of [`SparseGrid::gather`].
+    fn spread(&mut self, previous: bool) {
+        let nodes = &self.nodes;
+        let fill = |span: &mut Vec<[f64; 3]>, value: &(dyn Fn(usize) -> [f64; 3] + Sync)| {
+            span.clear();
+            span.resize(self.bins.len() * SPAN_NODES, [0.0; 3]);
+            span.par_chunks_mut(SPAN_NODES)
+                .zip(self.bins.par_iter())
+                .for_each(|(buffer, bin)| {
+                    for k in 0..SPAN {
+                        for j in 0..SPAN {
+                            for i in 0..SPAN {
+                                let o = (i >> BLOCK_SHIFT)
+                                    + 2 * (j >> BLOCK_SHIFT)
+                                    + 4 * (k >> BLOCK_SHIFT);
+                                let index = bin.neighbours[o] as usize * BLOCK_NODES
+                                    + cube_index(
+                                        i & (BLOCK - 1),
+                                        j & (BLOCK - 1),
+                                        k & (BLOCK - 1),
+                                        BLOCK,
+                                    );
+                                buffer[cube_index(i, j, k, SPAN)] = value(index);
+                            }
+                        }
+                    }
+                });
+        };
+        fill(&mut self.span_velocity, &|i| {
+            let n = nodes[i];
+            [n[1], n[2], n[3]]
+        });
+        if previous {
+            let before = &self.previous;
+            fill(&mut self.span_previous, &|i| before[i]);
+        } else {
+            self.span_previous.clear();
+        }
+    }
+
     /// Grid to particle (APIC; Hu et al. 2018 Eq. 12–13): v_p = Σ_i w_ip v_i,
     /// C_p = D⁻¹ Σ_i w_ip v_i (x_i − x_p)ᵀ, x_p ← x_p + Δt v_p, F_p ← (I + Δt C_p) F_p.
     /// With `flip` = Some(α) (after [`SparseGrid::keep_velocity`]) the particle velocity
     /// is the PIC/FLIP blend α (v_p + Σ_i w_ip (v_i − v̄_i)) + (1 − α) Σ_i w_ip v_i and
     /// x_p moves with the PIC velocity.
     pub fn g2p(
-        &self,
+        &mut self,
         dt: f64,
         flip: Option<f64>,
         position: &mut [[f64; 3]],
@@ -430,9 +483,12 @@ impl SparseGrid {
         affine: &mut [Mat3],
         deformation: &mut [Mat3],
     ) {
+        self.spread(flip.is_some());
         let inv_dx = 1.0 / self.dx;
         let dx = self.dx;
         let d_inv = D_INVERSE_FACTOR * inv_dx * inv_dx;
+        let (bins, bin_of) = (&self.bins, &self.bin_of);
+        let (span_velocity, span_previous) = (&self.span_velocity, &self.span_previous);
         position
             .par_iter_mut()
             .zip(velocity.par_iter_mut())
@@ -442,61 +498,54 @@ impl SparseGrid {
             .with_min_len(256)
             .for_each(|(p, (((x, v), c), f))| {
                 let s = Stencil::new(*x, inv_dx);
-                let bin = &self.bins[self.bin_of[p] as usize];
-                let origin = key_block(bin.key).map(|b| b << BLOCK_SHIFT);
+                let b = bin_of[p] as usize;
+                let origin = key_block(bins[b].key).map(|c| c << BLOCK_SHIFT);
                 let local = [0, 1, 2].map(|a| (s.base[a] - origin[a]) as usize);
-                let mut new_v = [0.0; 3];
-                let mut increment = [0.0; 3];
-                let mut b = [[0.0; 3]; 3];
+                let first = b * SPAN_NODES;
+                // Σ w v_i and its moments Σ w v_i n_e along each axis (n_e the node's
+                // offset 0, 1, 2 in the stencil): Σ w v_i (x_i − x_p)_e =
+                // Δx (Σ w v_i n_e − fx_e Σ w v_i).
+                let mut sum = [0.0; 3];
+                let mut moment = [[0.0; 3]; 3];
+                let mut before = [0.0; 3];
                 for k in 0..3 {
+                    let wk = s.w[2][k];
                     for j in 0..3 {
-                        for i in 0..3 {
-                            let l = [local[0] + i, local[1] + j, local[2] + k];
-                            let o = l.map(|c| c >> BLOCK_SHIFT);
-                            let slot = bin.neighbours[o[0] + 2 * o[1] + 4 * o[2]] as usize;
-                            let index = slot * BLOCK_NODES
-                                + cube_index(
-                                    l[0] & (BLOCK - 1),
-                                    l[1] & (BLOCK - 1),
-                                    l[2] & (BLOCK - 1),
-                                    BLOCK,
-                                );
-                            let node = &self.nodes[index];
-                            let w = s.w[0][i] * s.w[1][j] * s.w[2][k];
-                            let d = [
-                                (i as f64 - s.fx[0]) * dx,
-                                (j as f64 - s.fx[1]) * dx,
-                                (k as f64 - s.fx[2]) * dx,
-                            ];
-                            if flip.is_some() {
-                                let before = self.previous[index];
+                        let wjk = s.w[1][j] * wk;
+                        let row = first + cube_index(local[0], local[1] + j, local[2] + k, SPAN);
+                        let mut line = [[0.0; 3]; 3];
+                        for (i, wv) in line.iter_mut().enumerate() {
+                            let w = s.w[0][i] * wjk;
+                            let node = span_velocity[row + i];
+                            *wv = node.map(|x| w * x);
+                            if let Some(old) = span_previous.get(row + i) {
                                 for a in 0..3 {
-                                    increment[a] += w * (node[1 + a] - before[a]);
-                                }
-                            }
-                            for a in 0..3 {
-                                let wv = w * node[1 + a];
-                                new_v[a] += wv;
-                                for e in 0..3 {
-                                    b[a][e] += wv * d[e];
+                                    before[a] += w * old[a];
                                 }
                             }
                         }
+                        for a in 0..3 {
+                            let total = line[0][a] + line[1][a] + line[2][a];
+                            sum[a] += total;
+                            moment[a][0] += line[1][a] + 2.0 * line[2][a];
+                            moment[a][1] += j as f64 * total;
+                            moment[a][2] += k as f64 * total;
+                        }
                     }
                 }
-                let new_c = b.map(|row| row.map(|x| d_inv * x));
+                let new_c: Mat3 = [0, 1, 2]
+                    .map(|a| [0, 1, 2].map(|e| d_inv * dx * (moment[a][e] - s.fx[e] * sum[a])));
                 let grown = [0, 1, 2].map(|a| {
                     [0, 1, 2]
                         .map(|e| f[a][e] + dt * (0..3).map(|k| new_c[a][k] * f[k][e]).sum::<f64>())
                 });
                 for a in 0..3 {
-                    x[a] += dt * new_v[a];
+                    x[a] += dt * sum[a];
                 }
                 *v = match flip {
-                    Some(alpha) => {
-                        [0, 1, 2].map(|a| alpha * (v[a] + increment[a]) + (1.0 - alpha) * new_v[a])
-                    }
-                    None => new_v,
+                    Some(alpha) => [0, 1, 2]
+                        .map(|a| alpha * (v[a] + sum[a] - before[a]) + (1.0 - alpha) * sum[a]),
+                    None => sum,
                 };
                 *c = new_c;
                 *f = grown;

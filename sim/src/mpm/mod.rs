@@ -44,7 +44,7 @@ use crate::error::{Result, SimError};
 use crate::model::{Environment, Model, ParticleColumns, Points, PointsMut, Stepping};
 use crate::scene::Scene;
 use crate::scene::{MpmElasticity, MpmPlasticity, MpmTransfer};
-use constitutive::{Elastic, IDENTITY, Mat3, mul_transpose};
+use constitutive::{Elastic, IDENTITY, Mat3};
 use grid::{Boundary, D_INVERSE_FACTOR, SparseGrid};
 use plasticity::{FlowInput, Plasticity};
 
@@ -128,7 +128,7 @@ impl MpmMaterial {
     /// The Kirchhoff stress τ = P Fᵀ = J σ of a particle with deformation gradient `f`
     /// and internal energy density change `energy` (shock model only).
     pub fn kirchhoff(&self, f: &Mat3, energy: f64) -> Mat3 {
-        let tau = mul_transpose(&self.elastic.first_piola(f), f);
+        let tau = self.elastic.kirchhoff(f);
         let Some(eos) = &self.eos else {
             return tau;
         };

@@ -1,6 +1,8 @@
 use std::path::Path;
 
-use super::constitutive::{Elastic, Mat3, determinant, mul, polar_rotation, rotation_svd};
+use super::constitutive::{
+    Elastic, Mat3, determinant, mul, mul_transpose, polar_rotation, rotation_svd,
+};
 use super::plasticity::{FlowInput, Plasticity};
 use super::*;
 use crate::run::{Prepared, prepare};
@@ -72,6 +74,103 @@ fn fixed_corotated_stress_vanishes_under_rotation_and_is_safe_when_inverted() {
     let p = e.first_piola(&f);
     let expected = 2.0 * e.mu * (st - 1.0) + e.lambda * (st - 1.0);
     assert!((p[0][0] - expected).abs() < 1e-6 * expected, "{}", p[0][0]);
+}
+
+/// [`polar_rotation`] returns the polar factor of F = RS: R a rotation and S = RᵀF
+/// symmetric, positive definite unless F is inverted (then the inversion-safe SVD's
+/// UVᵀ, whose S has the one negative eigenvalue). Random rotations times random stretches: near the identity, singular values
+/// 0.05–20 (condition numbers up to 400), and inverted. Higham's iteration is the more
+/// accurate of the two: S = RᵀF is symmetric to 1e-15 relative where nalgebra's SVD
+/// leaves up to 2e-8 when two singular values are close, so the SVD is only a coarse
+/// check here (1e-7).
+#[test]
+fn polar_rotation_is_the_polar_factor() {
+    let mut state = 7u64;
+    let mut uniform = move || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let transpose = |r: &Mat3| [0, 1, 2].map(|i| [0, 1, 2].map(|j| r[j][i]));
+    let (mut asymmetry, mut orthogonality, mut from_svd) = (0.0f64, 0.0f64, 0.0f64);
+    for case in 0..20_000 {
+        let mut angle = || 6.3 * uniform();
+        let (a, b, c, d, e, f) = (angle(), angle(), angle(), angle(), angle(), angle());
+        let u = nalgebra::Rotation3::from_euler_angles(a, b, c).into_inner();
+        let v = nalgebra::Rotation3::from_euler_angles(d, e, f).into_inner();
+        let inverted = case % 3 == 2;
+        let sigma = match case % 3 {
+            0 => [0, 1, 2].map(|_| 1.0 + 0.02 * (uniform() - 0.5)),
+            1 => [0, 1, 2].map(|_| 0.05 * 400f64.powf(uniform())),
+            _ => [1.0 + 0.3 * uniform(), 1.0, -(0.1 + uniform())],
+        };
+        let m =
+            u * nalgebra::Matrix3::from_diagonal(&nalgebra::Vector3::from(sigma)) * v.transpose();
+        let f: Mat3 = [0, 1, 2].map(|i| [0, 1, 2].map(|j| m[(i, j)]));
+        let scale = sigma.iter().fold(0.0f64, |x, s| x.max(s.abs()));
+        let r = polar_rotation(&f);
+        let rtr = mul(&transpose(&r), &r);
+        for i in 0..3 {
+            for j in 0..3 {
+                let identity = if i == j { 1.0 } else { 0.0 };
+                orthogonality = orthogonality.max((rtr[i][j] - identity).abs());
+            }
+        }
+        assert!((determinant(&r) - 1.0).abs() < 1e-13, "case {case}: det R");
+        let stretch = mul(&transpose(&r), &f);
+        if !inverted {
+            for (i, j) in [(0, 1), (0, 2), (1, 2)] {
+                asymmetry = asymmetry.max((stretch[i][j] - stretch[j][i]).abs() / scale);
+            }
+        }
+        let minors = [
+            stretch[0][0],
+            stretch[0][0] * stretch[1][1] - stretch[0][1] * stretch[1][0],
+            determinant(&stretch),
+        ];
+        assert_eq!(
+            minors.iter().all(|&x| x > 0.0),
+            !inverted,
+            "case {case}: S = RᵀF positive definite exactly when F is not inverted"
+        );
+        let svd = rotation_svd(&f);
+        let expected = mul_transpose(&svd.u, &svd.v);
+        for (row, row_expected) in r.iter().zip(&expected) {
+            for (x, y) in row.iter().zip(row_expected) {
+                from_svd = from_svd.max((x - y).abs());
+            }
+        }
+    }
+    assert!(orthogonality < 1e-14, "RᵀR − I up to {orthogonality:e}");
+    assert!(asymmetry < 1e-14, "RᵀF asymmetric by {asymmetry:e} of |F|");
+    assert!(
+        from_svd < 1e-7,
+        "R differs from the SVD's UVᵀ by {from_svd:e}"
+    );
+}
+
+/// The closed-form Kirchhoff stresses equal P Fᵀ of the first Piola–Kirchhoff ones.
+#[test]
+fn kirchhoff_stress_is_first_piola_times_f_transpose() {
+    let f: Mat3 = [[1.05, 0.02, -0.01], [-0.01, 0.97, 0.03], [0.02, 0.01, 1.02]];
+    for energy in [
+        MpmElasticity::FixedCorotated,
+        MpmElasticity::NeoHookean,
+        MpmElasticity::StableNeoHookean,
+    ] {
+        let e = Elastic::from_young(energy, 1e6, 0.3);
+        let expected = mul_transpose(&e.first_piola(&f), &f);
+        let tau = e.kirchhoff(&f);
+        for (row, row_expected) in tau.iter().zip(&expected) {
+            for (x, y) in row.iter().zip(row_expected) {
+                assert!(
+                    (x - y).abs() < 1e-9 * 1e6,
+                    "{energy:?}: {tau:?} vs {expected:?}"
+                );
+            }
+        }
+    }
 }
 
 #[test]
