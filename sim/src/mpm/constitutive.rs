@@ -111,7 +111,13 @@ fn newton_polar(f: &Mat3) -> Option<Mat3> {
         if !(det.is_finite() && det > 0.0) {
             return None;
         }
-        let gamma = det.cbrt().recip();
+        // Higham's scaling speeds up the first steps from a far-from-orthogonal F;
+        // near convergence (det X ≈ 1) it is 1 to round-off and skipped.
+        let gamma = if (det - 1.0).abs() < 1e-2 {
+            1.0
+        } else {
+            det.cbrt().recip()
+        };
         let (a, b) = (0.5 * gamma, 0.5 / (gamma * det));
         let mut change = 0.0;
         for (row, cof_row) in x.iter_mut().zip(&cof) {
@@ -131,8 +137,15 @@ fn newton_polar(f: &Mat3) -> Option<Mat3> {
 }
 
 /// A Bᵀ.
+#[inline]
 pub fn mul_transpose(a: &Mat3, b: &Mat3) -> Mat3 {
-    [0, 1, 2].map(|i| [0, 1, 2].map(|j| (0..3).map(|k| a[i][k] * b[j][k]).sum()))
+    let mut out = [[0.0; 3]; 3];
+    for (row, a_row) in out.iter_mut().zip(a) {
+        for (x, b_row) in row.iter_mut().zip(b) {
+            *x = a_row[0] * b_row[0] + a_row[1] * b_row[1] + a_row[2] * b_row[2];
+        }
+    }
+    out
 }
 
 /// A B.
@@ -232,8 +245,12 @@ impl Elastic {
         let j = determinant(f);
         let (left, scale, diagonal) = match self.energy {
             MpmElasticity::FixedCorotated => {
-                let r = polar_rotation(f);
-                let stretch = [0, 1, 2].map(|a| [0, 1, 2].map(|b| f[a][b] - r[a][b]));
+                let mut stretch = polar_rotation(f);
+                for (row, f_row) in stretch.iter_mut().zip(f) {
+                    for (x, fx) in row.iter_mut().zip(f_row) {
+                        *x = fx - *x;
+                    }
+                }
                 (stretch, 2.0 * self.mu, self.lambda * (j - 1.0) * j)
             }
             MpmElasticity::NeoHookean => (*f, self.mu, self.lambda * j.ln() - self.mu),

@@ -96,7 +96,13 @@ impl Stencil {
         let mut w = [[0.0; 3]; 3];
         for a in 0..3 {
             let cell = x[a] * inv_dx;
-            let b = ((cell - 0.5).floor() as i64).clamp(-NODE_LIMIT, NODE_LIMIT);
+            // ⌊cell − ½⌋ by truncation (a saturating cast; NaN gives 0) corrected for
+            // negative values: `floor` is a libm call on baseline x86-64.
+            let shifted = cell - 0.5;
+            let truncated = shifted as i64;
+            let b = truncated
+                .saturating_sub(i64::from((truncated as f64) > shifted))
+                .clamp(-NODE_LIMIT, NODE_LIMIT);
             let f = cell - b as f64;
             base[a] = b;
             fx[a] = f;
@@ -318,15 +324,23 @@ impl SparseGrid {
                         m * velocity[p][a]
                             - dx * (c[a][0] * s.fx[0] + c[a][1] * s.fx[1] + c[a][2] * s.fx[2])
                     });
-                    let column = |e: usize, n: usize| [0, 1, 2].map(|a| dx * n as f64 * c[a][e]);
+                    // column[e][n] = n Δx A_e, for the node offset n = 0, 1, 2 along e.
+                    let mut column = [[[0.0; 3]; 3]; 3];
+                    for (e, per_axis) in column.iter_mut().enumerate() {
+                        for (n, term) in per_axis.iter_mut().enumerate() {
+                            for (a, x) in term.iter_mut().enumerate() {
+                                *x = dx * n as f64 * c[a][e];
+                            }
+                        }
+                    }
                     for k in 0..3 {
-                        let (wk, ck) = (s.w[2][k], column(2, k));
+                        let (wk, ck) = (s.w[2][k], column[2][k]);
                         for j in 0..3 {
-                            let (wjk, cj) = (s.w[1][j] * wk, column(1, j));
+                            let (wjk, cj) = (s.w[1][j] * wk, column[1][j]);
                             let row = cube_index(local[0], local[1] + j, local[2] + k, SPAN);
                             for i in 0..3 {
                                 let w = s.w[0][i] * wjk;
-                                let ci = column(0, i);
+                                let ci = column[0][i];
                                 let node = &mut buffer[row + i];
                                 node[0] += w * m;
                                 for a in 0..3 {
@@ -533,12 +547,19 @@ impl SparseGrid {
                         }
                     }
                 }
-                let new_c: Mat3 = [0, 1, 2]
-                    .map(|a| [0, 1, 2].map(|e| d_inv * dx * (moment[a][e] - s.fx[e] * sum[a])));
-                let grown = [0, 1, 2].map(|a| {
-                    [0, 1, 2]
-                        .map(|e| f[a][e] + dt * (0..3).map(|k| new_c[a][k] * f[k][e]).sum::<f64>())
-                });
+                let mut new_c: Mat3 = [[0.0; 3]; 3];
+                for ((row, m_row), total) in new_c.iter_mut().zip(&moment).zip(&sum) {
+                    for ((x, m), fx) in row.iter_mut().zip(m_row).zip(&s.fx) {
+                        *x = d_inv * dx * (m - fx * total);
+                    }
+                }
+                // F ← (I + Δt C) F.
+                let mut grown = *f;
+                for (row, c_row) in grown.iter_mut().zip(&new_c) {
+                    for (e, x) in row.iter_mut().enumerate() {
+                        *x += dt * (c_row[0] * f[0][e] + c_row[1] * f[1][e] + c_row[2] * f[2][e]);
+                    }
+                }
                 for a in 0..3 {
                     x[a] += dt * sum[a];
                 }

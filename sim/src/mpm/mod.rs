@@ -404,8 +404,12 @@ impl Mpm {
                 *e += plasticity::internal_energy_increment(dt, &affine[i], &sigma);
             }
             let scale = dt * volume[i] * d_inv;
-            let (m, c) = (affine_share * mass[i], &affine[i]);
-            *a = [0, 1, 2].map(|r| [0, 1, 2].map(|s| m * c[r][s] - scale * tau[r][s]));
+            let m = affine_share * mass[i];
+            for ((row, c_row), tau_row) in a.iter_mut().zip(&affine[i]).zip(&tau) {
+                for ((x, c), t) in row.iter_mut().zip(c_row).zip(tau_row) {
+                    *x = m * c - scale * t;
+                }
+            }
         };
         if p.internal_energy.is_empty() {
             self.momentum_affine
