@@ -111,10 +111,10 @@ fn polar_rotation_is_the_polar_factor() {
         let scale = sigma.iter().fold(0.0f64, |x, s| x.max(s.abs()));
         let r = polar_rotation(&f);
         let rtr = mul(&transpose(&r), &r);
-        for i in 0..3 {
-            for j in 0..3 {
+        for (i, row) in rtr.iter().enumerate() {
+            for (j, x) in row.iter().enumerate() {
                 let identity = if i == j { 1.0 } else { 0.0 };
-                orthogonality = orthogonality.max((rtr[i][j] - identity).abs());
+                orthogonality = orthogonality.max((x - identity).abs());
             }
         }
         assert!((determinant(&r) - 1.0).abs() < 1e-13, "case {case}: det R");
