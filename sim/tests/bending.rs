@@ -719,30 +719,24 @@ fn free_free_table() {
     }
 }
 
-/// Issue 13's acceptance is 3% at 6 particles across; perifrac's held clamp does not
-/// reach it (docs/lattice.md, "Bending"): at L/h = 5 the tip sags +9.5% and f₁ is
-/// −4.3%, at L/h = 10 +6.0% and −2.8%. This guards those figures (soft, and no worse
-/// than 12% / 6%) until the clamp is fixed.
-#[test]
-fn a_cantilever_six_particles_across_against_the_fem_reference() {
-    for slender in [5.0, 10.0] {
-        let (tip, f1) = report(held(slender, 6.0), 1e-7);
-        assert!(tip > 0.0 && tip < 0.12, "L/h = {slender}: tip {tip:+.4}");
-        assert!(f1 < 0.0 && f1 > -0.06, "L/h = {slender}: f1 {f1:+.4}");
-    }
-}
-
 /// The clamp is most of the error: the same beam (L/h = 5, 6 across) with its clamp
 /// slab moved as a ghost layer that continues the free field smoothly through u = 0
 /// at x = 0 (the quadratic u(−s) = u(2s) − 3u(s)) is within 3.5% of the FEM reference
 /// (−3.0% tip, +1.7% f₁) where the held slab is +9.5% / −4.3%; the odd reflection
 /// u(−s) = −u(s) overshoots (−10.8%, +5.9%: it puts a shear strain into the ghost
 /// layer).
+///
+/// Issue 13's acceptance is 3% at 6 particles across; the held clamp does not reach it,
+/// so the held figures are guarded as they are (soft, no worse than 12% / 6%) until the
+/// clamp is fixed; L/h = 10 is in the ignored `bending_table`.
 #[test]
 fn the_clamp_is_most_of_the_cantilevers_error() {
     let beam = held(5.0, 6.0);
     let (tip, f1) = report(beam, 1e-7);
-    assert!(tip > 0.05 && f1 < -0.02, "held: {tip:+.4}, {f1:+.4}");
+    assert!(
+        tip > 0.05 && tip < 0.12 && f1 < -0.02 && f1 > -0.06,
+        "held: {tip:+.4}, {f1:+.4}"
+    );
     let quadratic = Beam {
         kind: Clamp::Quadratic,
         ..beam
@@ -755,8 +749,10 @@ fn the_clamp_is_most_of_the_cantilevers_error() {
 }
 
 /// The operator's f₁ is the frequency of a free vibration stepped by the world's
-/// integrator (L/h = 5, 4 across; measured +0.06% over 4 periods).
+/// integrator (L/h = 5, 4 across; measured +0.06% over 4 periods). A check of the
+/// measuring method (30 s), not of the model: run with `--ignored`.
 #[test]
+#[ignore = "30 s; the check of the operator method in docs/lattice.md"]
 fn the_operator_frequency_is_a_released_beams() {
     let beam = held(5.0, 4.0);
     let operator = measure(beam, 1e-7).f1;
