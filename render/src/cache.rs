@@ -319,7 +319,7 @@ impl Cache {
         if !ranges.temperature.0.is_finite() {
             ranges.temperature = (0.0, 1.0);
         }
-        if !(ranges.quantity[0] <= ranges.quantity[1]) {
+        if ranges.quantity[0] > ranges.quantity[1] {
             ranges.quantity = [0.0, 0.0];
         }
         Ok((bounds, ranges))

@@ -300,12 +300,12 @@ fn material(name: &str, colour: [f32; 4], roughness: f32) -> json::Material {
 /// ([`damage_colour`]) when [`Glb::damage_colour`] asks for it, else the quantity θ
 /// on the map [`quantity_color`] over the mesh's `quantity_range` when it carries
 /// one.
-fn vertex_colours(s: &SurfaceMesh, quantity: &[f32], options: &Glb) -> Option<Vec<[f32; 3]>> {
+fn vertex_colours(s: &SurfaceMesh, options: &Glb) -> Option<Vec<[f32; 3]>> {
     if options.damage_colour {
         Some(s.damage.iter().map(|&d| damage_colour(d)).collect())
     } else if !s.quantity.is_empty() {
         Some(
-            quantity
+            s.quantity
                 .iter()
                 .map(|&q| quantity_color(q, s.quantity_range))
                 .collect(),
@@ -386,7 +386,7 @@ fn push_crack_surface(
 
     let positions = push_points(root, bin, &s.positions);
     let normals = push_vectors(root, bin, &s.normals);
-    let colours = vertex_colours(s, &s.quantity, options).map(|c| push_vectors(root, bin, &c));
+    let colours = vertex_colours(s, options).map(|c| push_vectors(root, bin, &c));
     let damage = push_scalars(root, bin, &s.damage);
     let quantity = (!s.quantity.is_empty()).then(|| push_scalars(root, bin, &s.quantity));
     let mut extra_attributes = Vec::new();

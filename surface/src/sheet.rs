@@ -134,8 +134,9 @@ pub fn quantity_range(layout: &Layout, frames: usize) -> Result<[f32; 2]> {
 
 /// Runs the `sheet` method over every frame of the cache at `layout`, frames in
 /// parallel: reads `sheet/NNNN.ply`, writes `surface/NNNN.glb` and
-/// `surface/animated.glb` (the last frame's topology, one morph target a frame)
-/// through `encoder`, records the time in the manifest and calls
+/// `surface/animated.glb` (the last frame's topology, one morph target a frame, θ of
+/// every frame beside the positions) through `encoder`, θ's colour range the run's
+/// ([`quantity_range`]), records the time in the manifest and calls
 /// `progress(done, total)` after each frame. Returns the frames surfaced.
 pub fn stage(
     layout: &Layout,

@@ -486,11 +486,11 @@ pub fn remesh(mesh: &TriMesh, spacing: f64) -> Remeshed {
     let before = work.p.len();
     work.split_long_edges(4.0 / 3.0 * length);
     let on_boundary = boundary_vertices(work.p.len(), &edge_map(&work.t));
-    for v in before..work.p.len() {
-        work.p[v] = if on_boundary[v] {
-            target.closest_on_boundary(work.p[v])
+    for (p, &boundary) in work.p.iter_mut().zip(&on_boundary).skip(before) {
+        *p = if boundary {
+            target.closest_on_boundary(*p)
         } else {
-            target.closest(work.p[v])
+            target.closest(*p)
         };
     }
     // Drop the vertices no triangle uses, keeping the others' order.
