@@ -18,6 +18,13 @@ pub struct SurfaceMesh {
     /// Damage φ in [0, 1] per vertex; empty when the surface carries none (the `vdb`
     /// method's meshes).
     pub damage: Vec<f32>,
+    /// The diffused quantity θ per vertex (a membrane's sheet, Han Eq. 25); empty
+    /// when the surface carries none.
+    pub quantity: Vec<f32>,
+    /// The θ at the two ends of the colour map of `quantity`, [θ_lo, θ_hi]: fixed for
+    /// a whole run (the sheet method takes the range over all its frames), so a colour
+    /// means the same θ in every frame. Unused when `quantity` is empty.
+    pub quantity_range: [f32; 2],
     /// Three vertex indices a triangle of the original surface.
     pub surface_indices: Vec<u32>,
     /// Three vertex indices a triangle of the crack surfaces (the inside of the
@@ -43,15 +50,18 @@ pub trait SurfaceEncoder: Sync {
     fn fractured(&self, mesh: &SurfaceMesh) -> Result<Vec<u8>, EncodeError>;
 
     /// A fractured surface animated over frames: `frames[k]` are the positions of
-    /// `mesh`'s vertices in cache frame k + 1, at simulation time `times[k]` (s); the
-    /// encoder keys frame k + 1 on timeline frame k + 1, at (k + 1)/playback_fps s
-    /// (glTF's time as Blender's importer maps it to frames). The scene's mesh
-    /// `colliders` go beside it, each moved rigidly to its pose of each frame.
+    /// `mesh`'s vertices in cache frame k + 1, at simulation time `times[k]` (s), and,
+    /// when `mesh` carries a quantity, `quantities[k]` its θ there (else `quantities`
+    /// is empty); the encoder keys frame k + 1 on timeline frame k + 1, at (k +
+    /// 1)/playback_fps s (glTF's time as Blender's importer maps it to frames). The
+    /// scene's mesh `colliders` go beside it, each moved rigidly to its pose of each
+    /// frame.
     fn animated(
         &self,
         mesh: &SurfaceMesh,
         times: &[f32],
         frames: &[Vec<[f32; 3]>],
+        quantities: &[Vec<f32>],
         colliders: &[MovingCollider],
     ) -> Result<Vec<u8>, EncodeError>;
 

@@ -173,6 +173,8 @@ pub enum ColorByArg {
     Plastic,
     /// Temperature (scenes with heat diffusion).
     Temperature,
+    /// A membrane's diffused quantity θ (sheet surfaces, else particles).
+    Quantity,
 }
 
 /// `perifrac render` as typed.
@@ -488,6 +490,8 @@ mod tests {
         assert_eq!(c.frame, Some(7));
         assert_eq!(c.size, (320, 200));
         assert_eq!(c.color_by, Some(ColorByArg::Fragment));
+        let q = parse(&["perifrac", "render", "o", "--color-by", "quantity"]).unwrap();
+        assert_eq!(q.color_by, Some(ColorByArg::Quantity));
         let d = parse(&["perifrac", "render", "o"]).unwrap();
         assert_eq!(
             (d.turntable, d.frame, d.size, d.color_by),

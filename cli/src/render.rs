@@ -51,6 +51,7 @@ fn color_by(arg: Option<crate::args::ColorByArg>) -> perifrac_render::cache::Col
         Some(ColorByArg::Fragment) => ColorBy::Fragment,
         Some(ColorByArg::Plastic) => ColorBy::Plastic,
         Some(ColorByArg::Temperature) => ColorBy::Temperature,
+        Some(ColorByArg::Quantity) => ColorBy::Quantity,
     }
 }
 

@@ -33,6 +33,10 @@ pub enum ColorBy {
     Plastic,
     /// Temperature (particles; the PLY must have a `temperature` property).
     Temperature,
+    /// A membrane's diffused quantity θ (Han Eq. 25): its sheet surfaces' `_QUANTITY`
+    /// attribute, or the particles' `quantity` property; the viridis-like map over the
+    /// sequence's range.
+    Quantity,
 }
 
 /// Value ranges over a whole sequence, so colours mean the same in every frame.
@@ -42,6 +46,19 @@ pub struct Ranges {
     pub plastic_max: f32,
     /// Smallest and largest temperature.
     pub temperature: (f32, f32),
+    /// Smallest and largest diffused quantity θ.
+    pub quantity: [f32; 2],
+}
+
+/// The empty range (−∞ < +∞ fails), which every value widens.
+const NO_RANGE: [f32; 2] = [f32::INFINITY, f32::NEG_INFINITY];
+
+/// `range` widened by the finite values of `values`.
+fn widen(range: [f32; 2], values: &[f32]) -> [f32; 2] {
+    values
+        .iter()
+        .filter(|v| v.is_finite())
+        .fold(range, |[lo, hi], &v| [lo.min(v), hi.max(v)])
 }
 
 /// An output directory opened for rendering.
@@ -108,7 +125,10 @@ impl Cache {
 
     /// Whether frame `frame` is drawn from its surface mesh (rather than particles).
     pub fn uses_surface(&self, frame: usize, color_by: ColorBy) -> bool {
-        matches!(color_by, ColorBy::Auto | ColorBy::Damage) && self.layout.surface(frame).is_file()
+        matches!(
+            color_by,
+            ColorBy::Auto | ColorBy::Damage | ColorBy::Quantity
+        ) && self.layout.surface(frame).is_file()
     }
 
     /// The ground height, if the scene has a ground collider.
@@ -190,7 +210,7 @@ impl Cache {
             ..FrameGeometry::default()
         };
         if self.uses_surface(frame, color_by) {
-            read_glb(&self.layout.surface(frame), color_by, &mut g)?;
+            read_glb(&self.layout.surface(frame), color_by, ranges, &mut g)?;
         } else if self.layout.particles(frame).is_file() {
             let path = self.layout.particles(frame);
             let p = ParticleFrame::read(&path)?;
@@ -220,6 +240,10 @@ impl Cache {
                         .map(|&v| geometry::temperature_color((v - lo) / span))
                         .collect()
                 }
+                ColorBy::Quantity => quantity(&p, &path)?
+                    .iter()
+                    .map(|&v| geometry::quantity_color(v, ranges.quantity))
+                    .collect(),
             };
             g.points.reserve(p.len() * geometry::POINT_STRIDE);
             for ((&position, &material), color) in p.position.iter().zip(&p.material).zip(colors) {
@@ -243,13 +267,15 @@ impl Cache {
                 let mut ranges = Ranges {
                     plastic_max: 0.0,
                     temperature: (f32::INFINITY, f32::NEG_INFINITY),
+                    quantity: NO_RANGE,
                 };
                 let mut g = FrameGeometry::default();
                 self.push_colliders(frame, &mut g);
                 let mut bounds = g.bounds();
                 if self.uses_surface(frame, color_by) {
                     let mut s = FrameGeometry::default();
-                    read_glb(&self.layout.surface(frame), color_by, &mut s)?;
+                    ranges.quantity =
+                        read_glb(&self.layout.surface(frame), color_by, &ranges, &mut s)?;
                     bounds = bounds.union(&s.bounds());
                 } else if self.layout.particles(frame).is_file() {
                     let path = self.layout.particles(frame);
@@ -269,6 +295,9 @@ impl Cache {
                             }
                         }
                     }
+                    if color_by == ColorBy::Quantity {
+                        ranges.quantity = widen(NO_RANGE, quantity(&p, &path)?);
+                    }
                 }
                 Ok((bounds, ranges))
             })
@@ -278,15 +307,20 @@ impl Cache {
         let mut ranges = Ranges {
             plastic_max: 0.0,
             temperature: (f32::INFINITY, f32::NEG_INFINITY),
+            quantity: NO_RANGE,
         };
         for (b, r) in per_frame {
             bounds = bounds.union(&b);
             ranges.plastic_max = ranges.plastic_max.max(r.plastic_max);
             ranges.temperature.0 = ranges.temperature.0.min(r.temperature.0);
             ranges.temperature.1 = ranges.temperature.1.max(r.temperature.1);
+            ranges.quantity = widen(ranges.quantity, &r.quantity);
         }
         if !ranges.temperature.0.is_finite() {
             ranges.temperature = (0.0, 1.0);
+        }
+        if ranges.quantity[0] > ranges.quantity[1] {
+            ranges.quantity = [0.0, 0.0];
         }
         Ok((bounds, ranges))
     }
@@ -326,10 +360,27 @@ fn temperature<'a>(p: &'a ParticleFrame, path: &Path) -> Result<&'a [f32], Rende
     })
 }
 
+/// The `quantity` column of a membrane's particle frame (read from `path`).
+fn quantity<'a>(p: &'a ParticleFrame, path: &Path) -> Result<&'a [f32], RenderError> {
+    p.extra("quantity").ok_or_else(|| RenderError::Input {
+        path: path.to_path_buf(),
+        message: "the particles have no 'quantity' property (only membrane scenes write                   it); use --color-by damage, fragment or plastic"
+            .into(),
+    })
+}
+
 /// Appends the triangle meshes of a .glb file: primitives of the material named
 /// "crack" are crack faces; with `ColorBy::Damage` a `_DAMAGE` vertex attribute colours
-/// the vertices. Points and lines (debris) are skipped.
-pub fn read_glb(path: &Path, color_by: ColorBy, g: &mut FrameGeometry) -> Result<(), RenderError> {
+/// the vertices, with `ColorBy::Quantity` a `_QUANTITY` one (θ, on the map over
+/// `ranges.quantity`; a primitive without it is an error). Points and lines (debris)
+/// are skipped. Returns the range of the `_QUANTITY` values read (empty, +∞ > −∞,
+/// unless `color_by` is `Quantity`).
+pub fn read_glb(
+    path: &Path,
+    color_by: ColorBy,
+    ranges: &Ranges,
+    g: &mut FrameGeometry,
+) -> Result<[f32; 2], RenderError> {
     let bad = |message: String| RenderError::Input {
         path: path.to_path_buf(),
         message,
@@ -343,6 +394,8 @@ pub fn read_glb(path: &Path, color_by: ColorBy, g: &mut FrameGeometry) -> Result
         gltf::buffer::Source::Uri(_) => None,
     };
     let damage_semantic = gltf::Semantic::Extras("DAMAGE".into());
+    let quantity_semantic = gltf::Semantic::Extras("QUANTITY".into());
+    let mut range = NO_RANGE;
     for mesh in gltf.meshes() {
         for primitive in mesh.primitives() {
             if primitive.mode() != gltf::mesh::Mode::Triangles {
@@ -372,19 +425,38 @@ pub fn read_glb(path: &Path, color_by: ColorBy, g: &mut FrameGeometry) -> Result
             } else {
                 geometry::surface_color()
             };
-            let damage: Option<Vec<f32>> = (color_by == ColorBy::Damage)
-                .then(|| primitive.get(&damage_semantic))
-                .flatten()
-                .and_then(|a| gltf::accessor::Iter::<f32>::new(a, buffer))
-                .map(|it| it.collect());
-            let colors = |i: usize| match &damage {
-                Some(d) => geometry::damage_color(d.get(i).copied().unwrap_or(0.0)),
-                None => base,
+            let values = |semantic: &gltf::Semantic| -> Option<Vec<f32>> {
+                primitive
+                    .get(semantic)
+                    .and_then(|a| gltf::accessor::Iter::<f32>::new(a, buffer))
+                    .map(|it| it.collect())
+            };
+            let damage = (color_by == ColorBy::Damage)
+                .then(|| values(&damage_semantic))
+                .flatten();
+            let quantity = match color_by {
+                ColorBy::Quantity => Some(values(&quantity_semantic).ok_or_else(|| {
+                    bad(format!(
+                        "mesh '{}' has no _QUANTITY attribute (only membranes' sheet surfaces                          carry θ); use --color-by damage, or run `perifrac surface OUT --method                          sheet` on a membrane cache",
+                        mesh.name().unwrap_or("?")
+                    ))
+                })?),
+                _ => None,
+            };
+            if let Some(q) = &quantity {
+                range = widen(range, q);
+            }
+            let colors = |i: usize| match (&damage, &quantity) {
+                (Some(d), _) => geometry::damage_color(d.get(i).copied().unwrap_or(0.0)),
+                (_, Some(q)) => {
+                    geometry::quantity_color(q.get(i).copied().unwrap_or(0.0), ranges.quantity)
+                }
+                _ => base,
             };
             g.push_mesh(&positions, normals.as_deref(), &colors, &indices, shading);
         }
     }
-    Ok(())
+    Ok(range)
 }
 
 /// Reads the meshes of a .glb file the surface stage wrote (`surface/NNNN.glb`) back
@@ -599,6 +671,7 @@ mod tests {
             damage: vec![0.0, 0.25, 0.5, 1.0],
             surface_indices: vec![0, 2, 1, 0, 1, 3],
             crack_indices: vec![1, 2, 3],
+            ..SurfaceMesh::default()
         };
         let dir = tempfile::tempdir().unwrap();
         let file = dir.path().join("0001.glb");

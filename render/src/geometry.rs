@@ -314,19 +314,33 @@ pub fn damage_color(phi: f32) -> [f32; 3] {
     )
 }
 
-/// A sequential map (dark blue → green → yellow, viridis-like) for plastic strain `t`
-/// already scaled to [0, 1].
+/// Five sRGB stops of a sequential map, dark purple → blue → green → yellow
+/// (viridis-like: lightness rises steadily, readable in grey and by the colour-blind).
+const VIRIDIS: [[f32; 3]; 5] = [
+    [0.267, 0.005, 0.329],
+    [0.231, 0.322, 0.545],
+    [0.129, 0.569, 0.549],
+    [0.369, 0.788, 0.384],
+    [0.993, 0.906, 0.144],
+];
+
+/// The viridis-like map for plastic strain `t` already scaled to [0, 1].
 pub fn plastic_color(t: f32) -> [f32; 3] {
-    ramp(
-        &[
-            [0.267, 0.005, 0.329],
-            [0.231, 0.322, 0.545],
-            [0.129, 0.569, 0.549],
-            [0.369, 0.788, 0.384],
-            [0.993, 0.906, 0.144],
-        ],
-        t,
-    )
+    ramp(&VIRIDIS, t)
+}
+
+/// A membrane's diffused quantity θ as a colour (linear RGB): the viridis-like map
+/// over `range` = [θ_lo, θ_hi], dark purple at θ_lo, yellow at θ_hi, clamped outside
+/// (a range of zero width gives θ_lo's colour). The previews and the sheet glb files'
+/// `COLOR_0` use this one map.
+pub fn quantity_color(theta: f32, range: [f32; 2]) -> [f32; 3] {
+    let span = range[1] - range[0];
+    let t = if span > 0.0 {
+        (theta - range[0]) / span
+    } else {
+        0.0
+    };
+    ramp(&VIRIDIS, t)
 }
 
 /// A black-body-like map (inferno-like) for temperature `t` scaled to [0, 1].

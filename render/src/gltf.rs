@@ -31,6 +31,7 @@ use perifrac_cache::mesh::{EncodeError, SurfaceEncoder, SurfaceMesh};
 use perifrac_cache::scene::OutputSpec;
 
 use crate::RenderError;
+use crate::geometry::quantity_color;
 
 /// The glTF binary writer as the surface stage's [`SurfaceEncoder`], with the
 /// scene's `[output]` settings it needs.
@@ -69,9 +70,12 @@ impl SurfaceEncoder for Glb {
         mesh: &SurfaceMesh,
         times: &[f32],
         frames: &[Vec<[f32; 3]>],
+        quantities: &[Vec<f32>],
         colliders: &[MovingCollider],
     ) -> Result<Vec<u8>, EncodeError> {
-        Ok(animated_glb(mesh, times, frames, colliders, self)?)
+        Ok(animated_glb(
+            mesh, times, frames, quantities, colliders, self,
+        )?)
     }
 
     fn meshes(&self, meshes: &[SurfaceMesh]) -> Result<Vec<u8>, EncodeError> {
@@ -242,6 +246,22 @@ fn check_crack(s: &SurfaceMesh) -> Result<(), RenderError> {
             )));
         }
     }
+    if !s.quantity.is_empty() {
+        if s.quantity.len() != n {
+            return Err(invalid(format!(
+                "mesh '{}' has {n} positions but {} quantity values",
+                s.name,
+                s.quantity.len()
+            )));
+        }
+        let [lo, hi] = s.quantity_range;
+        if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
+            return Err(invalid(format!(
+                "mesh '{}': the quantity's colour range [{lo}, {hi}] is not a finite interval",
+                s.name
+            )));
+        }
+    }
     for (what, list) in [
         ("surface", s.surface_indices.as_slice()),
         ("crack", s.crack_indices.as_slice()),
@@ -276,48 +296,116 @@ fn material(name: &str, colour: [f32; 4], roughness: f32) -> json::Material {
     }
 }
 
+/// The vertex colours `COLOR_0` of a fractured surface, if it gets any: damage
+/// ([`damage_colour`]) when [`Glb::damage_colour`] asks for it, else the quantity θ
+/// on the map [`quantity_color`] over the mesh's `quantity_range` when it carries
+/// one.
+fn vertex_colours(s: &SurfaceMesh, options: &Glb) -> Option<Vec<[f32; 3]>> {
+    if options.damage_colour {
+        Some(s.damage.iter().map(|&d| damage_colour(d)).collect())
+    } else if !s.quantity.is_empty() {
+        Some(
+            s.quantity
+                .iter()
+                .map(|&q| quantity_color(q, s.quantity_range))
+                .collect(),
+        )
+    } else {
+        None
+    }
+}
+
+/// One frame of an animated surface as a morph target: its deltas from the base
+/// mesh in position, and in colour and θ when the mesh carries θ.
+struct MorphFrame {
+    positions: Vec<[f32; 3]>,
+    colours: Option<Vec<[f32; 3]>>,
+    quantity: Option<Vec<f32>>,
+}
+
+/// Appends `values` as a vertex buffer of f32 scalars and adds its accessor.
+fn push_scalars(
+    root: &mut json::Root,
+    bin: &mut Vec<u8>,
+    values: &[f32],
+) -> json::Index<json::Accessor> {
+    use json::accessor::{ComponentType, Type};
+    let view = push_view(
+        root,
+        bin,
+        values.iter().map(|v| v.to_le_bytes()),
+        json::buffer::Target::ArrayBuffer,
+    );
+    root.push(accessor(
+        view,
+        values.len(),
+        ComponentType::F32,
+        Type::Scalar,
+        None,
+    ))
+}
+
+/// Appends `values` as a vertex buffer of f32 triples (no bounds) and adds its
+/// accessor.
+fn push_vectors(
+    root: &mut json::Root,
+    bin: &mut Vec<u8>,
+    values: &[[f32; 3]],
+) -> json::Index<json::Accessor> {
+    use json::accessor::{ComponentType, Type};
+    let view = push_view(
+        root,
+        bin,
+        vec3_bytes(values),
+        json::buffer::Target::ArrayBuffer,
+    );
+    root.push(accessor(
+        view,
+        values.len(),
+        ComponentType::F32,
+        Type::Vec3,
+        None,
+    ))
+}
+
 /// Writes the mesh, node and scene of a fractured surface, with `targets` morph
-/// targets (position deltas) when given and the mesh's `extras`; returns the node.
+/// targets when given and the mesh's `extras` (to which the quantity's colour map and
+/// range are added when it carries θ); returns the node and the morph-target
+/// attributes [`finish`] must add.
 fn push_crack_surface(
     root: &mut json::Root,
     bin: &mut Vec<u8>,
     s: &SurfaceMesh,
-    targets: &[Vec<[f32; 3]>],
+    targets: &[MorphFrame],
     options: &Glb,
     extras: Option<serde_json::Value>,
-) -> json::Index<json::Node> {
+) -> (json::Index<json::Node>, Vec<TargetPatch>) {
     use json::accessor::{ComponentType, Type};
     use json::buffer::Target;
     use json::mesh::Semantic;
 
-    let count = s.positions.len();
     let positions = push_points(root, bin, &s.positions);
-    let view = push_view(root, bin, vec3_bytes(&s.normals), Target::ArrayBuffer);
-    let normals = root.push(accessor(view, count, ComponentType::F32, Type::Vec3, None));
-    let colours = options.damage_colour.then(|| {
-        let colours: Vec<[f32; 3]> = s.damage.iter().map(|&d| damage_colour(d)).collect();
-        let view = push_view(root, bin, vec3_bytes(&colours), Target::ArrayBuffer);
-        root.push(accessor(view, count, ComponentType::F32, Type::Vec3, None))
-    });
-    let view = push_view(
-        root,
-        bin,
-        s.damage.iter().map(|d| d.to_le_bytes()),
-        Target::ArrayBuffer,
-    );
-    let damage = root.push(accessor(
-        view,
-        count,
-        ComponentType::F32,
-        Type::Scalar,
-        None,
-    ));
+    let normals = push_vectors(root, bin, &s.normals);
+    let colours = vertex_colours(s, options).map(|c| push_vectors(root, bin, &c));
+    let damage = push_scalars(root, bin, &s.damage);
+    let quantity = (!s.quantity.is_empty()).then(|| push_scalars(root, bin, &s.quantity));
+    let mut extra_attributes = Vec::new();
     let morph: Vec<json::mesh::MorphTarget> = targets
         .iter()
-        .map(|delta| json::mesh::MorphTarget {
-            positions: Some(push_points(root, bin, delta)),
-            normals: None,
-            tangents: None,
+        .enumerate()
+        .map(|(k, frame)| {
+            let positions = push_points(root, bin, &frame.positions);
+            if let Some(c) = &frame.colours {
+                extra_attributes.push((k, "COLOR_0", push_vectors(root, bin, c)));
+            }
+            if let Some(q) = &frame.quantity {
+                extra_attributes.push((k, "_QUANTITY", push_scalars(root, bin, q)));
+            }
+            json::mesh::MorphTarget {
+                positions: Some(positions),
+                normals: None,
+                tangents: None,
+            }
         })
         .collect();
     let surface_material = root.push(material("surface", [0.8, 0.8, 0.78, 1.0], 0.5));
@@ -352,6 +440,10 @@ fn push_crack_surface(
                     Checked::Valid(Semantic::Extras("DAMAGE".into())),
                     Some(damage),
                 ),
+                (
+                    Checked::Valid(Semantic::Extras("QUANTITY".into())),
+                    quantity,
+                ),
             ]
             .into_iter()
             .filter_map(|(semantic, accessor)| Some((semantic, accessor?)))
@@ -364,13 +456,36 @@ fn push_crack_surface(
             targets: (!morph.is_empty()).then(|| morph.clone()),
         });
     }
+    let mut extras = extras.unwrap_or_else(|| serde_json::json!({}));
+    if !s.quantity.is_empty() {
+        extras["quantity"] = serde_json::json!({
+            "attribute": "_QUANTITY",
+            "colour": if options.damage_colour { "none (COLOR_0 is damage)" } else { "COLOR_0" },
+            "colour_map": "viridis-like, linear RGB: dark purple at range[0], yellow at range[1], clamped",
+            "range": s.quantity_range,
+            "range_is": "the smallest and largest θ over every frame of the run, the same in every file",
+        });
+    }
     let mesh = root.push(json::Mesh {
         extensions: None,
-        extras: extras.and_then(|e| serde_json::value::to_raw_value(&e).ok()),
+        extras: extras
+            .as_object()
+            .is_some_and(|o| !o.is_empty())
+            .then(|| serde_json::value::to_raw_value(&extras).ok())
+            .flatten(),
         name: Some(s.name.to_string()),
         primitives,
         weights: (!targets.is_empty()).then(|| vec![0.0; targets.len()]),
     });
+    let patches = extra_attributes
+        .into_iter()
+        .map(|(target, name, accessor)| TargetPatch {
+            mesh: mesh.value(),
+            target,
+            name,
+            accessor: accessor.value(),
+        })
+        .collect();
     let node = root.push(json::Node {
         mesh: Some(mesh),
         name: Some(s.name.to_string()),
@@ -383,7 +498,17 @@ fn push_crack_surface(
         nodes: vec![node],
     });
     root.scene = Some(scene);
-    node
+    (node, patches)
+}
+
+/// A morph-target attribute that gltf-json's `MorphTarget` has no field for (it
+/// names POSITION, NORMAL and TANGENT only): `name` → `accessor` in target `target`
+/// of every primitive of mesh `mesh`, added to the JSON by [`finish`].
+struct TargetPatch {
+    mesh: usize,
+    target: usize,
+    name: &'static str,
+    accessor: usize,
 }
 
 /// Encodes a fractured surface as a .glb file (one mesh, two materials).
@@ -392,7 +517,7 @@ pub fn crack_glb(surface: &SurfaceMesh, options: &Glb) -> Result<Vec<u8>, Render
     let mut root = new_root();
     let mut bin = Vec::new();
     push_crack_surface(&mut root, &mut bin, surface, &[], options, None);
-    finish(root, bin)
+    finish(root, bin, &[])
 }
 
 /// Encodes a fractured surface animated by morph targets: `frames[k]` are the
@@ -403,6 +528,13 @@ pub fn crack_glb(surface: &SurfaceMesh, options: &Glb) -> Result<Vec<u8>, Render
 /// k + 1 on timeline frame k + 1). The simulation
 /// times go to `mesh.extras.simulation_times`.
 ///
+/// When the surface carries θ, `quantities[k]` is its θ in cache frame k + 1 and
+/// each target also holds the frame's deltas of `COLOR_0` and `_QUANTITY` from the
+/// base mesh's (glTF 2.0 §3.7.2.2: clients MAY morph `COLOR_n`; a viewer that does —
+/// three.js — plays the colours with the motion, one that does not — Blender's
+/// importer, which makes shape keys of positions only — shows the base mesh's colours
+/// throughout; `surface/NNNN.glb` has each frame's own).
+///
 /// Each of `colliders` is a mesh (its triangles in its own frame, material
 /// "collider", no normals: viewers shade it flat) on a node named like it whose
 /// translation and rotation are keyed at the same times, linearly (slerp for the
@@ -411,6 +543,7 @@ pub fn animated_glb(
     surface: &SurfaceMesh,
     times: &[f32],
     frames: &[Vec<[f32; 3]>],
+    quantities: &[Vec<f32>],
     colliders: &[MovingCollider],
     options: &Glb,
 ) -> Result<Vec<u8>, RenderError> {
@@ -450,13 +583,43 @@ pub fn animated_glb(
                 base.len()
             )));
         }
-        targets.push(
-            frame
+        let quantity = match (surface.quantity.is_empty(), quantities.get(k)) {
+            (true, _) => None,
+            (false, Some(q)) if q.len() == base.len() && q.iter().all(|x| x.is_finite()) => Some(q),
+            (false, q) => {
+                return Err(invalid(format!(
+                    "mesh '{}': frame {} has {} quantity values (or non-finite ones), the mesh {}",
+                    surface.name,
+                    k + 1,
+                    q.map_or(0, Vec::len),
+                    base.len()
+                )));
+            }
+        };
+        targets.push(MorphFrame {
+            positions: frame
                 .iter()
                 .zip(base)
                 .map(|(p, b)| [p[0] - b[0], p[1] - b[1], p[2] - b[2]])
-                .collect::<Vec<_>>(),
-        );
+                .collect(),
+            // COLOR_0 is θ unless damage took it (whose frames are not animated).
+            colours: quantity.filter(|_| !options.damage_colour).map(|q| {
+                let range = surface.quantity_range;
+                q.iter()
+                    .zip(&surface.quantity)
+                    .map(|(&q, &b)| {
+                        let (c, b) = (quantity_color(q, range), quantity_color(b, range));
+                        [c[0] - b[0], c[1] - b[1], c[2] - b[2]]
+                    })
+                    .collect()
+            }),
+            quantity: quantity.map(|q| {
+                q.iter()
+                    .zip(&surface.quantity)
+                    .map(|(q, b)| q - b)
+                    .collect()
+            }),
+        });
     }
     let mut root = new_root();
     let mut bin = Vec::new();
@@ -464,7 +627,7 @@ pub fn animated_glb(
         "targetNames": (1..=n).map(|frame| format!("frame_{frame:04}")).collect::<Vec<_>>(),
         "simulation_times": times,
     });
-    let node = push_crack_surface(
+    let (node, patches) = push_crack_surface(
         &mut root,
         &mut bin,
         surface,
@@ -542,7 +705,7 @@ pub fn animated_glb(
         name: Some("frames".into()),
         samplers,
     });
-    finish(root, bin)
+    finish(root, bin, &patches)
 }
 
 /// An animation channel's node, property, interpolation and output accessor.
@@ -678,7 +841,11 @@ fn new_root() -> json::Root {
 }
 
 /// Adds the buffer and packs the JSON and binary chunks into a .glb.
-fn finish(mut root: json::Root, mut bin: Vec<u8>) -> Result<Vec<u8>, RenderError> {
+fn finish(
+    mut root: json::Root,
+    mut bin: Vec<u8>,
+    patches: &[TargetPatch],
+) -> Result<Vec<u8>, RenderError> {
     if !bin.is_empty() {
         while bin.len() % 4 != 0 {
             bin.push(0);
@@ -691,9 +858,19 @@ fn finish(mut root: json::Root, mut bin: Vec<u8>) -> Result<Vec<u8>, RenderError
             extras: Default::default(),
         });
     }
-    let mut text = root
-        .to_vec()
-        .map_err(|e| invalid(format!("could not encode the JSON chunk: {e}")))?;
+    let encode = |e: serde_json::Error| invalid(format!("could not encode the JSON chunk: {e}"));
+    let mut text = if patches.is_empty() {
+        root.to_vec().map_err(encode)?
+    } else {
+        let mut doc = serde_json::to_value(&root).map_err(encode)?;
+        for p in patches {
+            let primitives = doc["meshes"][p.mesh]["primitives"].as_array_mut();
+            for primitive in primitives.into_iter().flatten() {
+                primitive["targets"][p.target][p.name] = serde_json::json!(p.accessor);
+            }
+        }
+        serde_json::to_vec(&doc).map_err(encode)?
+    };
     while text.len() % 4 != 0 {
         text.push(b' ');
     }
@@ -823,7 +1000,7 @@ pub fn to_glb(meshes: &[SurfaceMesh]) -> Result<Vec<u8>, RenderError> {
         });
         root.scene = Some(scene);
     }
-    finish(root, bin)
+    finish(root, bin, &[])
 }
 
 #[cfg(test)]
@@ -948,7 +1125,107 @@ mod tests {
             damage: d.to_vec(),
             surface_indices: i[..9].to_vec(),
             crack_indices: i[9..].to_vec(),
+            ..SurfaceMesh::default()
         }
+    }
+
+    /// Reads accessor `index` of a .glb as f32 scalars.
+    fn floats(glb: &[u8], doc: &serde_json::Value, index: u64) -> Vec<f32> {
+        let json_len = u32::from_le_bytes(glb[12..16].try_into().unwrap()) as usize;
+        let bin = &glb[20 + json_len + 8..];
+        let acc = &doc["accessors"][index as usize];
+        let view = &doc["bufferViews"][acc["bufferView"].as_u64().unwrap() as usize];
+        let start = view["byteOffset"].as_u64().unwrap() as usize;
+        let components = if acc["type"] == "VEC3" { 3 } else { 1 };
+        (0..components * acc["count"].as_u64().unwrap() as usize)
+            .map(|k| f32::from_le_bytes(bin[start + 4 * k..start + 4 * k + 4].try_into().unwrap()))
+            .collect()
+    }
+
+    #[test]
+    fn the_quantity_is_an_attribute_a_colour_and_animated_targets() {
+        let dir = tempfile::tempdir().unwrap();
+        let (p, n, i) = tetrahedron();
+        let s = SurfaceMesh {
+            quantity: vec![0.0, 1.0, 2.0, 3.0],
+            quantity_range: [0.0, 4.0],
+            ..crack_tet(&p, &n, &[0.0; 4], &i)
+        };
+        let glb = crack_glb(&s, &Glb::default()).unwrap();
+        let doc = json_chunk(&glb);
+        let attributes = &doc["meshes"][0]["primitives"][0]["attributes"];
+        assert_eq!(
+            floats(&glb, &doc, attributes["_QUANTITY"].as_u64().unwrap()),
+            s.quantity
+        );
+        let colours = floats(&glb, &doc, attributes["COLOR_0"].as_u64().unwrap());
+        // θ = 0 is the map's dark end, θ = 3 of [0, 4] three quarters up it: the
+        // colours follow the documented map over the declared range, not the mesh's own.
+        assert_eq!(colours[..3], quantity_color(0.0, [0.0, 4.0]));
+        assert_eq!(colours[9..], quantity_color(3.0, [0.0, 4.0]));
+        assert!(
+            colours[9] > colours[0] && colours[10] > colours[1],
+            "{colours:?}"
+        );
+        assert_eq!(
+            doc["meshes"][0]["extras"]["quantity"]["range"],
+            serde_json::json!([0.0, 4.0])
+        );
+        let file = dir.path().join("frame.glb");
+        std::fs::write(&file, &glb).unwrap();
+        let report = validate(&file);
+        assert_eq!(report["numErrors"], 0, "{report:#}");
+
+        // Three frames in which θ rises by 1 a frame: each target's deltas take the
+        // base colour and θ to the frame's own.
+        let frames: Vec<Vec<[f32; 3]>> = (0..3).map(|_| p.clone()).collect();
+        let quantities: Vec<Vec<f32>> = (0..3)
+            .map(|k| s.quantity.iter().map(|q| (q + k as f32).min(4.0)).collect())
+            .collect();
+        let glb = animated_glb(
+            &s,
+            &[0.0, 0.1, 0.2],
+            &frames,
+            &quantities,
+            &[],
+            &Glb::default(),
+        )
+        .unwrap();
+        let doc = json_chunk(&glb);
+        let target = &doc["meshes"][0]["primitives"][1]["targets"][2];
+        let dq = floats(&glb, &doc, target["_QUANTITY"].as_u64().unwrap());
+        assert_eq!(dq, [2.0, 2.0, 2.0, 1.0]);
+        let dc = floats(&glb, &doc, target["COLOR_0"].as_u64().unwrap());
+        let expected = quantity_color(4.0, [0.0, 4.0]);
+        assert!((0..3).all(|k| (colours[9 + k] + dc[9 + k] - expected[k]).abs() < 1e-6));
+        std::fs::write(&file, &glb).unwrap();
+        let report = validate(&file);
+        assert_eq!(report["numErrors"], 0, "{report:#}");
+        assert_eq!(report["numWarnings"], 0, "{report:#}");
+
+        // Damage asked for as COLOR_0 takes the colour; θ stays an attribute.
+        let coloured = Glb {
+            damage_colour: true,
+            ..Glb::default()
+        };
+        let glb = animated_glb(&s, &[0.0, 0.1, 0.2], &frames, &quantities, &[], &coloured);
+        let doc = json_chunk(&glb.unwrap());
+        let target = &doc["meshes"][0]["primitives"][0]["targets"][2];
+        assert!(target.get("COLOR_0").is_none() && target["_QUANTITY"].is_u64());
+        let short = animated_glb(
+            &s,
+            &[0.0, 0.1, 0.2],
+            &frames,
+            &quantities[..2],
+            &[],
+            &coloured,
+        );
+        assert!(
+            short
+                .unwrap_err()
+                .to_string()
+                .contains("frame 3 has 0 quantity values")
+        );
     }
 
     #[test]
@@ -963,14 +1240,21 @@ mod tests {
         let file = dir.path().join("animated.glb");
         std::fs::write(
             &file,
-            animated_glb(&s, &[0.0, 1e-4, 2e-4], &frames, &[], &Glb::default()).unwrap(),
+            animated_glb(&s, &[0.0, 1e-4, 2e-4], &frames, &[], &[], &Glb::default()).unwrap(),
         )
         .unwrap();
         let report = validate(&file);
         assert_eq!(report["numErrors"], 0, "{report:#}");
         // With a mesh collider turning and moving beside it.
         let table = table();
-        let glb = animated_glb(&s, &[0.0, 1e-4, 2e-4], &frames, &[table], &Glb::default());
+        let glb = animated_glb(
+            &s,
+            &[0.0, 1e-4, 2e-4],
+            &frames,
+            &[],
+            &[table],
+            &Glb::default(),
+        );
         std::fs::write(&file, glb.unwrap()).unwrap();
         let report = validate(&file);
         assert_eq!(report["numErrors"], 0, "{report:#}");
@@ -1013,7 +1297,14 @@ mod tests {
         let (p, n, i) = tetrahedron();
         let s = crack_tet(&p, &n, &[0.0; 4], &i);
         let frames: Vec<Vec<[f32; 3]>> = (0..3).map(|_| p.clone()).collect();
-        let glb = animated_glb(&s, &[0.0, 1e-4, 2e-4], &frames, &[table()], &Glb::default());
+        let glb = animated_glb(
+            &s,
+            &[0.0, 1e-4, 2e-4],
+            &frames,
+            &[],
+            &[table()],
+            &Glb::default(),
+        );
         let doc = json_chunk(&glb.unwrap());
         assert_eq!(doc["scenes"][0]["nodes"], serde_json::json!([0, 1]));
         let node = &doc["nodes"][1];
@@ -1034,7 +1325,14 @@ mod tests {
         assert_eq!(samplers[2]["interpolation"], "LINEAR");
         let mut short = table();
         short.mesh.triangles[0][1] = 7;
-        let err = animated_glb(&s, &[0.0, 1e-4, 2e-4], &frames, &[short], &Glb::default());
+        let err = animated_glb(
+            &s,
+            &[0.0, 1e-4, 2e-4],
+            &frames,
+            &[],
+            &[short],
+            &Glb::default(),
+        );
         assert!(err.unwrap_err().to_string().contains("index 7"));
     }
 
@@ -1053,7 +1351,7 @@ mod tests {
             playback_fps: 25.0,
             damage_colour: false,
         };
-        let glb = animated_glb(&s, &[0.0, 1e-4, 2e-4], &frames, &[], &options).unwrap();
+        let glb = animated_glb(&s, &[0.0, 1e-4, 2e-4], &frames, &[], &[], &options).unwrap();
         let doc = json_chunk(&glb);
         let input = &doc["accessors"][doc["animations"][0]["samplers"][0]["input"]
             .as_u64()
@@ -1083,12 +1381,13 @@ mod tests {
         let d = [0.0; 4];
         let s = crack_tet(&p, &n, &d, &i);
         let frames = vec![p.clone(), p[..3].to_vec()];
-        let err = animated_glb(&s, &[0.0, 0.1], &frames, &[], &Glb::default()).unwrap_err();
+        let err = animated_glb(&s, &[0.0, 0.1], &frames, &[], &[], &Glb::default()).unwrap_err();
         assert!(err.to_string().contains("frame 2 has 3 positions"), "{err}");
         let err = animated_glb(
             &s,
             &[0.1, 0.1],
             &[p.clone(), p.clone()],
+            &[],
             &[],
             &Glb::default(),
         )

@@ -61,7 +61,7 @@ pub fn estimate_before_meshing(scene: &Scene) -> Result<MemoryEstimate> {
             message,
         };
         if b.model == ModelKind::Membrane {
-            let n = crate::membrane::sheet::particle_count(b).map_err(error)?;
+            let n = crate::membrane::sheet::particle_count(b, &scene.base_dir).map_err(error)?;
             let h = b.resolution;
             let cutoff = b.membrane.as_ref().map_or(1.5, |m| m.cutoff) * h;
             let density = 1.0 / (h * h * 3f64.sqrt() / 2.0);

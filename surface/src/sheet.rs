@@ -42,11 +42,13 @@ pub fn open_edges(triangles: &[[u32; 3]]) -> Vec<(u32, u32)> {
 /// normal of its triangles; a vertex of no triangle, which no triangle draws, takes
 /// the normal +y), the top
 /// triangles, the bottom ones reversed, and a wall of two triangles along every open
-/// edge, in `crack_indices` unless the edge is in `outline`.
+/// edge, in `crack_indices` unless the edge is in `outline`. Both copies of a vertex
+/// carry its damage and θ; `quantity_range` is the θ range of the colour map.
 pub fn shell(
     sheet: &SheetFrame,
     triangles: &[[u32; 3]],
     outline: &HashSet<(u32, u32)>,
+    quantity_range: [f32; 2],
 ) -> SurfaceMesh {
     let n = sheet.positions.len();
     let p: Vec<[f64; 3]> = sheet.positions.iter().map(|x| x.map(f64::from)).collect();
@@ -84,6 +86,8 @@ pub fn shell(
         positions: [side(1.0), side(-1.0)].concat(),
         normals: f32n(1.0).chain(f32n(-1.0)).collect(),
         damage: [sheet.damage.clone(), sheet.damage.clone()].concat(),
+        quantity: [sheet.quantity.clone(), sheet.quantity.clone()].concat(),
+        quantity_range,
         ..SurfaceMesh::default()
     };
     let n = n as u32;
@@ -103,10 +107,36 @@ pub fn shell(
     mesh
 }
 
+/// The smallest and largest finite θ over every frame's sheet, the fixed range of the
+/// colour map (so a colour is the same θ in every frame and file); [θ, θ] when θ never
+/// changes, [0, 0] when no θ is finite.
+pub fn quantity_range(layout: &Layout, frames: usize) -> Result<[f32; 2]> {
+    let per_frame: Vec<[f32; 2]> = (1..=frames)
+        .into_par_iter()
+        .map(|frame| {
+            let sheet = SheetFrame::read(&layout.sheet(frame))?;
+            Ok(sheet
+                .quantity
+                .iter()
+                .filter(|q| q.is_finite())
+                .fold([f32::INFINITY, f32::NEG_INFINITY], |[lo, hi], &q| {
+                    [lo.min(q), hi.max(q)]
+                }))
+        })
+        .collect::<Result<_>>()?;
+    let [lo, hi] = per_frame
+        .iter()
+        .fold([f32::INFINITY, f32::NEG_INFINITY], |[lo, hi], r| {
+            [lo.min(r[0]), hi.max(r[1])]
+        });
+    Ok(if lo <= hi { [lo, hi] } else { [0.0, 0.0] })
+}
+
 /// Runs the `sheet` method over every frame of the cache at `layout`, frames in
 /// parallel: reads `sheet/NNNN.ply`, writes `surface/NNNN.glb` and
-/// `surface/animated.glb` (the last frame's topology, one morph target a frame)
-/// through `encoder`, records the time in the manifest and calls
+/// `surface/animated.glb` (the last frame's topology, one morph target a frame, θ of
+/// every frame beside the positions) through `encoder`, θ's colour range the run's
+/// ([`quantity_range`]), records the time in the manifest and calls
 /// `progress(done, total)` after each frame. Returns the frames surfaced.
 pub fn stage(
     layout: &Layout,
@@ -131,8 +161,9 @@ pub fn stage(
     let first = SheetFrame::read(&layout.sheet(1))?;
     let outline: HashSet<(u32, u32)> = open_edges(&first.triangles).into_iter().collect();
     let last = SheetFrame::read(&layout.sheet(frames))?;
+    let range = quantity_range(layout, frames)?;
     let done = AtomicUsize::new(0);
-    let animated: Vec<Vec<[f32; 3]>> = (1..=frames)
+    let animated: Vec<(Vec<[f32; 3]>, Vec<f32>)> = (1..=frames)
         .into_par_iter()
         .map(|frame| -> Result<_> {
             let sheet = if frame == frames {
@@ -148,7 +179,7 @@ pub fn stage(
                     last.positions.len()
                 )));
             }
-            let mut mesh = shell(&sheet, &sheet.triangles, &outline);
+            let mut mesh = shell(&sheet, &sheet.triangles, &outline, range);
             mesh.name = manifest.scene.clone();
             write(
                 &layout.surface(frame),
@@ -156,16 +187,18 @@ pub fn stage(
                 encoder.fractured(&mesh),
             )?;
             progress(done.fetch_add(1, Ordering::Relaxed) + 1, frames);
-            Ok(shell(&sheet, &last.triangles, &outline).positions)
+            let animated = shell(&sheet, &last.triangles, &outline, range);
+            Ok((animated.positions, animated.quantity))
         })
         .collect::<Result<_>>()?;
-    let mut base = shell(&first, &last.triangles, &outline);
+    let (positions, quantities): (Vec<_>, Vec<_>) = animated.into_iter().unzip();
+    let mut base = shell(&first, &last.triangles, &outline, range);
     base.name = manifest.scene.clone();
     let times: Vec<f32> = manifest.frame_times.iter().map(|&t| t as f32).collect();
     write(
         &layout.animated_surface(),
         "surface/animated.glb".into(),
-        encoder.animated(&base, &times, &animated, &colliders),
+        encoder.animated(&base, &times, &positions, &quantities, &colliders),
     )?;
     manifest.timings.surface = start.elapsed().as_secs_f64();
     manifest.write(&layout.manifest())?;
@@ -197,7 +230,7 @@ mod tests {
         let s = square();
         let outline: HashSet<_> = open_edges(&s.triangles).into_iter().collect();
         assert_eq!(outline.len(), 4);
-        let mesh = shell(&s, &s.triangles, &outline);
+        let mesh = shell(&s, &s.triangles, &outline, [0.0, 0.0]);
         assert_eq!(mesh.positions.len(), 8);
         assert_eq!(mesh.positions[0], [0.0, 0.0, 0.001]);
         assert_eq!(mesh.positions[4], [0.0, 0.0, -0.001]);
@@ -226,7 +259,7 @@ mod tests {
         let outline: HashSet<_> = open_edges(&s.triangles).into_iter().collect();
         // The second triangle's bonds broke: the shared edge 1–2 opens.
         let torn = [s.triangles[0]];
-        let mesh = shell(&s, &torn, &outline);
+        let mesh = shell(&s, &torn, &outline, [0.0, 0.0]);
         assert_eq!(mesh.crack_indices.len(), 6, "one wall along the new edge");
         assert_eq!(mesh.surface_indices.len(), 3 * (2 + 4));
     }

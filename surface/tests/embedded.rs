@@ -44,6 +44,7 @@ fn cut_block(cut: Plane) -> TetFrame {
         quality: vec![mesh.quality()],
         conformity: vec![None],
         meshes: vec![mesh],
+        sheet_triangles: Vec::new(),
     };
     let (mut bonds, _) = family::build(
         &disc.position,

@@ -73,6 +73,79 @@ fn empty_frame_renders_the_ground_and_says_so() {
     assert_ne!(top, bottom, "no ground drawn");
 }
 
+/// A standing sheet of zero thickness (a 0.5 m square in the z = 0 plane, two
+/// triangles) whose normals all point to `normal_z` (±1), as a membrane's sheet.
+fn zero_thickness_sheet(normal_z: f32) -> FrameGeometry {
+    let mut g = perifrac_tests::empty();
+    let square = [
+        [-0.25, 0.05, 0.0],
+        [0.25, 0.05, 0.0],
+        [0.25, 0.55, 0.0],
+        [-0.25, 0.55, 0.0],
+    ];
+    g.push_mesh(
+        &square,
+        Some(&[[0.0, 0.0, normal_z]; 4]),
+        &|_| perifrac_render::geometry::surface_color(),
+        &[0, 1, 2, 0, 2, 3],
+        perifrac_render::geometry::Shading::Surface,
+    );
+    g
+}
+
+/// Mean brightness (0–255) of the pixels of `image` that differ from `background`.
+fn covered(image: &RgbImage, background: &RgbImage) -> (usize, f64) {
+    let (mut n, mut sum) = (0, 0.0);
+    for (p, q) in image.pixels().zip(background.pixels()) {
+        if p != q {
+            n += 1;
+            sum += p.0.iter().map(|&c| c as f64).sum::<f64>() / 3.0;
+        }
+    }
+    (n, sum / n.max(1) as f64)
+}
+
+/// A membrane's sheet has no thickness: seen from behind (its normals pointing away)
+/// it must be neither culled nor black. The mesh shader turns a normal that faces
+/// away towards the eye, so the sheet renders the same whichever way its normals
+/// point, from the front and from behind.
+#[test]
+fn a_zero_thickness_sheet_is_lit_from_both_sides() {
+    let empty = render(&perifrac_tests::empty());
+    let front = render(&zero_thickness_sheet(1.0));
+    let back_facing = render(&zero_thickness_sheet(-1.0));
+    assert_eq!(
+        front.as_raw(),
+        back_facing.as_raw(),
+        "shaded by the side seen"
+    );
+    let (pixels, brightness) = covered(&front, &empty);
+    println!("front: {pixels} pixels, mean brightness {brightness:.0}");
+    assert!(pixels > 1000, "the sheet covers {pixels} pixels");
+    assert!(brightness > 100.0, "front mean brightness {brightness}");
+    // From behind (azimuth 180° + the default): the same sheet, its normals away.
+    let behind = View {
+        camera: perifrac_render::camera::Camera::framing(
+            &camera_bounds(),
+            SIZE.0 as f32 / SIZE.1 as f32,
+            perifrac_render::camera::AZIMUTH + std::f32::consts::PI,
+        ),
+        ..view()
+    };
+    let (empty_behind, _) = render_with(&perifrac_tests::empty(), &behind);
+    let (back, _) = render_with(&zero_thickness_sheet(1.0), &behind);
+    let (pixels, brightness) = covered(&back, &empty_behind);
+    println!("behind: {pixels} pixels, mean brightness {brightness:.0}");
+    assert!(
+        pixels > 1000,
+        "seen from behind the sheet covers {pixels} pixels"
+    );
+    assert!(
+        brightness > 100.0,
+        "seen from behind: mean brightness {brightness}"
+    );
+}
+
 /// World-space shift that moves the torus by `pixels` pixels to the right of the image.
 fn shift_by_pixels(pixels: f32) -> [f32; 3] {
     let cam = camera();

@@ -523,6 +523,11 @@ pub struct MembraneSpec {
     /// Sources and sinks of the diffused quantity (`[[body.membrane.source]]`).
     #[serde(default, rename = "source", skip_serializing_if = "Vec::is_empty")]
     pub sources: Vec<SourceSpec>,
+    /// Sheet thickness in m of a membrane given by a mesh (`shape.type = "mesh"`, an
+    /// open or closed triangle surface resampled to the body's resolution), where it
+    /// is required; a box, slab or cylinder takes its thickness from its shape.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub thickness: Option<f64>,
 }
 
 /// The formulation of a membrane body (`[body.membrane] membrane_model`).
@@ -543,6 +548,7 @@ impl Default for MembraneSpec {
             membrane_model: MembraneFormulation::Bond,
             quantity: 0.0,
             sources: Vec::new(),
+            thickness: None,
         }
     }
 }

@@ -432,7 +432,7 @@ fn sources(scene: &Scene, i: &str, spec: &MembraneSpec) -> Check {
 }
 
 /// Membranes (Han et al. 2021) run a whole scene; their shape is a sheet (a box or
-/// slab, or a cylinder), their materials use neither plasticity, Chen's fracture,
+/// slab, a cylinder, or a mesh with its thickness), their materials use neither plasticity, Chen's fracture,
 /// anisotropy nor Laplacian damping; membrane keys belong to membranes only.
 fn membrane(scene: &Scene) -> Check {
     let first = scene
@@ -475,15 +475,42 @@ fn membrane(scene: &Scene) -> Check {
             }
             continue;
         }
-        if !matches!(
-            b.shape,
-            ShapeSpec::Box { .. } | ShapeSpec::Slab { .. } | ShapeSpec::Cylinder { .. }
-        ) {
-            return Err(issue(
-                &["body", &i, "shape"],
-                "a membrane is a rectangle (type = \"box\" or \"slab\": the smallest side is the \
-                 thickness) or a disc (type = \"cylinder\": the height is the thickness)",
-            ));
+        let thickness = b.membrane.as_ref().and_then(|m| m.thickness);
+        match (&b.shape, thickness) {
+            (ShapeSpec::Box { .. } | ShapeSpec::Slab { .. } | ShapeSpec::Cylinder { .. }, None) => {
+            }
+            (ShapeSpec::Mesh { .. }, Some(t)) if t.is_finite() && t > 0.0 => {}
+            (ShapeSpec::Mesh { .. }, Some(t)) => {
+                return Err(issue(
+                    &["body", &i, "membrane", "thickness"],
+                    format!("the sheet thickness must be a positive length in m, got {t}"),
+                ));
+            }
+            (ShapeSpec::Mesh { .. }, None) => {
+                return Err(issue(
+                    &["body", &i, "membrane", "thickness"],
+                    "a membrane given by a mesh needs its sheet thickness: add \
+                     [body.membrane] thickness = … (m)",
+                ));
+            }
+            (
+                ShapeSpec::Box { .. } | ShapeSpec::Slab { .. } | ShapeSpec::Cylinder { .. },
+                Some(_),
+            ) => {
+                return Err(issue(
+                    &["body", &i, "membrane", "thickness"],
+                    "a box, slab or cylinder membrane takes its thickness from its shape (the \
+                     smallest side, the height): remove thickness, which is for mesh sheets",
+                ));
+            }
+            _ => {
+                return Err(issue(
+                    &["body", &i, "shape"],
+                    "a membrane is a rectangle (type = \"box\" or \"slab\": the smallest side is the \
+                     thickness), a disc (type = \"cylinder\": the height is the thickness) or a \
+                     triangle mesh (type = \"mesh\", open or closed, with [body.membrane] thickness)",
+                ));
+            }
         }
         if let Some(spec) = &b.membrane
             && !(spec.cutoff.is_finite() && (1.0..=4.0).contains(&spec.cutoff))

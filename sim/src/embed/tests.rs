@@ -28,6 +28,7 @@ fn block(size: [f64; 3], lambda: f64) -> (Discretization, Bonds) {
         quality: vec![mesh.quality()],
         conformity: vec![None],
         meshes: vec![mesh],
+        sheet_triangles: Vec::new(),
     };
     let delta = vec![1.45 * lambda; n];
     let (bonds, _) =
@@ -333,6 +334,7 @@ fn a_face_without_a_bond_is_reported() {
         quality: vec![mesh.quality()],
         conformity: vec![None],
         meshes: vec![mesh],
+        sheet_triangles: Vec::new(),
     };
     let (bonds, _) =
         family::build(&disc.position, &disc.volume, &disc.body, &[0.1, 0.1], false).unwrap();

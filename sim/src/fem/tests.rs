@@ -45,6 +45,7 @@ fn block(corotated: bool) -> FemModel {
         quality: vec![mesh.quality()],
         conformity: vec![None],
         meshes: vec![mesh],
+        sheet_triangles: Vec::new(),
     };
     FemModel::new(&disc, vec![FemBody::new(material(), corotated)]).expect("valid mesh")
 }

@@ -36,6 +36,9 @@ pub struct Discretization {
     /// follows the file's surface (`None` for primitive shapes, whose boundary
     /// vertices lie on the exact surface).
     pub conformity: Vec<Option<Conformity>>,
+    /// The triangles of the membranes given by a mesh (their remeshed sheets), as
+    /// indices of the sorted particles; a lattice sheet's are found from its bonds.
+    pub sheet_triangles: Vec<[u32; 3]>,
 }
 
 /// The worst fit (in λ, [`Conformity::max`]) a mesh body keeps the turned lattice
@@ -113,7 +116,7 @@ pub fn discretize(scene: &Scene) -> Result<Discretization> {
         .map(|b| {
             (b.model == ModelKind::Membrane)
                 .then(|| {
-                    sheet::sample(b).map_err(|message| SimError::Mesh {
+                    sheet::sample(b, &scene.base_dir).map_err(|message| SimError::Mesh {
                         body: b.name.clone(),
                         message,
                     })
@@ -130,9 +133,10 @@ pub fn discretize(scene: &Scene) -> Result<Discretization> {
     );
     for (b, sheet) in sheets.iter().enumerate() {
         // A membrane's particles are its sheet's (Han §6), each with volume A h.
-        for (t, &x) in sheet.iter().flat_map(|s| s.position.iter()).enumerate() {
-            let s = sheet.as_ref().map_or(0.0, |s| s.area * s.thickness);
-            items.push((morton(x, lo, hi), x, s, b as u32, t as u32));
+        if let Some(s) = sheet {
+            for (t, (&x, &area)) in s.position.iter().zip(&s.area).enumerate() {
+                items.push((morton(x, lo, hi), x, area * s.thickness, b as u32, t as u32));
+            }
         }
     }
     for (b, mesh) in meshes.iter().enumerate() {
@@ -143,6 +147,26 @@ pub fn discretize(scene: &Scene) -> Result<Discretization> {
     }
     items.par_sort_unstable_by_key(|it| (it.0, it.3, it.4));
     let quality = meshes.iter().map(TetMesh::quality).collect();
+    // Where each sheet particle (body, index in its sheet) went in the sorted order.
+    let mut sorted: Vec<Vec<u32>> = sheets
+        .iter()
+        .map(|s| vec![0; s.as_ref().map_or(0, |s| s.position.len())])
+        .collect();
+    for (i, it) in items.iter().enumerate() {
+        if let Some(slot) = sorted[it.3 as usize].get_mut(it.4 as usize) {
+            *slot = i as u32;
+        }
+    }
+    let sheet_triangles = sheets
+        .iter()
+        .enumerate()
+        .flat_map(|(b, s)| {
+            let sorted = &sorted[b];
+            s.iter()
+                .flat_map(|s| s.triangles.iter())
+                .map(move |t| t.map(|v| sorted[v as usize]))
+        })
+        .collect();
     Ok(Discretization {
         position: items.iter().map(|it| it.1).collect(),
         volume: items.iter().map(|it| it.2).collect(),
@@ -151,6 +175,7 @@ pub fn discretize(scene: &Scene) -> Result<Discretization> {
         meshes,
         quality,
         conformity,
+        sheet_triangles,
     })
 }
 

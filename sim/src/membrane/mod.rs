@@ -204,6 +204,9 @@ pub struct MembraneModel {
     pub damage: Vec<f64>,
     /// Bonds of each particle before the run.
     initial_bonds: Vec<u32>,
+    /// The triangles of the sheets given by a mesh (their remeshed triangles); empty
+    /// when every sheet is a lattice.
+    pub mesh_triangles: Vec<[u32; 3]>,
     /// Force density ρ a_i without gravity (N/m³), from the last forces.
     pub force: Vec<[f64; 3]>,
     /// Stage timers.
@@ -268,13 +271,15 @@ impl MembraneModel {
             elapsed: 0.0,
             damage: vec![0.0; n],
             initial_bonds,
+            mesh_triangles: Vec::new(),
             force: vec![[0.0; 3]; n],
             times: StageTimes::default(),
         })
     }
 
     /// The membrane bodies of a scene, on the sheet particles of its discretization
-    /// ([`sheet::sample`]), with the scene's initial cracks (slits, notches) cut.
+    /// ([`sheet::sample`]; a mesh sheet's triangles with them), with the scene's
+    /// initial cracks (slits, notches) cut.
     pub fn from_scene(scene: &Scene, disc: &Discretization) -> Result<MembraneModel> {
         let mut bodies = Vec::with_capacity(scene.bodies.len());
         for b in &scene.bodies {
@@ -284,7 +289,7 @@ impl MembraneModel {
                     b.name
                 )));
             }
-            let sheet = sheet::sample(b).map_err(|message| SimError::Mesh {
+            let thickness = sheet::thickness(b).map_err(|message| SimError::Mesh {
                 body: b.name.clone(),
                 message,
             })?;
@@ -293,7 +298,7 @@ impl MembraneModel {
             bodies.push(SheetBody::new(
                 &Material::from_spec(spec),
                 &spec.membrane.clone().unwrap_or_default(),
-                sheet.thickness,
+                thickness,
                 membrane.cutoff * b.resolution,
                 membrane.membrane_model,
             ));
@@ -302,6 +307,7 @@ impl MembraneModel {
             .map(|i| disc.volume[i] / bodies[disc.body[i] as usize].thickness)
             .collect();
         let mut model = MembraneModel::new(disc.position.clone(), area, disc.body.clone(), bodies)?;
+        model.mesh_triangles = disc.sheet_triangles.clone();
         for (theta, &b) in model.quantity.iter_mut().zip(&model.body) {
             *theta = scene.bodies[b as usize]
                 .membrane
@@ -656,13 +662,29 @@ impl MembraneModel {
         })
     }
 
-    /// The sheet's lattice triangles: every triple of particles of one body bonded
+    /// Every sheet's triangles: the lattice triangles of the lattice sheets
+    /// ([`MembraneModel::lattice_triangles`]), then the mesh sheets' own.
+    pub fn sheet_triangles(&self) -> Vec<[u32; 3]> {
+        let mut triangles = self.lattice_triangles();
+        triangles.extend_from_slice(&self.mesh_triangles);
+        triangles
+    }
+
+    /// The lattice sheets' triangles: every triple of particles of one body bonded
     /// pairwise at the lattice spacing (each particle's shortest bond, to 0.1%),
     /// wound so that their reference normals agree with the first one's along the
-    /// sheet's normal, in increasing order of their smallest index.
+    /// sheet's normal, in increasing order of their smallest index. Particles of mesh
+    /// sheets (in [`MembraneModel::mesh_triangles`]) are left out.
     pub fn lattice_triangles(&self) -> Vec<[u32; 3]> {
         let bonds = &self.bonds;
+        let mut meshed = vec![false; self.len()];
+        for &v in self.mesh_triangles.iter().flatten() {
+            meshed[v as usize] = true;
+        }
         let nearest = |i: usize| -> Vec<usize> {
+            if meshed[i] {
+                return Vec::new();
+            }
             let shortest = bonds
                 .range(i)
                 .map(|k| bonds.rest_length[k])

@@ -1,5 +1,8 @@
 //! Sheets of one particle layer (Han §6: "a single layer of uniformly distributed
-//! particles"), sampled on a regular triangular lattice.
+//! particles"), sampled on a regular triangular lattice, or resampled from a triangle
+//! mesh (open or closed) to the spacing by isotropic remeshing
+//! ([`crate::geometry::mesh::remesh`]), whose vertices are the particles and whose
+//! triangles the sheet's.
 //!
 //! The lattice is triangular rather than square because a triangular lattice of
 //! central pair forces is elastically isotropic (the same stiffness in every in-plane
@@ -9,6 +12,11 @@
 //! sheet's first in-plane axis u, `√3/2 h` apart along v, every other row shifted by
 //! h/2.
 
+use std::path::Path;
+
+use crate::geometry::mesh::TriMesh;
+use crate::geometry::mesh::remesh::remesh;
+use crate::geometry::shape;
 use crate::scene::{BodySpec, ShapeSpec};
 
 /// A sampled sheet: particle positions and what every particle carries.
@@ -16,12 +24,15 @@ use crate::scene::{BodySpec, ShapeSpec};
 pub struct Sheet {
     /// Particle positions (m), row by row.
     pub position: Vec<[f64; 3]>,
-    /// Area A_i of every particle (m²): (√3/2) h².
-    pub area: f64,
+    /// Area A_i of each particle (m²): (√3/2) h² on a lattice, a third of its
+    /// triangles' area on a mesh.
+    pub area: Vec<f64>,
     /// Thickness of the sheet (m).
     pub thickness: f64,
-    /// The axis normal to the sheet (0, 1, 2 for x, y, z).
-    pub normal: usize,
+    /// The sheet's triangles (indices into `position`) for a mesh sheet; empty for a
+    /// lattice, whose triangles are found from its bonds
+    /// ([`crate::membrane::MembraneModel::lattice_triangles`]).
+    pub triangles: Vec<[u32; 3]>,
 }
 
 /// The outline of a sheet in its plane.
@@ -79,29 +90,83 @@ fn placement(shape: &ShapeSpec) -> Result<Placement, String> {
             thickness: *height,
         }),
         _ => Err(
-            "a membrane is a rectangle (type = \"box\" or \"slab\": the smallest side is the thickness) \
-             or a disc (type = \"cylinder\": the height is the thickness)"
+            "a membrane is a rectangle (type = \"box\" or \"slab\": the smallest side is the thickness), \
+             a disc (type = \"cylinder\": the height is the thickness) or a triangle mesh \
+             (type = \"mesh\")"
                 .into(),
         ),
     }
 }
 
+/// The surface of a mesh sheet, read (relative to `base_dir`), placed and checked;
+/// `None` for the other shapes.
+fn mesh_surface(body: &BodySpec, base_dir: &Path) -> Result<Option<TriMesh>, String> {
+    match (&body.shape, shape::placement(&body.shape)) {
+        (ShapeSpec::Mesh { path, .. }, Some(placement)) => {
+            TriMesh::load_surface(&base_dir.join(path), &placement)
+                .map(Some)
+                .map_err(|e| e.to_string())
+        }
+        _ => Ok(None),
+    }
+}
+
+/// The thickness of a mesh sheet (`[body.membrane] thickness`, which the scene's
+/// validation requires of a mesh membrane).
+fn mesh_thickness(body: &BodySpec) -> Result<f64, String> {
+    body.membrane
+        .as_ref()
+        .and_then(|m| m.thickness)
+        .ok_or_else(|| "a membrane given by a mesh needs [body.membrane] thickness (m)".into())
+}
+
+/// The thickness of a membrane body's sheet (m): its shape's smallest side or height,
+/// or `[body.membrane] thickness` for a mesh.
+pub fn thickness(body: &BodySpec) -> Result<f64, String> {
+    match body.shape {
+        ShapeSpec::Mesh { .. } => mesh_thickness(body),
+        ref shape => Ok(placement(shape)?.thickness),
+    }
+}
+
 /// The number of particles [`sample`] places, computed without placing them (for
-/// the memory estimate before a run).
-pub fn particle_count(body: &BodySpec) -> Result<f64, String> {
-    let p = placement(&body.shape)?;
+/// the memory estimate before a run): a mesh sheet's area over the lattice's area
+/// per particle, which the remeshed sheet matches on average.
+pub fn particle_count(body: &BodySpec, base_dir: &Path) -> Result<f64, String> {
     let h = body.resolution;
     let row = h * 3f64.sqrt() / 2.0;
+    if let Some(mesh) = mesh_surface(body, base_dir)? {
+        return Ok((mesh.area() / (h * row)).max(1.0));
+    }
+    let p = placement(&body.shape)?;
     Ok(match p.outline {
         Outline::Rectangle([a, b]) => (a / h).round().max(1.0) * (b / row).round().max(1.0),
         Outline::Disc(radius) => std::f64::consts::PI * radius * radius / (h * row),
     })
 }
 
-/// Samples the sheet of a membrane body at its `resolution` (the spacing h).
-pub fn sample(body: &BodySpec) -> Result<Sheet, String> {
-    let p = placement(&body.shape)?;
+/// Samples the sheet of a membrane body at its `resolution` (the spacing h); a mesh
+/// file is read relative to `base_dir`.
+pub fn sample(body: &BodySpec, base_dir: &Path) -> Result<Sheet, String> {
     let h = body.resolution;
+    if let Some(mesh) = mesh_surface(body, base_dir)? {
+        let r = remesh(&mesh, h);
+        if r.vertices.len() < 2 {
+            return Err(format!(
+                "the sheet holds {} particle at spacing {h} m (its mesh's area is {:.3e} m²): \
+                 make it larger or the resolution finer",
+                r.vertices.len(),
+                mesh.area()
+            ));
+        }
+        return Ok(Sheet {
+            position: r.vertices,
+            area: r.area,
+            thickness: mesh_thickness(body)?,
+            triangles: r.triangles,
+        });
+    }
+    let p = placement(&body.shape)?;
     let row = h * 3f64.sqrt() / 2.0;
     let [u, v] = in_plane(p.normal);
     let mut position = Vec::new();
@@ -147,10 +212,10 @@ pub fn sample(body: &BodySpec) -> Result<Sheet, String> {
         ));
     }
     Ok(Sheet {
+        area: vec![h * row; position.len()],
         position,
-        area: h * row,
         thickness: p.thickness,
-        normal: p.normal,
+        triangles: Vec::new(),
     })
 }
 
@@ -177,9 +242,9 @@ mod tests {
             },
             0.01,
         );
-        let s = sample(&rect).expect("sheet");
-        assert_eq!((s.normal, s.thickness), (1, 0.001));
-        let area = s.area * s.position.len() as f64;
+        let s = sample(&rect, Path::new(".")).expect("sheet");
+        assert_eq!(s.thickness, 0.001);
+        let area: f64 = s.area.iter().sum();
         assert!((area - 0.08).abs() / 0.08 < 0.03, "area {area}");
         assert!(s.position.iter().all(|x| x[1] == 1.0));
         let disc = body(
@@ -191,11 +256,11 @@ mod tests {
             },
             0.005,
         );
-        let d = sample(&disc).expect("disc");
-        let area = d.area * d.position.len() as f64;
+        let d = sample(&disc, Path::new(".")).expect("disc");
+        let area: f64 = d.area.iter().sum();
         let exact = std::f64::consts::PI * 0.01;
         assert!((area - exact).abs() / exact < 0.03, "area {area}");
-        assert_eq!(d.normal, 2);
+        assert!(d.position.iter().all(|x| x[2] == 0.0));
     }
 
     #[test]
@@ -207,6 +272,6 @@ mod tests {
             },
             0.1,
         );
-        assert!(sample(&b).unwrap_err().contains("cylinder"));
+        assert!(sample(&b, Path::new(".")).unwrap_err().contains("cylinder"));
     }
 }

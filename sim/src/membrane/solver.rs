@@ -24,7 +24,7 @@ use crate::model::{Model, ParticleColumns, Points, PointsMut};
 pub struct Membrane {
     /// The model.
     pub model: MembraneModel,
-    /// The lattice triangles, found the first time a sheet is written.
+    /// The sheets' triangles, found the first time a sheet is written.
     triangles: OnceLock<Vec<[u32; 3]>>,
 }
 
@@ -146,11 +146,11 @@ impl Model for Membrane {
         self.model.bonds.len()
     }
 
-    /// The particles (with their body's thickness) and the lattice triangles whose
-    /// three bonds are intact.
+    /// The particles (with their body's thickness) and the sheet triangles (lattice or
+    /// mesh) whose three bonds are intact.
     fn sheet_frame(&self) -> Option<SheetFrame> {
         let m = &self.model;
-        let triangles = self.triangles.get_or_init(|| m.lattice_triangles());
+        let triangles = self.triangles.get_or_init(|| m.sheet_triangles());
         Some(SheetFrame {
             positions: m.position.iter().map(f32x3).collect(),
             thickness: m

@@ -153,7 +153,7 @@ pub fn stage(
     write(
         &layout.animated_surface(),
         "surface/animated.glb".into(),
-        encoder.animated(&base.mesh, &times, &positions, &colliders),
+        encoder.animated(&base.mesh, &times, &positions, &[], &colliders),
     )?;
     manifest.timings.surface = extraction;
     manifest.write(&layout.manifest())?;

@@ -1,5 +1,6 @@
 //! Checks that a welded triangle mesh bounds a solid: no degenerate faces, every
-//! edge shared by exactly two faces, consistent winding, no self-intersection.
+//! edge shared by exactly two faces, consistent winding, no self-intersection; and
+//! that an open one is a surface a membrane can be made of (`check_surface`).
 
 use std::path::Path;
 
@@ -21,6 +22,119 @@ const PLANE_TOLERANCE: f64 = 1e-9;
 /// Runs every check in order (degenerate, closed, oriented, self-intersecting)
 /// and returns the first failure.
 pub(super) fn check(mesh: &TriMesh, path: &Path) -> Result<(), MeshFileError> {
+    degenerate(mesh, path)?;
+    let path = || path.to_path_buf();
+    let (lo, hi) = mesh.bounds();
+    let diagonal2 = dot(sub(hi, lo), sub(hi, lo));
+    let edges = edge_counts(mesh);
+    if edges.boundary + edges.non_manifold > 0 {
+        return Err(MeshFileError::NotClosed {
+            path: path(),
+            boundary: edges.boundary,
+            non_manifold: edges.non_manifold,
+            edges: edges.unique,
+        });
+    }
+    if edges.flipped > 0 {
+        return Err(MeshFileError::InconsistentOrientation {
+            path: path(),
+            edges: edges.flipped,
+        });
+    }
+
+    let (pairs, first_pair) = intersecting_pairs(mesh, PLANE_TOLERANCE * diagonal2.sqrt());
+    if pairs > 0 {
+        return Err(MeshFileError::SelfIntersecting {
+            path: path(),
+            pairs,
+            first_pair: first_pair.unwrap_or((0, 0)),
+        });
+    }
+    Ok(())
+}
+
+/// The checks of a surface that may be open (a membrane's sheet): no degenerate
+/// face, no edge of more than two faces and no vertex where two sheets touch (a
+/// manifold with boundary), consistent winding.
+pub(super) fn check_surface(mesh: &TriMesh, path: &Path) -> Result<(), MeshFileError> {
+    degenerate(mesh, path)?;
+    let edges = edge_counts(mesh);
+    // A vertex of a manifold surface with boundary has no or two boundary edges.
+    let mut boundary_edges = vec![0u32; mesh.vertices.len()];
+    for &(a, b) in &edges.boundary_edges {
+        boundary_edges[a as usize] += 1;
+        boundary_edges[b as usize] += 1;
+    }
+    let pinched = boundary_edges.iter().filter(|&&n| n > 2).count();
+    if edges.non_manifold + pinched > 0 {
+        return Err(MeshFileError::NotManifold {
+            path: path.to_path_buf(),
+            edges: edges.non_manifold,
+            vertices: pinched,
+        });
+    }
+    if edges.flipped > 0 {
+        return Err(MeshFileError::InconsistentOrientation {
+            path: path.to_path_buf(),
+            edges: edges.flipped,
+        });
+    }
+    Ok(())
+}
+
+/// How the undirected edges of a mesh are used.
+struct EdgeCounts {
+    /// Edges.
+    unique: usize,
+    /// Edges of one face.
+    boundary: usize,
+    /// The boundary edges (smaller vertex first).
+    boundary_edges: Vec<(u32, u32)>,
+    /// Edges of three or more faces.
+    non_manifold: usize,
+    /// Edges of two faces that run them the same way.
+    flipped: usize,
+}
+
+fn edge_counts(mesh: &TriMesh) -> EdgeCounts {
+    // Directed edges sorted by their undirected key.
+    let mut edges: Vec<(u32, u32, bool)> = mesh
+        .triangles
+        .iter()
+        .flat_map(|t| {
+            [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])].map(|(a, b)| (a.min(b), a.max(b), a < b))
+        })
+        .collect();
+    edges.par_sort_unstable();
+    let mut counts = EdgeCounts {
+        unique: 0,
+        boundary: 0,
+        boundary_edges: Vec::new(),
+        non_manifold: 0,
+        flipped: 0,
+    };
+    let mut i = 0;
+    while i < edges.len() {
+        let mut j = i + 1;
+        while j < edges.len() && edges[j].0 == edges[i].0 && edges[j].1 == edges[i].1 {
+            j += 1;
+        }
+        counts.unique += 1;
+        match j - i {
+            1 => {
+                counts.boundary += 1;
+                counts.boundary_edges.push((edges[i].0, edges[i].1));
+            }
+            2 => counts.flipped += usize::from(edges[i].2 == edges[i + 1].2),
+            _ => counts.non_manifold += 1,
+        }
+        i = j;
+    }
+    counts
+}
+
+/// Fails on faces with a repeated vertex or of (near) zero area.
+fn degenerate(mesh: &TriMesh, path: &Path) -> Result<(), MeshFileError> {
     let path = || path.to_path_buf();
     let (lo, hi) = mesh.bounds();
     let diagonal2 = dot(sub(hi, lo), sub(hi, lo));
@@ -49,54 +163,6 @@ pub(super) fn check(mesh: &TriMesh, path: &Path) -> Result<(), MeshFileError> {
             zero_area,
             faces: mesh.triangles.len(),
             first,
-        });
-    }
-
-    // Directed edges sorted by their undirected key.
-    let mut edges: Vec<(u32, u32, bool)> = mesh
-        .triangles
-        .iter()
-        .flat_map(|t| {
-            [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])].map(|(a, b)| (a.min(b), a.max(b), a < b))
-        })
-        .collect();
-    edges.par_sort_unstable();
-    let (mut boundary, mut non_manifold, mut flipped, mut unique) = (0, 0, 0, 0);
-    let mut i = 0;
-    while i < edges.len() {
-        let mut j = i + 1;
-        while j < edges.len() && edges[j].0 == edges[i].0 && edges[j].1 == edges[i].1 {
-            j += 1;
-        }
-        unique += 1;
-        match j - i {
-            1 => boundary += 1,
-            2 => flipped += usize::from(edges[i].2 == edges[i + 1].2),
-            _ => non_manifold += 1,
-        }
-        i = j;
-    }
-    if boundary + non_manifold > 0 {
-        return Err(MeshFileError::NotClosed {
-            path: path(),
-            boundary,
-            non_manifold,
-            edges: unique,
-        });
-    }
-    if flipped > 0 {
-        return Err(MeshFileError::InconsistentOrientation {
-            path: path(),
-            edges: flipped,
-        });
-    }
-
-    let (pairs, first_pair) = intersecting_pairs(mesh, PLANE_TOLERANCE * diagonal2.sqrt());
-    if pairs > 0 {
-        return Err(MeshFileError::SelfIntersecting {
-            path: path(),
-            pairs,
-            first_pair: first_pair.unwrap_or((0, 0)),
         });
     }
     Ok(())

@@ -1,4 +1,5 @@
-//! Closed triangle meshes as body shapes (issue 3, item 1).
+//! Closed triangle meshes as body shapes (issue 3, item 1), and open ones as
+//! membranes' sheets (module `remesh`, issue 14).
 //!
 //! A mesh file (OBJ, PLY or glTF/GLB, module `read`) is read into a [`TriMesh`], its
 //! duplicate vertices welded, placed in the scene by a [`Placement`]
@@ -14,6 +15,7 @@ mod check;
 pub mod conformity;
 mod distance;
 mod read;
+pub mod remesh;
 
 use std::path::{Path, PathBuf};
 
@@ -44,7 +46,7 @@ pub enum MeshFileError {
     },
     /// The file holds no triangles.
     #[error(
-        "{path}: the mesh has no triangles ({vertices} vertices): export the closed surface as triangles"
+        "{path}: the mesh has no triangles ({vertices} vertices): export the surface as triangles"
     )]
     Empty {
         /// The mesh file.
@@ -107,6 +109,18 @@ pub enum MeshFileError {
         non_manifold: usize,
         /// Total number of edges.
         edges: usize,
+    },
+    /// An open surface (a membrane's sheet) that is not a manifold with boundary.
+    #[error(
+        "{path}: the sheet is not a surface: {edges} edges are shared by more than two faces and at {vertices} vertices two sheets touch at one point; a membrane's mesh must be one sheet whose every edge has one or two faces: split it into separate bodies or remesh"
+    )]
+    NotManifold {
+        /// The mesh file.
+        path: PathBuf,
+        /// Edges used by three or more faces.
+        edges: usize,
+        /// Vertices with more than two boundary edges.
+        vertices: usize,
     },
     /// Neighbouring faces are wound in opposite directions.
     #[error(
@@ -234,6 +248,28 @@ impl TriMesh {
         if mesh.enclosed_volume() < 0.0 {
             mesh.flip();
         }
+        Ok(mesh)
+    }
+
+    /// Reads a mesh file of a surface that may be open (a membrane's sheet), welds
+    /// duplicate vertices, places it and checks that it is a manifold with boundary,
+    /// consistently wound and without degenerate faces.
+    ///
+    /// # Errors
+    /// [`MeshFileError`]: unreadable, empty, non-finite, degenerate, not manifold,
+    /// inconsistent orientation — each naming `path`.
+    pub fn load_surface(path: &Path, placement: &Placement) -> Result<TriMesh, MeshFileError> {
+        let mut mesh = read::read(path)?;
+        non_finite(&mesh, path)?;
+        mesh.weld();
+        for v in &mut mesh.vertices {
+            *v = placement.apply(*v);
+        }
+        non_finite(&mesh, path)?;
+        if placement.mirrors() {
+            mesh.flip();
+        }
+        check::check_surface(&mesh, path)?;
         Ok(mesh)
     }
 
