@@ -8,9 +8,9 @@ cd "$(dirname "$0")/.."
 FRAMES=${1:-all}
 [ $# -gt 0 ] && shift
 SCENES=${*:-assets/scenes/mpm-*.toml}
-cargo test -q -p perifrac-sim --test mpm --no-run 2>/dev/null
+cargo test -q --release -p perifrac-sim --test mpm --no-run 2>/dev/null
 for scene in $SCENES; do
     if [ "$FRAMES" = all ]; then unset MPM_SCENE_FRAMES; else export MPM_SCENE_FRAMES="$FRAMES"; fi
-    MPM_SCENE="$PWD/$scene" cargo test -q -p perifrac-sim --test mpm scene_run -- --ignored --nocapture \
-        | grep -v "^running\|^test \|^$\|test result"
+    MPM_SCENE="$PWD/$scene" cargo test -q --release -p perifrac-sim --test mpm scene_run -- --ignored --nocapture \
+        | sed "s/^test scene_run ... //" | grep -v "^running\|^$\|test result\|^ok$"
 done
