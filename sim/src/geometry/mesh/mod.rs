@@ -234,16 +234,7 @@ impl TriMesh {
     /// # Errors
     /// Every [`MeshFileError`] kind, naming `path`.
     pub fn load(path: &Path, placement: &Placement) -> Result<TriMesh, MeshFileError> {
-        let mut mesh = read::read(path)?;
-        non_finite(&mesh, path)?;
-        mesh.weld();
-        for v in &mut mesh.vertices {
-            *v = placement.apply(*v);
-        }
-        non_finite(&mesh, path)?;
-        if placement.mirrors() {
-            mesh.flip();
-        }
+        let mut mesh = TriMesh::read_placed(path, placement)?;
         check::check(&mesh, path)?;
         if mesh.enclosed_volume() < 0.0 {
             mesh.flip();
@@ -259,6 +250,14 @@ impl TriMesh {
     /// [`MeshFileError`]: unreadable, empty, non-finite, degenerate, not manifold,
     /// inconsistent orientation — each naming `path`.
     pub fn load_surface(path: &Path, placement: &Placement) -> Result<TriMesh, MeshFileError> {
+        let mesh = TriMesh::read_placed(path, placement)?;
+        check::check_surface(&mesh, path)?;
+        Ok(mesh)
+    }
+
+    /// What [`TriMesh::load`] and [`TriMesh::load_surface`] share: the file read,
+    /// finite, welded, placed, and turned back the right way if the placement mirrors.
+    fn read_placed(path: &Path, placement: &Placement) -> Result<TriMesh, MeshFileError> {
         let mut mesh = read::read(path)?;
         non_finite(&mesh, path)?;
         mesh.weld();
@@ -269,7 +268,6 @@ impl TriMesh {
         if placement.mirrors() {
             mesh.flip();
         }
-        check::check_surface(&mesh, path)?;
         Ok(mesh)
     }
 
