@@ -180,12 +180,8 @@ fn glb_triangles(path: &Path) -> (usize, Vec<[u32; 3]>) {
     (vertices, triangles)
 }
 
-#[test]
-fn a_torn_film_becomes_one_closed_sheet_surface_a_fragment() {
-    let dir = tempfile::tempdir().unwrap();
-    let scene = dir.path().join("sheet.toml");
-    std::fs::write(&scene, SCENE).unwrap();
-    let out = dir.path().join("out");
+/// `perifrac run SCENE -o OUT --quiet`, which must succeed.
+fn run(scene: &Path, out: &Path) {
     let run = Command::new(env!("CARGO_BIN_EXE_perifrac"))
         .args([
             "run",
@@ -201,6 +197,27 @@ fn a_torn_film_becomes_one_closed_sheet_surface_a_fragment() {
         "{}",
         String::from_utf8_lossy(&run.stderr)
     );
+}
+
+/// `perifrac check SCENE`: its exit code and standard error.
+fn check(scene: &Path) -> (Option<i32>, String) {
+    let run = Command::new(env!("CARGO_BIN_EXE_perifrac"))
+        .args(["check", scene.to_str().unwrap()])
+        .output()
+        .unwrap();
+    (
+        run.status.code(),
+        String::from_utf8_lossy(&run.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn a_torn_film_becomes_one_closed_sheet_surface_a_fragment() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("sheet.toml");
+    std::fs::write(&scene, SCENE).unwrap();
+    let out = dir.path().join("out");
+    run(&scene, &out);
     let frames = 5;
     for f in 1..=frames {
         let glb = out.join(format!("surface/{f:04}.glb"));
@@ -345,21 +362,7 @@ fn a_heated_mesh_cap_carries_theta_in_its_sheet_glb_files() {
     let scene = dir.path().join("cap.toml");
     std::fs::write(&scene, cap_scene("cap.obj")).unwrap();
     let out = dir.path().join("out");
-    let run = Command::new(env!("CARGO_BIN_EXE_perifrac"))
-        .args([
-            "run",
-            scene.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-            "--quiet",
-        ])
-        .output()
-        .unwrap();
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    run(&scene, &out);
     let frames = 3;
     // The mesh sheet's triangles go through the sheet method like a lattice's.
     let (n, first) = sheet_triangles(&out.join("sheet/0001.ply"));
@@ -459,12 +462,8 @@ fn bad_sheet_meshes_are_refused_naming_the_file_and_the_fix() {
         std::fs::write(dir.path().join(file), text).unwrap();
         let scene = dir.path().join("bad.toml");
         std::fs::write(&scene, cap_scene(file)).unwrap();
-        let run = Command::new(env!("CARGO_BIN_EXE_perifrac"))
-            .args(["check", scene.to_str().unwrap()])
-            .output()
-            .unwrap();
-        let stderr = String::from_utf8_lossy(&run.stderr);
-        assert_eq!(run.status.code(), Some(2), "{file}: {stderr}");
+        let (code, stderr) = check(&scene);
+        assert_eq!(code, Some(2), "{file}: {stderr}");
         assert!(
             stderr.contains(file) && stderr.contains(what),
             "{file}: {stderr}"
@@ -478,11 +477,7 @@ fn bad_sheet_meshes_are_refused_naming_the_file_and_the_fix() {
         cap_scene("cap.obj").replace("thickness = 0.001", ""),
     )
     .unwrap();
-    let run = Command::new(env!("CARGO_BIN_EXE_perifrac"))
-        .args(["check", scene.to_str().unwrap()])
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&run.stderr);
-    assert_eq!(run.status.code(), Some(2), "{stderr}");
+    let (code, stderr) = check(&scene);
+    assert_eq!(code, Some(2), "{stderr}");
     assert!(stderr.contains("membrane.thickness"), "{stderr}");
 }
