@@ -12,6 +12,7 @@
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::sync::{PoisonError, RwLock, RwLockReadGuard};
 
 use crate::error::{CacheError, Result};
 use crate::manifest::Manifest;
@@ -228,7 +229,7 @@ impl Layout {
         ]
     }
 
-    /// Removes the temporary files ([`temporary_path`]) a killed or failed writer
+    /// Removes the temporary files ([`temporary_file`]) a killed or failed writer
     /// left in the cache: those of this process and of processes no longer running
     /// (a live process's are its writes in flight). Returns the files removed.
     pub fn remove_temporary_files(&self) -> Vec<PathBuf> {
@@ -291,15 +292,44 @@ fn frame_numbers(dir: &Path, extension: &str) -> Vec<usize> {
     frames
 }
 
-/// The temporary name beside `path` that a file is written to before it is renamed
-/// into place (for writers, like OpenVDB's, that need a path rather than bytes).
-pub fn temporary_path(path: &Path) -> PathBuf {
+/// Held shared by every temporary file of this process while it exists and taken
+/// for good by [`stop_writes`], so an exit at once can leave none behind.
+static WRITES: RwLock<()> = RwLock::new(());
+
+/// The temporary name `.NAME.tmp-PID` beside `path` that a file is written to
+/// before it is renamed into place.
+fn temporary_path(path: &Path) -> PathBuf {
     let dir = path.parent().unwrap_or_else(|| Path::new("."));
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
     dir.join(format!(".{name}.tmp-{}", std::process::id()))
+}
+
+/// A file's temporary name while it is written (for writers, like OpenVDB's, that
+/// need a path rather than bytes; [`write_atomic`] for the others): the writer
+/// creates it, renames it into place or removes it, then drops this.
+/// [`stop_writes`] waits until every one alive is dropped.
+pub struct TemporaryFile {
+    /// Where the file is written before the rename.
+    pub path: PathBuf,
+    _writing: RwLockReadGuard<'static, ()>,
+}
+
+/// The temporary file for `path`; blocks for good once [`stop_writes`] was called.
+pub fn temporary_file(path: &Path) -> TemporaryFile {
+    TemporaryFile {
+        _writing: WRITES.read().unwrap_or_else(PoisonError::into_inner),
+        path: temporary_path(path),
+    }
+}
+
+/// Waits for the writes in flight to rename or remove their temporary files and
+/// blocks every later one, for the rest of the process: what an exit at once calls
+/// before it removes what is left ([`Layout::remove_temporary_files`]) and exits.
+pub fn stop_writes() {
+    std::mem::forget(WRITES.write().unwrap_or_else(PoisonError::into_inner));
 }
 
 /// The process id in a temporary file name `.NAME.tmp-PID`, if it is one.
@@ -320,17 +350,17 @@ fn process_is_running(pid: u32) -> bool {
 /// On failure the temporary file is removed and the error names `path`, the OS's
 /// reason and the fix (for a full disk, the free space and the bytes needed).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let tmp = temporary_path(path);
+    let tmp = temporary_file(path);
     let write = || -> std::io::Result<()> {
-        let mut f = std::fs::File::create(&tmp)?;
+        let mut f = std::fs::File::create(&tmp.path)?;
         f.write_all(bytes)?;
         f.sync_data()?;
         drop(f);
-        std::fs::rename(&tmp, path)
+        std::fs::rename(&tmp.path, path)
     };
     write().map_err(|error| {
         // The partial file would keep a full disk full.
-        let _ = std::fs::remove_file(&tmp);
+        let _ = std::fs::remove_file(&tmp.path);
         write_error(path, error, bytes.len() as u64)
     })
 }

@@ -6,7 +6,7 @@
 //! | type | what it is |
 //! |---|---|
 //! | [`Layout`] | every path of an output directory (`manifest.json`, `scene.toml`, `particles/NNNN.ply`, `tets/NNNN.vtu`, `tets/tets.pvd`, `colliders/mesh_N.ply`, `cache.usd`, `usd/NNNN.usdc`, `surface/NNNN.glb`, `surface/animated.glb`, `surface/NNNN_debris.ply`, `vdb/NNNN.vdb`, `preview/…`, `checkpoint/state.bin`) |
-//! | [`write_atomic`] | the one way a cache file is written (temporary name, [`temporary_path`], then rename) |
+//! | [`write_atomic`] | the one way a cache file is written (temporary name, [`temporary_file`], then rename); [`stop_writes`] before an exit at once |
 //! | [`scene::Scene`] | the scene file format, its defaults and validation; [`scene::Scene::load`] also reads the resolved `OUT/scene.toml` |
 //! | [`ply::ParticleFrame`] | a particle frame (float PLY: standard columns, then a model's extra columns); [`ply::encode_points`] / [`ply::FloatPly`] for other point files |
 //! | [`vtu::TetFrame`] | the split tet mesh of a frame (VTK XML); [`vtu::write_collection`] the ParaView `.pvd` that gives the frames their times |
@@ -32,5 +32,6 @@ pub mod vtu;
 
 pub use error::{CacheError, Result};
 pub use layout::{
-    Layout, free_space, human_bytes, playback_time, temporary_path, write_atomic, write_error,
+    Layout, TemporaryFile, free_space, human_bytes, playback_time, stop_writes, temporary_file,
+    write_atomic, write_error,
 };

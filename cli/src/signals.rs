@@ -6,8 +6,9 @@
 //! (or the frame it is writing), writes a checkpoint there, marks the manifest
 //! interrupted and returns, and the command exits with [`EXIT_INTERRUPTED`] and the
 //! command that resumes. A second signal, or one outside the simulation (meshing,
-//! surfaces, previews: nothing there to checkpoint), removes this process's temporary
-//! files and exits at once with 128 + the signal number (130 for Ctrl-C), as a shell
+//! surfaces, previews: nothing there to checkpoint), waits for the file writes in
+//! flight to land (each a write and a rename, never a frame's work), removes this
+//! process's temporary files and exits at once with 128 + the signal number (130 for Ctrl-C), as a shell
 //! reports a process killed by it.
 
 use std::path::PathBuf;
@@ -58,6 +59,7 @@ impl Watcher {
                     );
                     continue;
                 }
+                perifrac_cache::stop_writes();
                 let removed = Layout::new(&out).remove_temporary_files().len();
                 eprintln!(
                     "\n{}: quitting at once{}; the frames and the last checkpoint on disk stay",

@@ -29,7 +29,7 @@ use perifrac_cache::manifest::{BodyInfo, Manifest};
 use perifrac_cache::mesh::SurfaceMesh;
 use perifrac_cache::ply::ParticleFrame;
 use perifrac_cache::scene::{VdbFilter, VdbSpec};
-use perifrac_cache::{Layout, temporary_path};
+use perifrac_cache::{Layout, temporary_file};
 
 pub use grid::{Frame, LevelSet, RasterCount, initialize};
 pub use stage::stage;
@@ -246,13 +246,13 @@ pub fn surface_particles(
     }
     let t = Instant::now();
     stats.active_voxels = grids.active_voxels();
-    let tmp = temporary_path(vdb_path);
-    let written = grids
-        .write(&tmp)
-        .and_then(|()| std::fs::rename(&tmp, vdb_path).map_err(|e| SurfaceError::io(vdb_path, e)));
+    let tmp = temporary_file(vdb_path);
+    let written = grids.write(&tmp.path).and_then(|()| {
+        std::fs::rename(&tmp.path, vdb_path).map_err(|e| SurfaceError::io(vdb_path, e))
+    });
     if let Err(e) = written {
         // A partial file would keep a full disk full.
-        let _ = std::fs::remove_file(&tmp);
+        let _ = std::fs::remove_file(&tmp.path);
         return Err(e);
     }
     debris.write(debris_path, frame)?;
