@@ -70,6 +70,7 @@ mod tests;
 use std::time::Instant;
 
 use perifrac_math::{cross, det_sum, dist, dot, norm, sub};
+use rayon::iter::Either;
 use rayon::prelude::*;
 
 pub use law::Law;
@@ -209,6 +210,10 @@ pub struct MembraneModel {
     pub mesh_triangles: Vec<[u32; 3]>,
     /// Force density ρ a_i without gravity (N/m³), from the last forces.
     pub force: Vec<[f64; 3]>,
+    /// The rate θ̇_i of Eq. 25 over the bonds intact after the last forces, found in
+    /// the same pass over the bonds for the diffusion step that follows; empty when
+    /// no body conducts.
+    rate: Vec<f64>,
     /// Stage timers.
     pub times: StageTimes,
 }
@@ -253,6 +258,7 @@ impl MembraneModel {
             Vec::new()
         };
         let dilatation = vec![0.0; weighted_volume.len()];
+        let conducts = bodies.iter().any(|b| b.conductivity != 0.0);
         Ok(MembraneModel {
             position: reference.clone(),
             velocity: vec![[0.0; 3]; n],
@@ -273,6 +279,7 @@ impl MembraneModel {
             initial_bonds,
             mesh_triangles: Vec::new(),
             force: vec![[0.0; 3]; n],
+            rate: if conducts { vec![0.0; n] } else { Vec::new() },
             times: StageTimes::default(),
         })
     }
@@ -346,11 +353,12 @@ impl MembraneModel {
     }
 
     /// Bond strains η_ij (Eq. 10), fracture (Eq. 27–28: a bond whose strain passes
-    /// η_c breaks for good) and the force densities of Eq. 18 and 22 into
-    /// [`MembraneModel::force`], in one pass gathering over each particle's bonds in
-    /// a fixed order; for the state-based option, the force states of
-    /// [`state`](self#the-state-based-option) after a first pass for the dilatations.
-    /// Returns the number of directed bonds that broke.
+    /// η_c breaks for good), the force densities of Eq. 18 and 22 into
+    /// [`MembraneModel::force`] and the diffusion rates of Eq. 25 over the bonds left
+    /// intact (Eq. 28; for [`MembraneModel::step_quantity`]), in one pass gathering
+    /// over each particle's bonds in a fixed order; for the state-based option, the
+    /// force states of [`state`](self#the-state-based-option) after a first pass for
+    /// the dilatations. Returns the number of directed bonds that broke.
     pub fn internal_forces(&mut self) -> usize {
         let t = Instant::now();
         let broken_first = if self.weighted_volume.is_empty() {
@@ -364,18 +372,27 @@ impl MembraneModel {
         let (rest, weight, offsets) = (&self.bonds.rest_length, &self.weight, &self.bonds.offsets);
         let initial = &self.initial_bonds;
         let rows = rows_mut(&mut self.bonds.neighbours, offsets);
+        let n = self.reference.len();
+        let rates = if self.rate.is_empty() {
+            Either::Right((0..n).into_par_iter().map(|_| None))
+        } else {
+            Either::Left(self.rate.par_iter_mut().map(Some))
+        };
         let broken: usize = rows
             .into_par_iter()
             .zip(self.force.par_iter_mut())
             .zip(self.damage.par_iter_mut())
+            .zip(rates)
             .enumerate()
             .with_min_len(256)
-            .map(|(i, ((row, force), damage))| {
+            .map(|(i, (((row, force), damage), rate))| {
                 let constants = &bodies[body[i] as usize];
                 let (c, critical) = (constants.micromodulus, constants.critical_strain);
                 let (law, alpha) = (constants.law, constants.expansion);
                 let yi = y[i];
+                let conducts = rate.is_some() && constants.conductivity != 0.0;
                 let mut f = [0.0; 3];
+                let mut flow = 0.0;
                 let (mut broke, mut intact) = (0, 0);
                 for (k, nb) in (offsets[i]..).zip(row.iter_mut()) {
                     if *nb & BROKEN != 0 {
@@ -393,6 +410,10 @@ impl MembraneModel {
                         continue;
                     }
                     intact += 1;
+                    if conducts {
+                        let xi2 = rest[k] * rest[k];
+                        flow += (theta[j] - theta[i]) / xi2 * weight[k] * area[j];
+                    }
                     if length > 0.0 {
                         let s = match constants.state {
                             None => c * law.force(eta) * weight[k] * volume[j] / length,
@@ -414,6 +435,14 @@ impl MembraneModel {
                     }
                 }
                 *force = f;
+                if let Some(rate) = rate {
+                    *rate = if conducts {
+                        let b = constants;
+                        b.conductivity * flow / (b.density * b.capacity * area[i])
+                    } else {
+                        0.0
+                    };
+                }
                 *damage = if initial[i] == 0 {
                     0.0
                 } else {
@@ -494,23 +523,29 @@ impl MembraneModel {
     }
 
     /// One forward Euler step of the diffusion (Eq. 26, first line, with γ* of
-    /// Eq. 28): θ_i ← θ_i + Δt θ̇_i, then the sources active at the step's start
+    /// Eq. 28) from the current state: the rates of [`MembraneModel::quantity_rate`],
+    /// then [`MembraneModel::step_quantity`].
+    pub fn diffuse(&mut self, dt: f64) {
+        if !self.rate.is_empty() {
+            self.rate = self.quantity_rate();
+        }
+        self.step_quantity(dt);
+    }
+
+    /// The diffusion step with the rates the last [`MembraneModel::internal_forces`]
+    /// found: θ_i ← θ_i + Δt θ̇_i, then the sources active at the step's start
     /// ([`source`]): a rate adds Δt × rate, a value holds θ (sources in scene order, so
     /// a later value wins).
-    pub fn diffuse(&mut self, dt: f64) {
-        let conducts = self.bodies.iter().any(|b| b.conductivity != 0.0);
-        if !conducts && self.sources.is_empty() {
+    pub fn step_quantity(&mut self, dt: f64) {
+        if self.rate.is_empty() && self.sources.is_empty() {
             return;
         }
         let t = Instant::now();
-        if conducts {
-            let rate = self.quantity_rate();
-            self.quantity
-                .par_iter_mut()
-                .zip(rate.par_iter())
-                .with_min_len(1024)
-                .for_each(|(theta, r)| *theta += dt * r);
-        }
+        self.quantity
+            .par_iter_mut()
+            .zip(self.rate.par_iter())
+            .with_min_len(1024)
+            .for_each(|(theta, r)| *theta += dt * r);
         for source in self.sources.iter().filter(|s| s.active(self.elapsed)) {
             for &i in &source.particles {
                 let theta = &mut self.quantity[i as usize];

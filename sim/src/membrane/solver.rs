@@ -93,10 +93,11 @@ impl Model for Membrane {
     }
 
     /// The end of a step, the one stage the world gives Δt: the diffusion step of
-    /// Eq. 26 (over the bonds intact after this step's fracture, Eq. 28), then air
+    /// Eq. 26 with the rates this step's forces found (over the bonds intact after
+    /// its fracture, Eq. 28), then air
     /// damping v ← (1 − rate·Δt) v of the points not anchored.
     fn damp(&mut self, dt: f64, anchored: &[bool]) {
-        self.model.diffuse(dt);
+        self.model.step_quantity(dt);
         let m = &mut self.model;
         if m.bodies.iter().all(|b| b.air_damping == 0.0) {
             return;
