@@ -84,7 +84,7 @@ fn kick(part: &mut Part, dt: f64, drift: bool) {
             .par_iter_mut()
             .zip(p.velocity.par_iter_mut())
             .zip(acc.par_iter())
-            .with_min_len(1024)
+            .with_min_len(8192)
             .for_each(|((y, v), a)| {
                 for k in 0..3 {
                     v[k] += 0.5 * dt * a[k];
@@ -95,7 +95,7 @@ fn kick(part: &mut Part, dt: f64, drift: bool) {
         p.velocity
             .par_iter_mut()
             .zip(acc.par_iter())
-            .with_min_len(1024)
+            .with_min_len(8192)
             .for_each(|(v, a)| {
                 for k in 0..3 {
                     v[k] += 0.5 * dt * a[k];

@@ -81,8 +81,11 @@ use crate::error::{Result, SimError};
 use crate::family::{self, BROKEN, Bonds, INDEX};
 use crate::geometry::discretize::Discretization;
 use crate::material::Material;
-use crate::pd::{Cracks, rows_mut};
+use crate::pd::{Cracks, blocks_mut, rows_mut};
 use crate::scene::{MembraneFormulation, MembraneMaterialSpec, ModelKind, Scene};
+
+/// Particles per parallel task of the passes over the bonds.
+const BLOCK: usize = 256;
 
 /// The constants of one membrane body.
 #[derive(Debug, Clone, PartialEq)]
@@ -371,83 +374,95 @@ impl MembraneModel {
         let (m, dilatation) = (&self.weighted_volume, &self.dilatation);
         let (rest, weight, offsets) = (&self.bonds.rest_length, &self.weight, &self.bonds.offsets);
         let initial = &self.initial_bonds;
-        let rows = rows_mut(&mut self.bonds.neighbours, offsets);
-        let n = self.reference.len();
-        let rates = if self.rate.is_empty() {
-            Either::Right((0..n).into_par_iter().map(|_| None))
-        } else {
-            Either::Left(self.rate.par_iter_mut().map(Some))
-        };
-        let broken: usize = rows
-            .into_par_iter()
-            .zip(self.force.par_iter_mut())
-            .zip(self.damage.par_iter_mut())
-            .zip(rates)
-            .enumerate()
-            .with_min_len(256)
-            .map(|(i, (((row, force), damage), rate))| {
-                let constants = &bodies[body[i] as usize];
-                let (c, critical) = (constants.micromodulus, constants.critical_strain);
-                let (law, alpha) = (constants.law, constants.expansion);
-                let yi = y[i];
-                let conducts = rate.is_some() && constants.conductivity != 0.0;
-                let mut f = [0.0; 3];
-                let mut flow = 0.0;
-                let (mut broke, mut intact) = (0, 0);
-                for (k, nb) in (offsets[i]..).zip(row.iter_mut()) {
-                    if *nb & BROKEN != 0 {
-                        continue;
-                    }
-                    let j = (*nb & INDEX) as usize;
-                    let r = [y[j][0] - yi[0], y[j][1] - yi[1], y[j][2] - yi[2]];
-                    let length = (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt();
-                    // The strain over the expanded rest length |ξ|(1 + αθ̄) (see [`law`]).
-                    let expanded = 1.0 + alpha * 0.5 * (theta[i] + theta[j]);
-                    let eta = length / (rest[k] * expanded) - 1.0;
-                    if eta > critical {
-                        *nb |= BROKEN;
-                        broke += 1;
-                        continue;
-                    }
-                    intact += 1;
-                    if conducts {
-                        let xi2 = rest[k] * rest[k];
-                        flow += (theta[j] - theta[i]) / xi2 * weight[k] * area[j];
-                    }
-                    if length > 0.0 {
-                        let s = match constants.state {
-                            None => c * law.force(eta) * weight[k] * volume[j] / length,
-                            Some(plane) => {
-                                let (w, xi) = (weight[k], rest[k]);
-                                let e = length - xi * expanded;
-                                let t = |p: usize| {
-                                    2.0 * plane.bulk * dilatation[p] / m[p] * w * xi
-                                        + 8.0 * plane.shear / m[p]
-                                            * w
-                                            * (e - 0.5 * dilatation[p] * xi)
-                                };
-                                (t(i) + t(j)) * area[j] / length
-                            }
-                        };
-                        for a in 0..3 {
-                            f[a] += s * r[a];
+        // Particle i's bonds, force, damage and rate (when a body conducts); returns
+        // the bonds that broke.
+        let particle = |i: usize,
+                        row: &mut [u32],
+                        force: &mut [f64; 3],
+                        damage: &mut f64,
+                        rate: Option<&mut f64>| {
+            let constants = &bodies[body[i] as usize];
+            let (c, critical) = (constants.micromodulus, constants.critical_strain);
+            let (law, alpha) = (constants.law, constants.expansion);
+            let yi = y[i];
+            let conducts = rate.is_some() && constants.conductivity != 0.0;
+            let mut f = [0.0; 3];
+            let mut flow = 0.0;
+            let (mut broke, mut intact) = (0, 0);
+            for (k, nb) in (offsets[i]..).zip(row.iter_mut()) {
+                if *nb & BROKEN != 0 {
+                    continue;
+                }
+                let j = (*nb & INDEX) as usize;
+                let r = [y[j][0] - yi[0], y[j][1] - yi[1], y[j][2] - yi[2]];
+                let length = (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt();
+                // The strain over the expanded rest length |ξ|(1 + αθ̄) (see [`law`]).
+                let expanded = 1.0 + alpha * 0.5 * (theta[i] + theta[j]);
+                let eta = length / (rest[k] * expanded) - 1.0;
+                if eta > critical {
+                    *nb |= BROKEN;
+                    broke += 1;
+                    continue;
+                }
+                intact += 1;
+                if conducts {
+                    let xi2 = rest[k] * rest[k];
+                    flow += (theta[j] - theta[i]) / xi2 * weight[k] * area[j];
+                }
+                if length > 0.0 {
+                    let s = match constants.state {
+                        None => c * law.force(eta) * weight[k] * volume[j] / length,
+                        Some(plane) => {
+                            let (w, xi) = (weight[k], rest[k]);
+                            let e = length - xi * expanded;
+                            let t = |p: usize| {
+                                2.0 * plane.bulk * dilatation[p] / m[p] * w * xi
+                                    + 8.0 * plane.shear / m[p] * w * (e - 0.5 * dilatation[p] * xi)
+                            };
+                            (t(i) + t(j)) * area[j] / length
                         }
+                    };
+                    for a in 0..3 {
+                        f[a] += s * r[a];
                     }
                 }
-                *force = f;
-                if let Some(rate) = rate {
-                    *rate = if conducts {
-                        let b = constants;
-                        b.conductivity * flow / (b.density * b.capacity * area[i])
-                    } else {
-                        0.0
-                    };
-                }
-                *damage = if initial[i] == 0 {
-                    0.0
+            }
+            *force = f;
+            if let Some(rate) = rate {
+                *rate = if conducts {
+                    let b = constants;
+                    b.conductivity * flow / (b.density * b.capacity * area[i])
                 } else {
-                    1.0 - intact as f64 / initial[i] as f64
+                    0.0
                 };
+            }
+            *damage = if initial[i] == 0 {
+                0.0
+            } else {
+                1.0 - intact as f64 / initial[i] as f64
+            };
+            broke
+        };
+        let blocks = blocks_mut(&mut self.bonds.neighbours, offsets, BLOCK);
+        let rates = if self.rate.is_empty() {
+            Either::Right((0..blocks.len()).into_par_iter().map(|_| None))
+        } else {
+            Either::Left(self.rate.par_chunks_mut(BLOCK).map(Some))
+        };
+        let broken: usize = blocks
+            .into_par_iter()
+            .zip(self.force.par_chunks_mut(BLOCK))
+            .zip(self.damage.par_chunks_mut(BLOCK))
+            .zip(rates)
+            .map(|((((first, mut rows), forces), damages), mut rates)| {
+                let mut broke = 0;
+                for (p, (force, damage)) in forces.iter_mut().zip(damages.iter_mut()).enumerate() {
+                    let i = first + p;
+                    let (row, rest) = rows.split_at_mut(offsets[i + 1] - offsets[i]);
+                    rows = rest;
+                    let rate = rates.as_mut().map(|r| &mut r[p]);
+                    broke += particle(i, row, force, damage, rate);
+                }
                 broke
             })
             .sum();
@@ -544,7 +559,7 @@ impl MembraneModel {
         self.quantity
             .par_iter_mut()
             .zip(self.rate.par_iter())
-            .with_min_len(1024)
+            .with_min_len(8192)
             .for_each(|(theta, r)| *theta += dt * r);
         for source in self.sources.iter().filter(|s| s.active(self.elapsed)) {
             for &i in &source.particles {

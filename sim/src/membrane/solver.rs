@@ -80,7 +80,7 @@ impl Model for Membrane {
         let m = &self.model;
         out.par_iter_mut()
             .enumerate()
-            .with_min_len(1024)
+            .with_min_len(8192)
             .for_each(|(i, a)| {
                 let rho = m.bodies[m.body[i] as usize].density;
                 let f = m.force[i];

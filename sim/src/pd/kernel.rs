@@ -32,6 +32,25 @@ pub(crate) fn rows_mut<'a, T>(mut data: &'a mut [T], offsets: &[usize]) -> Vec<&
     rows
 }
 
+/// Splits `data` into the CSR rows given by `offsets`, `block` rows at a time: for
+/// each run of `block` consecutive rows (the last may be shorter), its first row
+/// and the slice holding its rows.
+pub(crate) fn blocks_mut<'a, T>(
+    mut data: &'a mut [T],
+    offsets: &[usize],
+    block: usize,
+) -> Vec<(usize, &'a mut [T])> {
+    let rows = offsets.len().saturating_sub(1);
+    let mut blocks = Vec::with_capacity(rows.div_ceil(block));
+    for first in (0..rows).step_by(block) {
+        let last = (first + block).min(rows);
+        let (part, rest) = data.split_at_mut(offsets[last] - offsets[first]);
+        blocks.push((first, part));
+        data = rest;
+    }
+    blocks
+}
+
 macro_rules! dispatch_features {
     ($m:expr, $($p:literal $f:literal $a:literal $l:literal),*) => {{
         let f = $m.features;

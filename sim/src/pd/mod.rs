@@ -36,7 +36,7 @@ use crate::scene::DilatationForm;
 
 pub use crack::{Cracks, cut_initial_cracks};
 pub use kernel::StageTimes;
-pub(crate) use kernel::rows_mut;
+pub(crate) use kernel::{blocks_mut, rows_mut};
 pub use solver::Peridynamics;
 pub use stable::stable_time_step;
 
