@@ -584,12 +584,15 @@ fn free_free_table() {
 
 /// Issue 13's acceptance: a cantilever at 6 particles across within 3% of the FEM
 /// reference in tip deflection and f₁, at L/h = 5 and 10, with the anchor's `clamp` at
-/// the plane x = 0 (measured −3.0% / +1.7% and +1.1% / −0.4%). The held slab, the
-/// same region without `clamp`, is soft by 5–12% in the tip and 2–6% in f₁ (measured
-/// +9.5% / −4.3% at L/h = 5): guarded as it is, so that the difference shows.
+/// the plane x = 0 (measured +0.84% / −0.27% and +2.68% / −1.23%; the rest of the
+/// error at L/h = 10 is the lattice's bending stiffness, see docs/lattice.md). The
+/// held slab, the same region without `clamp`, is soft by 5–12% in the tip and 2–6%
+/// in f₁ (measured +9.32% / −4.18% at L/h = 5, 4 across): guarded as it is, so that the
+/// difference shows. CG to a relative residual of 10⁻⁵ (the figures agree with 10⁻⁷ to
+/// the digits shown).
 #[test]
 fn a_clamp_at_the_surface_makes_the_cantilever_agree_with_the_fem() {
-    let (tip, f1) = report(held(5.0, 6.0), 1e-7);
+    let (tip, f1) = report(held(5.0, 4.0), 1e-5);
     assert!(
         tip > 0.05 && tip < 0.12 && f1 < -0.02 && f1 > -0.06,
         "held: {tip:+.4}, {f1:+.4}"
@@ -599,7 +602,7 @@ fn a_clamp_at_the_surface_makes_the_cantilever_agree_with_the_fem() {
             kind: Clamp::Surface,
             ..held(slender, 6.0)
         };
-        let (tip, f1) = report(beam, 1e-7);
+        let (tip, f1) = report(beam, 1e-5);
         assert!(
             tip.abs() < 0.03 && f1.abs() < 0.03,
             "surface clamp, L/h = {slender}: {tip:+.4}, {f1:+.4}"
@@ -632,7 +635,7 @@ fn same_frames(a: &Path, b: &Path, frames: usize, what: &str) {
     }
 }
 
-/// A clamped cantilever stepped by the world's integrator (L/h = 5, 4 across, 25 ms
+/// A clamped cantilever stepped by the world's integrator (L/h = 5, 4 across, 10 ms
 /// from rest under gravity): 1 and 2 threads write the same bytes, and so does a run
 /// stopped after 2 frames and resumed from its checkpoint (the ghosts' weights are
 /// rebuilt from the scene, not saved). The beam sags: the clamp holds it.
@@ -643,8 +646,8 @@ fn a_clamped_run_threads_and_resumes_to_the_same_bytes() {
         ..held(5.0, 4.0)
     };
     let mut s = beam.scene(-G);
-    s.scene.duration = 0.025;
-    s.scene.fps = 200.0;
+    s.scene.duration = 0.01;
+    s.scene.fps = 400.0;
     s.output.checkpoint_every = 1;
     s.output.preview = false;
     let frames = s.frame_count() + 1;
