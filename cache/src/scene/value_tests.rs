@@ -126,7 +126,7 @@ fn bad_clamps_are_refused_with_their_key_and_fix() {
     let (line, _, key, message) = error(&zero);
     assert_eq!(
         (line, key.as_str()),
-        (14, "body.0.anchor.0.clamp.normal"),
+        (13, "body.0.anchor.0.clamp.normal"),
         "{message}"
     );
     assert!(message.contains("into the free body"), "{message}");
