@@ -786,10 +786,14 @@ fn clamp(
         .iter()
         .partition(|&&i| plane.distance(position[i as usize]) >= -delta);
     if ghost.is_empty() {
-        return Err(format!(
-            "none of the region's {} particles lies within δ = {delta:.3e} m behind the plane",
-            anchor.particles.len()
-        ));
+        return Err(if anchor.particles.is_empty() {
+            "no particle of the region lies behind the plane".to_string()
+        } else {
+            format!(
+                "none of the region's {} particles behind the plane lies within δ = {delta:.3e} m of it",
+                anchor.particles.len()
+            )
+        });
     }
     // The fits reach 3δ + 1.5λ in front of the plane.
     let reach = 3.0 * delta + 2.0 * spec.resolution;
