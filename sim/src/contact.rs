@@ -15,6 +15,7 @@ use perifrac_math::{UnitQuaternion, Vector3, dot, from_vector, mat_vec, norm, su
 use rayon::prelude::*;
 
 use crate::cache::collider::ColliderMesh;
+use crate::clamp::{Ghosts, Plane};
 use crate::error::{Result, SimError};
 use crate::geometry::mesh::{MeshSdf, TriMesh};
 use crate::geometry::sdf::Sdf;
@@ -512,11 +513,14 @@ pub fn advance(colliders: &mut [Collider], impulses: &[[f64; 3]], gravity: [f64;
     }
 }
 
-/// Particles held at a prescribed rigid motion until a release time.
+/// Particles held at a prescribed rigid motion until a release time, and the ghost
+/// layer of a clamp ([`crate::clamp`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Anchor {
     /// The held particles.
     pub particles: Vec<u32>,
+    /// The ghosts of a clamp (placed from the free particles each step), or `None`.
+    pub clamp: Option<Ghosts>,
     /// Linear velocity.
     pub velocity: [f64; 3],
     /// Angular velocity about `center`.
@@ -579,7 +583,8 @@ pub fn rotate(omega: [f64; 3], t: f64, v: [f64; 3]) -> [f64; 3] {
 }
 
 /// Holds the anchored particles (or mesh vertices) at their prescribed motion at time
-/// `t` and marks them in `anchored`; shared by the peridynamic and FEM simulations.
+/// `t`, then places the clamps' ghosts from the free particles, and marks both in
+/// `anchored`; shared by the peridynamic and FEM simulations.
 pub fn apply_anchors(
     anchors: &[Anchor],
     t: f64,
@@ -588,17 +593,45 @@ pub fn apply_anchors(
     velocity: &mut [[f64; 3]],
     anchored: &mut [bool],
 ) {
-    anchored.iter_mut().for_each(|a| *a = false);
-    for anchor in anchors {
-        if t > anchor.until {
-            continue;
-        }
+    mark_anchored(anchors, t, anchored);
+    let active = || anchors.iter().filter(move |a| t <= a.until);
+    for anchor in active() {
         for &p in &anchor.particles {
             let p = p as usize;
             let (y, v) = anchor.motion(rest[p], t);
             position[p] = y;
             velocity[p] = v;
-            anchored[p] = true;
+        }
+    }
+    for ghosts in active().filter_map(|a| a.clamp.as_ref()) {
+        ghosts.place(rest, position, velocity);
+    }
+}
+
+/// Marks in `anchored` the points the anchors active at `t` hold or place.
+pub fn mark_anchored(anchors: &[Anchor], t: f64, anchored: &mut [bool]) {
+    anchored.iter_mut().for_each(|a| *a = false);
+    for anchor in anchors.iter().filter(|a| t <= a.until) {
+        let ghosts = anchor.clamp.iter().flat_map(|g| &g.ghost);
+        for &p in anchor.particles.iter().chain(ghosts) {
+            anchored[p as usize] = true;
+        }
+    }
+}
+
+/// Carries the internal forces on the ghosts of the clamps active at `t` back to the
+/// particles they are made from (see [`Ghosts::carry`]); `acceleration` is the
+/// internal force over mass plus `gravity`.
+pub fn carry_clamp_forces(
+    anchors: &[Anchor],
+    t: f64,
+    mass: &[f64],
+    gravity: [f64; 3],
+    acceleration: &mut [[f64; 3]],
+) {
+    for anchor in anchors.iter().filter(|a| t <= a.until) {
+        if let Some(ghosts) = &anchor.clamp {
+            ghosts.carry(mass, gravity, acceleration);
         }
     }
 }
@@ -669,8 +702,11 @@ pub fn centroid(x: &[[f64; 3]], weight: &[f64], members: &[usize]) -> [f64; 3] {
 
 /// The scene's anchors over the points at `position` (particles, or FEM vertices) of
 /// bodies `body`: a point is held when its position is inside the anchor's region (a
-/// primitive, a CSG shape or a closed mesh file); a default centre of rotation is the
-/// held points' centroid weighted by `weight`.
+/// primitive, a CSG shape or a closed mesh file) and, for a clamp, behind its plane;
+/// a default centre of rotation is the held points' centroid weighted by `weight`.
+/// A clamp's points within the body's δ behind the plane are its ghosts
+/// ([`crate::clamp`]), extrapolated from the body's points in front of the plane that
+/// no anchor holds.
 pub fn anchors(
     scene: &Scene,
     position: &[[f64; 3]],
@@ -678,21 +714,28 @@ pub fn anchors(
     body: &[u32],
 ) -> Result<Vec<Anchor>> {
     let mut out = Vec::new();
+    let mut held = vec![false; position.len()];
     for (b, spec) in scene.bodies.iter().enumerate() {
         for (k, a) in spec.anchors.iter().enumerate() {
             let region = to_sdf(&a.region, &scene.base_dir).map_err(|message| SimError::Mesh {
                 body: spec.name.clone(),
                 message: format!("anchor {} region: {message}", k + 1),
             })?;
+            let plane = a.clamp.map(|c| Plane::new(c.point, c.normal));
             let members: Vec<usize> = (0..position.len())
                 .into_par_iter()
                 .filter(|&i| body[i] == b as u32 && region.distance(position[i]) <= 0.0)
+                .filter(|&i| plane.is_none_or(|p| p.distance(position[i]) <= 0.0))
                 .collect();
+            for &i in &members {
+                held[i] = true;
+            }
             let center = a
                 .center
                 .unwrap_or_else(|| centroid(position, weight, &members));
             out.push(Anchor {
                 particles: members.iter().map(|&i| i as u32).collect(),
+                clamp: None,
                 velocity: a.velocity,
                 angular_velocity: a.angular_velocity,
                 center,
@@ -700,7 +743,75 @@ pub fn anchors(
             });
         }
     }
+    let specs = scene
+        .bodies
+        .iter()
+        .enumerate()
+        .flat_map(|(b, spec)| spec.anchors.iter().enumerate().map(move |(k, a)| (b, k, a)));
+    for (anchor, (b, k, spec)) in out.iter_mut().zip(specs) {
+        if let Some(c) = spec.clamp {
+            let plane = Plane::new(c.point, c.normal);
+            let body_spec = &scene.bodies[b];
+            clamp(anchor, plane, body_spec, b as u32, position, body, &held).map_err(
+                |message| SimError::Mesh {
+                    body: body_spec.name.clone(),
+                    message: format!(
+                        "anchor {} clamp: {message}; the plane (body.{b}.anchor.{k}.clamp) must be \
+                         the face of the anchor's region, its normal pointing from the region into \
+                         the body, and the body must go on for at least 2δ in front of it",
+                        k + 1
+                    ),
+                },
+            )?;
+        }
+    }
     Ok(out)
+}
+
+/// Splits the held points of a clamp `anchor` of body `b` into its ghosts (within
+/// δ behind `plane`) and the rest, and builds the ghosts' weights from the free points
+/// (the body's, in front of the plane, not `held` by any anchor).
+fn clamp(
+    anchor: &mut Anchor,
+    plane: Plane,
+    spec: &crate::scene::BodySpec,
+    b: u32,
+    position: &[[f64; 3]],
+    body: &[u32],
+    held: &[bool],
+) -> std::result::Result<(), String> {
+    let delta = spec.delta();
+    let (ghost, rest): (Vec<u32>, Vec<u32>) = anchor
+        .particles
+        .iter()
+        .partition(|&&i| plane.distance(position[i as usize]) >= -delta);
+    if ghost.is_empty() {
+        return Err(if anchor.particles.is_empty() {
+            "no particle of the region lies behind the plane".to_string()
+        } else {
+            format!(
+                "none of the region's {} particles behind the plane lies within δ = {delta:.3e} m of it",
+                anchor.particles.len()
+            )
+        });
+    }
+    // The fits reach 3δ + 1.5λ in front of the plane.
+    let reach = 3.0 * delta + 2.0 * spec.resolution;
+    let free: Vec<u32> = (0..position.len() as u32)
+        .filter(|&i| {
+            let d = plane.distance(position[i as usize]);
+            body[i as usize] == b && !held[i as usize] && d > 0.0 && d < reach
+        })
+        .collect();
+    anchor.clamp = Some(Ghosts::build(
+        position,
+        ghost,
+        &free,
+        plane,
+        spec.resolution,
+    )?);
+    anchor.particles = rest;
+    Ok(())
 }
 
 #[cfg(test)]
@@ -767,6 +878,7 @@ mod tests {
     #[test]
     fn anchor_rotation_is_rigid() {
         let a = Anchor {
+            clamp: None,
             particles: vec![],
             velocity: [0.0; 3],
             angular_velocity: [0.0, 0.0, std::f64::consts::FRAC_PI_2],

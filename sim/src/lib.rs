@@ -24,6 +24,7 @@
 
 pub mod accuracy;
 pub mod analytic;
+pub mod clamp;
 pub mod contact;
 pub mod embed;
 pub mod error;

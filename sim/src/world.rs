@@ -3,7 +3,8 @@
 //! [`Model`].
 //!
 //! One step is the list of stages `kick → drift → anchors → forces → particle contact →
-//! kick → anchors → damping → collider contact`, each model's forces timed by the
+//! kick → anchors → damping → collider contact`, the forces on a clamp's ghosts
+//! carried back to their sources after the forces ([`crate::clamp`]), each model's forces timed by the
 //! model, particle contact ([`ParticleContact`], when the scene has it) and the rest by
 //! the world.
 //! Every model shares the world's time step: the smallest of their stable steps.
@@ -58,10 +59,28 @@ impl Part {
         );
     }
 
-    fn forces(&mut self, gravity: [f64; 3]) -> usize {
-        let broken = self.model.internal_forces();
+    /// The accelerations at the current state: internal forces over mass plus
+    /// gravity, the forces on the clamps' ghosts carried to their sources.
+    fn accelerations(&mut self, time: f64, gravity: [f64; 3]) {
         self.model.accelerations(gravity, &mut self.acceleration);
-        broken
+        contact::carry_clamp_forces(
+            &self.anchors,
+            time,
+            self.model.points().mass,
+            gravity,
+            &mut self.acceleration,
+        );
+    }
+
+    /// Holds the anchored points at `time` (placing the clamps' ghosts) and computes
+    /// the accelerations at the current positions, as a step does between its drift
+    /// and its second kick; returns them (measurements of the stiffness: tests and
+    /// docs/lattice.md, "Bending").
+    pub fn accelerations_at(&mut self, time: f64, gravity: [f64; 3]) -> &[[f64; 3]] {
+        self.apply_anchors(time);
+        self.model.internal_forces();
+        self.accelerations(time, gravity);
+        &self.acceleration
     }
 
     /// |m a · v| summed over the anchored points: the anchors' power.
@@ -164,8 +183,7 @@ impl World {
         };
         let gravity = world.gravity;
         for part in &mut world.parts {
-            part.apply_anchors(0.0);
-            part.forces(gravity);
+            part.accelerations_at(0.0, gravity);
         }
         world.energy_budget = world.initial_energy_budget(settings.duration);
         world
@@ -221,8 +239,7 @@ impl World {
                     let t = Instant::now();
                     broken += part.model.internal_forces();
                     model_time += t.elapsed().as_secs_f64();
-                    part.model
-                        .accelerations(self.gravity, &mut part.acceleration);
+                    part.accelerations(time, self.gravity);
                 }
                 Stepping::Own => {
                     let t = Instant::now();
@@ -565,14 +582,7 @@ impl World {
             contact.invalidate();
         }
         for part in &mut self.parts {
-            part.anchored.iter_mut().for_each(|a| *a = false);
-            for anchor in &part.anchors {
-                if time <= anchor.until {
-                    for &p in &anchor.particles {
-                        part.anchored[p as usize] = true;
-                    }
-                }
-            }
+            contact::mark_anchored(&part.anchors, time, &mut part.anchored);
         }
         Ok(())
     }

@@ -615,6 +615,28 @@ pub struct AnchorSpec {
     /// Time in s after which the anchor releases. Default: never.
     #[serde(default = "default_inf")]
     pub until: f64,
+    /// Makes the anchor a fixed clamp at a plane (peridynamic bodies only): the body's
+    /// displacement is zero *at the plane*, not throughout a held slab. Of the
+    /// region's particles, those behind the plane and farther than the horizon δ
+    /// from it are held at rest; those within δ behind it are a ghost layer that
+    /// continues the free particles' displacement smoothly through zero at the plane
+    /// (recomputed each step), and the forces on the ghosts act on the particles they
+    /// are made from; the region's particles in front of the plane are free.
+    /// `velocity` and `angular_velocity` must be zero. Default: none (the whole
+    /// region held, which acts as a clamp about λ/2 inside its face and is softer).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub clamp: Option<ClampSpec>,
+}
+
+/// `clamp = { point, normal }` of an anchor: the clamp's plane, through `point`, with
+/// `normal` pointing out of the clamp into the free body.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ClampSpec {
+    /// A point of the plane (m).
+    pub point: [f64; 3],
+    /// The plane's normal, into the free body (any non-zero length).
+    pub normal: [f64; 3],
 }
 
 /// `[[body.crack]]`: bonds crossing the plane through `point` with `normal`, whose

@@ -1,8 +1,9 @@
 //! Range checks on a parsed scene: each problem is reported with its dotted key.
 
 use super::{
-    BodySpec, ColliderSpec, MaterialSpec, MembraneFormulation, MembraneLaw, MembraneSpec,
-    ModelKind, MpmElasticity, MpmPlasticity, MpmSpec, Scene, ShapeSpec, SurfaceMethod, VdbSpec,
+    BodySpec, ClampSpec, ColliderSpec, MaterialSpec, MembraneFormulation, MembraneLaw,
+    MembraneSpec, ModelKind, MpmElasticity, MpmPlasticity, MpmSpec, Scene, ShapeSpec,
+    SurfaceMethod, VdbSpec,
 };
 
 /// One problem: where (dotted path) and what, with the fix.
@@ -309,6 +310,9 @@ fn body(scene: &Scene, i: &str, b: &BodySpec) -> Check {
                 ),
             ));
         }
+        if let Some(clamp) = &a.clamp {
+            clamp_spec(b, i, &k, a.velocity, a.angular_velocity, clamp)?;
+        }
     }
     for (k, c) in b.cracks.iter().enumerate() {
         let k = k.to_string();
@@ -321,6 +325,53 @@ fn body(scene: &Scene, i: &str, b: &BodySpec) -> Check {
         }
         finite3(&["body", i, "crack", &k, "point"], c.point)?;
         shape(scene, &["body", i, "crack", &k, "region"], &c.region)?;
+    }
+    Ok(())
+}
+
+/// A clamp of anchor `k` of body `i`: a finite point, a finite non-zero normal, a
+/// fixed anchor, a peridynamic body. (Whether the normal points into the body is
+/// checked at set-up, against the particles.)
+fn clamp_spec(
+    b: &BodySpec,
+    i: &str,
+    k: &str,
+    velocity: [f64; 3],
+    angular_velocity: [f64; 3],
+    clamp: &ClampSpec,
+) -> Check {
+    let p = |key: &'static str| ["body", i, "anchor", k, "clamp", key];
+    finite3(&p("point"), clamp.point)?;
+    let n = clamp.normal;
+    if !(n.iter().all(|x| x.is_finite()) && n.iter().map(|x| x * x).sum::<f64>() > 0.0) {
+        return Err(issue(
+            &p("normal"),
+            format!(
+                "the clamp's normal must be a finite non-zero vector pointing from the clamp \
+                 into the free body, got {n:?}"
+            ),
+        ));
+    }
+    for (key, v) in [
+        ("velocity", velocity),
+        ("angular_velocity", angular_velocity),
+    ] {
+        if v != [0.0; 3] {
+            return Err(issue(
+                &["body", i, "anchor", k, key],
+                format!(
+                    "a clamp is fixed, got {key} = {v:?}: remove {key}, or remove clamp for a \
+                     held region that moves"
+                ),
+            ));
+        }
+    }
+    if b.model != ModelKind::Peridynamics {
+        return Err(issue(
+            &["body", i, "anchor", k, "clamp"],
+            "a clamp is a ghost layer over the peridynamic horizon, for model = \"peridynamics\" \
+             only: remove clamp (the held region's face is then the clamp)",
+        ));
     }
     Ok(())
 }

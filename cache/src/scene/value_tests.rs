@@ -114,3 +114,35 @@ fn control_bytes_of_the_input_are_escaped_in_messages() {
         "{message:?}"
     );
 }
+
+#[test]
+fn bad_clamps_are_refused_with_their_key_and_fix() {
+    let clamp = format!(
+        "{GOOD}[[body.anchor]]\nregion = {{ type = \"box\", center = [-0.5, 0, 0], size = [0.2, 2, 2] }}\n\
+         clamp = {{ point = [-0.4, 0, 0], normal = [1, 0, 0] }}\n"
+    );
+    Scene::parse(&clamp, Path::new("ok.toml"), Path::new(".")).expect("a good clamp");
+    let zero = clamp.replace("normal = [1, 0, 0]", "normal = [0, 0, 0]");
+    let (line, _, key, message) = error(&zero);
+    assert_eq!(
+        (line, key.as_str()),
+        (13, "body.0.anchor.0.clamp.normal"),
+        "{message}"
+    );
+    assert!(message.contains("into the free body"), "{message}");
+    let point = clamp.replace("point = [-0.4, 0, 0]", "point = [nan, 0, 0]");
+    assert_eq!(error(&point).2, "body.0.anchor.0.clamp.point");
+    let moving = clamp.replace("clamp = {", "velocity = [0, 1, 0]\nclamp = {");
+    let (_, _, key, message) = error(&moving);
+    assert_eq!(key, "body.0.anchor.0.velocity", "{message}");
+    assert!(message.contains("a clamp is fixed"), "{message}");
+    let fem = clamp.replace(
+        "material = \"m\"",
+        "material = \"m\"\nmodel = \"fem-linear\"",
+    );
+    let (_, _, key, message) = error(&fem);
+    assert_eq!(key, "body.0.anchor.0.clamp", "{message}");
+    assert!(message.contains("peridynamics"), "{message}");
+    let unknown = clamp.replace("normal = [1, 0, 0]", "normal = [1, 0, 0], depth = 1");
+    assert!(error(&unknown).3.contains("depth"));
+}
