@@ -4,9 +4,9 @@
 //!
 //! One step is the list of stages `kick → drift → anchors → forces → particle contact →
 //! kick → anchors → damping → collider contact`, the forces on a clamp's ghosts
-//! carried back to their sources after the forces ([`crate::clamp`]), each model's forces timed by the
-//! model, particle contact ([`ParticleContact`], when the scene has it) and the rest by
-//! the world.
+//! carried back to their sources after the forces ([`crate::clamp`]), each model's
+//! forces timed by the model, particle contact ([`ParticleContact`], when the scene
+//! has it) and the rest by the world.
 //! Every model shares the world's time step: the smallest of their stable steps.
 
 use std::any::Any;
