@@ -87,6 +87,12 @@ use crate::scene::{MembraneFormulation, MembraneMaterialSpec, ModelKind, Scene};
 /// Particles per parallel task of the passes over the bonds.
 const BLOCK: usize = 256;
 
+/// W_ij/|ξ_ij|² of bond `k`, the bond's factor in the diffusion law (Eq. 25).
+#[inline]
+fn conductance(weight: &[f64], inverse_rest: &[f64], k: usize) -> f64 {
+    weight[k] * inverse_rest[k] * inverse_rest[k]
+}
+
 /// The constants of one membrane body.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SheetBody {
@@ -192,6 +198,9 @@ pub struct MembraneModel {
     pub bonds: Bonds,
     /// W_ij = 1 − |ξ|/R per directed bond (Eq. 23).
     pub weight: Vec<f64>,
+    /// 1/|ξ_ij| per directed bond: the strain and the diffusion's 1/|ξ|² without a
+    /// division in the pass over the bonds.
+    inverse_rest: Vec<f64>,
     /// The diffused quantity θ_i (Eq. 25).
     pub quantity: Vec<f64>,
     /// Weighted volume m_i = Σ_j W_ij |ξ_ij|² A_j (m⁴) over each particle's bonds
@@ -243,6 +252,7 @@ impl MembraneModel {
             .flat_map(|i| bonds.range(i).map(move |k| (i, k)))
             .map(|(i, k)| (1.0 - bonds.rest_length[k] / cutoff[i]).max(0.0))
             .collect();
+        let inverse_rest = bonds.rest_length.iter().map(|&xi| 1.0 / xi).collect();
         let initial_bonds = (0..n).map(|i| bonds.range(i).len() as u32).collect();
         let weighted_volume: Vec<f64> = if bodies.iter().any(|b| b.state.is_some()) {
             (0..n)
@@ -273,6 +283,7 @@ impl MembraneModel {
             bodies,
             bonds,
             weight,
+            inverse_rest,
             quantity: vec![0.0; n],
             weighted_volume,
             dilatation,
@@ -373,6 +384,7 @@ impl MembraneModel {
         let (theta, area) = (&self.quantity, &self.area);
         let (m, dilatation) = (&self.weighted_volume, &self.dilatation);
         let (rest, weight, offsets) = (&self.bonds.rest_length, &self.weight, &self.bonds.offsets);
+        let inverse_rest = &self.inverse_rest;
         let initial = &self.initial_bonds;
         // Particle i's bonds, force, damage and rate (when a body conducts); returns
         // the bonds that broke.
@@ -398,7 +410,12 @@ impl MembraneModel {
                 let length = (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt();
                 // The strain over the expanded rest length |ξ|(1 + αθ̄) (see [`law`]).
                 let expanded = 1.0 + alpha * 0.5 * (theta[i] + theta[j]);
-                let eta = length / (rest[k] * expanded) - 1.0;
+                let stretch = length * inverse_rest[k];
+                let eta = if alpha == 0.0 {
+                    stretch - 1.0
+                } else {
+                    stretch / expanded - 1.0
+                };
                 if eta > critical {
                     *nb |= BROKEN;
                     broke += 1;
@@ -406,8 +423,7 @@ impl MembraneModel {
                 }
                 intact += 1;
                 if conducts {
-                    let xi2 = rest[k] * rest[k];
-                    flow += (theta[j] - theta[i]) / xi2 * weight[k] * area[j];
+                    flow += (theta[j] - theta[i]) * conductance(weight, inverse_rest, k) * area[j];
                 }
                 if length > 0.0 {
                     let s = match constants.state {
@@ -529,8 +545,9 @@ impl MembraneModel {
                         continue;
                     }
                     let j = (nb & INDEX) as usize;
-                    let xi2 = bonds.rest_length[k] * bonds.rest_length[k];
-                    sum += (theta[j] - theta[i]) / xi2 * self.weight[k] * area[j];
+                    sum += (theta[j] - theta[i])
+                        * conductance(&self.weight, &self.inverse_rest, k)
+                        * area[j];
                 }
                 b.conductivity * sum / (b.density * b.capacity * area[i])
             })
