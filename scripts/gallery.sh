@@ -7,10 +7,11 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 out="${1:-$root/out/gallery}"
 cargo build --release -q -p perifrac --manifest-path "$root/Cargo.toml"
 bin="$root/target/release/perifrac"
-# scene, frames to simulate, the frame shown, camera azimuth (degrees)
-while read -r scene frames shown azimuth; do
+# scene, frames to simulate, the frame shown, camera azimuth (degrees), more render options
+while read -r scene frames shown azimuth options; do
   "$bin" run "$root/assets/scenes/$scene.toml" -o "$out/$scene" --frames "$frames" --force --quiet
-  "$bin" render "$out/$scene" --frame "$shown" --size 960x540 --azimuth "$azimuth" --quiet
+  # shellcheck disable=SC2086 # the options are words
+  "$bin" render "$out/$scene" --frame "$shown" --size 960x540 --azimuth "$azimuth" --quiet $options
   cp "$out/$scene/preview/frame_$(printf '%04d' "$shown").png" "$root/docs/gallery/$scene.png"
   echo "docs/gallery/$scene.png: frame $shown of $frames"
 done <<'LIST'
@@ -21,6 +22,8 @@ glass-wall 12 12 35
 thin-sheet-tear 8 9 35
 bar-twist 8 9 35
 figure-stretch 23 24 35
+membrane-foil-fig4-heated 100 101 35 --color-by quantity
+mpm-watermelon 10 11 35
 LIST
 # The same demo cache surfaced by the OpenVDB method instead (a copy, so the embedded
 # crack surfaces stay as they are).
