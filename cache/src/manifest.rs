@@ -124,6 +124,12 @@ pub struct BodyInfo {
     pub max_dihedral_deg: f64,
     /// Mean tet edge length (m).
     pub mean_edge: f64,
+    /// Spacing of the body's particles (m) where the model places them itself (an
+    /// MPM body: its grid spacing over the particles per cell axis; a membrane: its
+    /// lattice spacing); 0 for a tet-mesh body, whose spacing follows from
+    /// `mean_edge`, and in caches written before it existed.
+    #[serde(default)]
+    pub particle_spacing: f64,
 }
 
 /// Wall-clock seconds.

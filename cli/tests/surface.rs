@@ -198,3 +198,69 @@ fn run_surfaces_when_the_scene_asks() {
         }
     }
 }
+
+/// An MPM body has no tet mesh: its particle spacing (grid spacing over the particles
+/// per cell axis) goes into the manifest, and the vdb method meshes it at that spacing
+/// (before, `mean_edge` was 0 for it and the surface stage refused every MPM run).
+#[test]
+fn an_mpm_run_is_surfaced_at_its_particle_spacing() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("mpm.toml");
+    std::fs::write(
+        &scene,
+        r#"[scene]
+name = "mpm-block"
+duration = 0.002
+fps = 1000.0
+
+[materials.gel]
+density = 1000.0
+youngs_modulus = 1e5
+poisson_ratio = 0.3
+
+[[body]]
+material = "gel"
+model = "mpm"
+resolution = 0.01
+shape = { type = "box", center = [0.0, 0.1, 0.0], size = [0.1, 0.1, 0.1] }
+
+[output]
+surface = "vdb"
+preview = false
+checkpoint_every = 0
+"#,
+    )
+    .unwrap();
+    let out_dir = dir.path().join("out");
+    let out = perifrac(&[
+        "run",
+        scene.to_str().unwrap(),
+        "-o",
+        out_dir.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let manifest = Manifest::read(&out_dir.join("manifest.json")).unwrap();
+    assert_eq!(manifest.bodies[0].mean_edge, 0.0);
+    assert!((manifest.bodies[0].particle_spacing - 0.005).abs() < 1e-15);
+    let glb = out_dir.join("surface/0003.glb");
+    let report = validate(&glb);
+    assert_eq!(report["numErrors"], 0, "{report:#}");
+    // The mesh spans the 0.1 m block to within two particle spacings.
+    let bytes = std::fs::read(&glb).unwrap();
+    let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let doc: serde_json::Value = serde_json::from_slice(&bytes[20..20 + json_len]).unwrap();
+    let position = &doc["accessors"][0];
+    for axis in 0..3 {
+        let extent =
+            position["max"][axis].as_f64().unwrap() - position["min"][axis].as_f64().unwrap();
+        assert!(
+            (extent - 0.1).abs() < 0.01,
+            "axis {axis}: extent {extent} m"
+        );
+    }
+}

@@ -29,6 +29,16 @@ pub fn spacing(mean_edge: f64) -> f64 {
     (mean_edge.powi(3) / TETS_PER_LAMBDA3).cbrt()
 }
 
+/// The particle spacing of a body of the manifest: its own `particle_spacing` where
+/// the model set one (MPM, membranes), else [`spacing`] of its mean tet edge.
+pub fn body_spacing(info: &BodyInfo) -> f64 {
+    if info.particle_spacing > 0.0 {
+        info.particle_spacing
+    } else {
+        spacing(info.mean_edge)
+    }
+}
+
 /// Each particle's body index, checked against the manifest's bodies.
 pub fn body_indices(
     frame: usize,
@@ -116,7 +126,7 @@ pub fn check_volumetric(
     }
     for (b, indices) in members {
         let info = &bodies[b as usize];
-        let s = spacing(info.mean_edge);
+        let s = body_spacing(info);
         if let Some(thickness) = local_thickness(&particles.position, &indices, s)
             && thickness < SINGLE_LAYER_THICKNESS
         {

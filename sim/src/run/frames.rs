@@ -16,7 +16,8 @@ use crate::cache::ply::ParticleFrame;
 use crate::cache::{CacheError, Layout, human_bytes};
 use crate::contact::ColliderShape;
 use crate::error::{Result, SimError};
-use crate::scene::Scene;
+use crate::mpm::PARTICLES_PER_CELL_AXIS;
+use crate::scene::{ModelKind, Scene};
 use crate::world::World;
 
 /// The state of the frame loop of one run.
@@ -423,6 +424,11 @@ fn manifest_for(scene: &Scene, prepared: &Prepared) -> Manifest {
                 min_dihedral_deg: d.quality[b].min_dihedral_deg,
                 max_dihedral_deg: d.quality[b].max_dihedral_deg,
                 mean_edge: d.quality[b].mean_edge,
+                particle_spacing: match spec.model {
+                    ModelKind::Mpm => spec.resolution / PARTICLES_PER_CELL_AXIS as f64,
+                    ModelKind::Membrane => spec.resolution,
+                    _ => 0.0,
+                },
             })
             .collect(),
         status: Status::Running,

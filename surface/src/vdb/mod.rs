@@ -154,10 +154,7 @@ pub fn surface_particles(
     particles::check_finite(frame, particles)?;
     let body = particles::body_indices(frame, particles, bodies)?;
     particles::check_volumetric(frame, particles, &body, bodies)?;
-    let spacing: Vec<f64> = bodies
-        .iter()
-        .map(|b| particles::spacing(b.mean_edge))
-        .collect();
+    let spacing: Vec<f64> = bodies.iter().map(particles::body_spacing).collect();
     let finest = body
         .iter()
         .map(|&b| spacing[b as usize])
@@ -165,7 +162,7 @@ pub fn surface_particles(
     if !(finest.is_finite() && finest > 0.0) {
         return Err(SurfaceError::Frame {
             frame,
-            message: "the manifest's mean tet edges do not give a positive particle spacing".into(),
+            message: "the manifest gives no body a positive particle spacing (mean_edge or particle_spacing); rerun the scene with this perifrac".into(),
         });
     }
     let voxel_size = spec.voxel_size * finest;
