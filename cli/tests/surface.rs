@@ -40,6 +40,18 @@ fn perifrac(args: &[&str]) -> Output {
         .expect("the binary runs")
 }
 
+/// `perifrac run SCENE -o OUT EXTRA…`, which must succeed.
+fn run(scene: &Path, out: &Path, extra: &[&str]) {
+    let mut args = vec!["run", scene.to_str().unwrap(), "-o", out.to_str().unwrap()];
+    args.extend_from_slice(extra);
+    let output = perifrac(&args);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+}
+
 /// A cache of two frames: the scene's box split in two fragments side by side,
 /// plus three loose particles (debris).
 fn write_cache(root: &Path) -> usize {
@@ -177,20 +189,7 @@ fn run_surfaces_when_the_scene_asks() {
     let scene = dir.path().join("scene.toml");
     std::fs::write(&scene, SCENE).unwrap();
     let out_dir = dir.path().join("out");
-    let out = perifrac(&[
-        "run",
-        scene.to_str().unwrap(),
-        "-o",
-        out_dir.to_str().unwrap(),
-        "--frames",
-        "1",
-        "--quiet",
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    run(&scene, &out_dir, &["--frames", "1", "--quiet"]);
     let manifest = Manifest::read(&out_dir.join("manifest.json")).unwrap();
     for f in 1..=manifest.frame_times.len() {
         for file in [format!("vdb/{f:04}.vdb"), format!("surface/{f:04}.glb")] {
@@ -232,18 +231,7 @@ checkpoint_every = 0
     )
     .unwrap();
     let out_dir = dir.path().join("out");
-    let out = perifrac(&[
-        "run",
-        scene.to_str().unwrap(),
-        "-o",
-        out_dir.to_str().unwrap(),
-        "--quiet",
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    run(&scene, &out_dir, &["--quiet"]);
     let manifest = Manifest::read(&out_dir.join("manifest.json")).unwrap();
     assert_eq!(manifest.bodies[0].mean_edge, 0.0);
     assert!((manifest.bodies[0].particle_spacing - 0.005).abs() < 1e-15);
