@@ -60,16 +60,19 @@
 //! derivative from t). The material's Poisson ratio is then the sheet's; fracture is
 //! the same critical strain η_c on each bond. Linear law only.
 
+mod diffusion;
 pub mod law;
 pub mod sheet;
 mod solver;
 pub mod source;
 #[cfg(test)]
 mod tests;
+mod triangles;
 
 use std::time::Instant;
 
-use perifrac_math::{cross, det_sum, dist, dot, norm, sub};
+use diffusion::conductance;
+use perifrac_math::{det_sum, dist};
 use rayon::iter::Either;
 use rayon::prelude::*;
 
@@ -86,12 +89,6 @@ use crate::scene::{MembraneFormulation, MembraneMaterialSpec, ModelKind, Scene};
 
 /// Particles per parallel task of the passes over the bonds.
 const BLOCK: usize = 256;
-
-/// W_ij/|ξ_ij|² of bond `k`, the bond's factor in the diffusion law (Eq. 25).
-#[inline]
-fn conductance(weight: &[f64], inverse_rest: &[f64], k: usize) -> f64 {
-    weight[k] * inverse_rest[k] * inverse_rest[k]
-}
 
 /// The constants of one membrane body.
 #[derive(Debug, Clone, PartialEq)]
@@ -526,79 +523,6 @@ impl MembraneModel {
             .sum()
     }
 
-    /// The rate θ̇_i of Eq. 25 over intact bonds (Eq. 28), for every particle.
-    pub fn quantity_rate(&self) -> Vec<f64> {
-        let (theta, area, body, bodies) = (&self.quantity, &self.area, &self.body, &self.bodies);
-        let bonds = &self.bonds;
-        (0..self.len())
-            .into_par_iter()
-            .with_min_len(256)
-            .map(|i| {
-                let b = &bodies[body[i] as usize];
-                if b.conductivity == 0.0 {
-                    return 0.0;
-                }
-                let mut sum = 0.0;
-                for k in bonds.range(i) {
-                    let nb = bonds.neighbours[k];
-                    if nb & BROKEN != 0 {
-                        continue;
-                    }
-                    let j = (nb & INDEX) as usize;
-                    sum += (theta[j] - theta[i])
-                        * conductance(&self.weight, &self.inverse_rest, k)
-                        * area[j];
-                }
-                b.conductivity * sum / (b.density * b.capacity * area[i])
-            })
-            .collect()
-    }
-
-    /// One forward Euler step of the diffusion (Eq. 26, first line, with γ* of
-    /// Eq. 28) from the current state: the rates of [`MembraneModel::quantity_rate`],
-    /// then [`MembraneModel::step_quantity`].
-    pub fn diffuse(&mut self, dt: f64) {
-        if !self.rate.is_empty() {
-            self.rate = self.quantity_rate();
-        }
-        self.step_quantity(dt);
-    }
-
-    /// The diffusion step with the rates the last [`MembraneModel::internal_forces`]
-    /// found: θ_i ← θ_i + Δt θ̇_i, then the sources active at the step's start
-    /// ([`source`]): a rate adds Δt × rate, a value holds θ (sources in scene order, so
-    /// a later value wins).
-    pub fn step_quantity(&mut self, dt: f64) {
-        if self.rate.is_empty() && self.sources.is_empty() {
-            return;
-        }
-        let t = Instant::now();
-        self.quantity
-            .par_iter_mut()
-            .zip(self.rate.par_iter())
-            .with_min_len(8192)
-            .for_each(|(theta, r)| *theta += dt * r);
-        for source in self.sources.iter().filter(|s| s.active(self.elapsed)) {
-            for &i in &source.particles {
-                let theta = &mut self.quantity[i as usize];
-                match source.effect {
-                    Effect::Rate(rate) => *theta += dt * rate,
-                    Effect::Value(value) => *theta = value,
-                }
-            }
-        }
-        self.elapsed += dt;
-        self.times.diffusion += t.elapsed().as_secs_f64();
-    }
-
-    /// The total quantity Σ_i ρ C A_i θ_i, which Eq. 25 conserves without sources.
-    pub fn total_quantity(&self) -> f64 {
-        det_sum(self.len(), |i| {
-            let b = &self.bodies[self.body[i] as usize];
-            b.density * b.capacity * self.area[i] * self.quantity[i]
-        })
-    }
-
     /// The largest stable step and the particle that limits it: the smaller of
     /// velocity Verlet's bound for the bond springs, Silling and Askari's
     /// Δt_i = √(2ρ / Σ_j c W_ij V_j/|ξ_ij|) (for the state-based option the sum of
@@ -727,96 +651,6 @@ impl MembraneModel {
                 }
             }
         })
-    }
-
-    /// Every sheet's triangles: the lattice triangles of the lattice sheets
-    /// ([`MembraneModel::lattice_triangles`]), then the mesh sheets' own.
-    pub fn sheet_triangles(&self) -> Vec<[u32; 3]> {
-        let mut triangles = self.lattice_triangles();
-        triangles.extend_from_slice(&self.mesh_triangles);
-        triangles
-    }
-
-    /// The lattice sheets' triangles: every triple of particles of one body bonded
-    /// pairwise at the lattice spacing (each particle's shortest bond, to 0.1%),
-    /// wound so that their reference normals agree with the first one's along the
-    /// sheet's normal, in increasing order of their smallest index. Particles of mesh
-    /// sheets (in [`MembraneModel::mesh_triangles`]) are left out.
-    pub fn lattice_triangles(&self) -> Vec<[u32; 3]> {
-        let bonds = &self.bonds;
-        let mut meshed = vec![false; self.len()];
-        for &v in self.mesh_triangles.iter().flatten() {
-            meshed[v as usize] = true;
-        }
-        let nearest = |i: usize| -> Vec<usize> {
-            if meshed[i] {
-                return Vec::new();
-            }
-            let shortest = bonds
-                .range(i)
-                .map(|k| bonds.rest_length[k])
-                .fold(f64::INFINITY, f64::min);
-            let mut near: Vec<usize> = bonds
-                .range(i)
-                .filter(|&k| bonds.rest_length[k] <= 1.001 * shortest)
-                .map(|k| (bonds.neighbours[k] & INDEX) as usize)
-                .filter(|&j| j > i)
-                .collect();
-            near.sort_unstable();
-            near
-        };
-        let near: Vec<Vec<usize>> = (0..self.len()).map(nearest).collect();
-        let x = &self.reference;
-        let normal = |t: [usize; 3]| cross(sub(x[t[1]], x[t[0]]), sub(x[t[2]], x[t[0]]));
-        let mut triangles = Vec::new();
-        let mut up: Option<[f64; 3]> = None;
-        for (i, near_i) in near.iter().enumerate() {
-            for (a, &j) in near_i.iter().enumerate() {
-                for &k in &near_i[a + 1..] {
-                    if near[j].binary_search(&k).is_ok() {
-                        let n = normal([i, j, k]);
-                        let reference = *up.get_or_insert(n);
-                        triangles.push(if dot(n, reference) >= 0.0 {
-                            [i as u32, j as u32, k as u32]
-                        } else {
-                            [i as u32, k as u32, j as u32]
-                        });
-                    }
-                }
-            }
-        }
-        triangles
-    }
-
-    /// Whether the three bonds of lattice triangle `t` are intact.
-    pub fn triangle_intact(&self, t: [u32; 3]) -> bool {
-        let intact = |i: u32, j: u32| {
-            self.bonds.range(i as usize).any(|k| {
-                let nb = self.bonds.neighbours[k];
-                nb & INDEX == j && nb & BROKEN == 0
-            })
-        };
-        intact(t[0], t[1]) && intact(t[1], t[2]) && intact(t[2], t[0])
-    }
-
-    /// The current area (m²) of the lattice triangles `triangles` whose three bonds
-    /// are intact, in 3D (wrinkles and folds count at their true area).
-    pub fn sheet_area(&self, triangles: &[[u32; 3]]) -> f64 {
-        let y = &self.position;
-        det_sum(triangles.len(), |t| {
-            if self.triangle_intact(triangles[t]) {
-                let [i, j, k] = triangles[t].map(|v| v as usize);
-                0.5 * norm(cross(sub(y[j], y[i]), sub(y[k], y[i])))
-            } else {
-                0.0
-            }
-        })
-    }
-
-    /// Connected components of intact bonds, numbered by their smallest particle
-    /// index in increasing order (deterministic).
-    pub fn fragments(&self) -> Vec<u32> {
-        self.bonds.fragments()
     }
 
     /// φ_i = 1 − intact/initial bonds, from the broken bits.
