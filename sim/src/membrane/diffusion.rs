@@ -58,8 +58,8 @@ impl MembraneModel {
 
     /// The diffusion step with the rates the last [`MembraneModel::internal_forces`]
     /// found: θ_i ← θ_i + Δt θ̇_i, then the sources active at the step's start
-    /// ([`source`](super::source)): a rate adds Δt × rate, a value holds θ (sources in scene order, so
-    /// a later value wins).
+    /// ([`source`](super::source)): a rate adds Δt × rate, a value holds θ (sources
+    /// in scene order, so a later value wins).
     pub fn step_quantity(&mut self, dt: f64) {
         if self.rate.is_empty() && self.sources.is_empty() {
             return;
