@@ -26,10 +26,9 @@ membrane-foil-fig4-heated 100 101 35 --color-by quantity
 mpm-watermelon 10 11 35
 LIST
 # The same demo cache surfaced by the OpenVDB method instead (a copy, so the embedded
-# crack surfaces stay as they are).
+# crack surfaces stay as they are; `surface` replaces the copy's embedded surfaces).
 rm -rf "$out/demo-vdb"
 cp -r "$out/demo" "$out/demo-vdb"
-rm -rf "$out/demo-vdb/surface" "$out/demo-vdb/preview"
 "$bin" surface "$out/demo-vdb" --method vdb --quiet
 "$bin" render "$out/demo-vdb" --frame 10 --size 960x540 --azimuth 145 --quiet
 cp "$out/demo-vdb/preview/frame_0010.png" "$root/docs/gallery/demo-vdb.png"
