@@ -443,8 +443,8 @@ impl MembraneModel {
             *force = f;
             if let Some(rate) = rate {
                 *rate = if conducts {
-                    let b = constants;
-                    b.conductivity * flow / (b.density * b.capacity * area[i])
+                    constants.conductivity * flow
+                        / (constants.density * constants.capacity * area[i])
                 } else {
                     0.0
                 };
