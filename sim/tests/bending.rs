@@ -31,9 +31,11 @@
 
 use std::path::Path;
 
+mod common;
+
 use perifrac_sim::cache::ply::ParticleFrame;
 use perifrac_sim::contact;
-use perifrac_sim::run::{self, Prepared, RunOptions};
+use perifrac_sim::run::{self, Prepared};
 use perifrac_sim::scene::Scene;
 use perifrac_sim::world::Part;
 
@@ -626,15 +628,6 @@ fn the_operator_frequency_is_a_released_beams() {
     assert!((released / operator - 1.0).abs() < 0.005);
 }
 
-fn same_frames(a: &Path, b: &Path, frames: usize, what: &str) {
-    for f in 1..=frames {
-        let name = format!("particles/{f:04}.ply");
-        let x = std::fs::read(a.join(&name)).expect("frame");
-        let y = std::fs::read(b.join(&name)).expect("frame");
-        assert!(x == y, "{name}: {what}");
-    }
-}
-
 /// A clamped cantilever stepped by the world's integrator (L/h = 5, 4 across, 10 ms
 /// from rest under gravity): 1 and 2 threads write the same bytes, and so does a run
 /// stopped after 2 frames and resumed from its checkpoint (the ghosts' weights are
@@ -651,25 +644,7 @@ fn a_clamped_run_threads_and_resumes_to_the_same_bytes() {
     s.output.checkpoint_every = 1;
     s.output.preview = false;
     let frames = s.frame_count() + 1;
-    let dirs: Vec<tempfile::TempDir> = (0..3)
-        .map(|_| tempfile::tempdir().expect("temp dir"))
-        .collect();
-    for (threads, dir) in [1usize, 2].iter().zip(&dirs) {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(*threads)
-            .build()
-            .expect("pool");
-        let manifest = pool
-            .install(|| run::run(&s, dir.path(), &RunOptions::default(), &mut |_| {}))
-            .expect("runs");
-        assert_eq!(manifest.status.to_string(), "complete");
-    }
-    same_frames(
-        dirs[0].path(),
-        dirs[1].path(),
-        frames,
-        "1 and 2 threads differ",
-    );
+    let dirs = common::threads_and_resume(&s, 2);
     let last = ParticleFrame::read(&dirs[0].path().join(format!("particles/{frames:04}.ply")))
         .expect("last frame");
     let first = ParticleFrame::read(&dirs[0].path().join("particles/0001.ply")).expect("frame");
@@ -687,24 +662,6 @@ fn a_clamped_run_threads_and_resumes_to_the_same_bytes() {
             assert_eq!(first.position[i], last.position[i], "held particle {i}");
         }
     }
-    let stop = RunOptions {
-        frames: Some(2),
-        ..RunOptions::default()
-    };
-    let stopped = run::run(&s, dirs[2].path(), &stop, &mut |_| {}).expect("runs");
-    assert_eq!(stopped.status.to_string(), "interrupted");
-    let resume = RunOptions {
-        resume: true,
-        ..RunOptions::default()
-    };
-    let resumed = run::run(&s, dirs[2].path(), &resume, &mut |_| {}).expect("resumes");
-    assert_eq!(resumed.status.to_string(), "complete");
-    same_frames(
-        dirs[0].path(),
-        dirs[2].path(),
-        frames,
-        "a resumed run differs from an uninterrupted one",
-    );
 }
 
 /// A clamp whose normal points out of the body (into its region) leaves no particle

@@ -4,10 +4,12 @@
 
 use std::path::Path;
 
+mod common;
+
 use perifrac_sim::cache::ply::ParticleFrame;
 use perifrac_sim::family::{BROKEN, INDEX};
 use perifrac_sim::membrane::Membrane;
-use perifrac_sim::run::{self, RunOptions};
+use perifrac_sim::run;
 use perifrac_sim::scene::Scene;
 
 /// A 0.6 m × 0.4 m film (Han Table 1, "Crack path": E = 2×10⁴ Pa, ρ = 5000 kg/m³,
@@ -27,38 +29,11 @@ fn scene() -> Scene {
     Scene::parse(SCENE, Path::new("film.toml"), Path::new(".")).expect("scene")
 }
 
-fn same_frames(a: &Path, b: &Path, frames: usize, what: &str) {
-    for f in 1..=frames {
-        let name = format!("particles/{f:04}.ply");
-        let x = std::fs::read(a.join(&name)).expect("frame");
-        let y = std::fs::read(b.join(&name)).expect("frame");
-        assert!(x == y, "{name}: {what}");
-    }
-}
-
 #[test]
 fn a_torn_film_resumes_and_threads_to_the_same_bytes() {
     let s = scene();
     let frames = s.frame_count() + 1;
-    let dirs: Vec<tempfile::TempDir> = (0..3)
-        .map(|_| tempfile::tempdir().expect("temp dir"))
-        .collect();
-    for (threads, dir) in [1usize, 2].iter().zip(&dirs) {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(*threads)
-            .build()
-            .expect("pool");
-        let manifest = pool
-            .install(|| run::run(&s, dir.path(), &RunOptions::default(), &mut |_| {}))
-            .expect("runs");
-        assert_eq!(manifest.status.to_string(), "complete");
-    }
-    same_frames(
-        dirs[0].path(),
-        dirs[1].path(),
-        frames,
-        "1 and 2 threads differ",
-    );
+    let dirs = common::threads_and_resume(&s, 3);
     let last = ParticleFrame::read(&dirs[0].path().join(format!("particles/{frames:04}.ply")))
         .expect("last frame");
     let fragments = last
@@ -70,29 +45,6 @@ fn a_torn_film_resumes_and_threads_to_the_same_bytes() {
         + 1;
     assert!(fragments >= 2, "the film tore in two");
     assert!(last.damage.iter().any(|&d| d > 0.3), "torn bonds");
-
-    let stop = RunOptions {
-        frames: Some(3),
-        ..RunOptions::default()
-    };
-    let stopped = run::run(&s, dirs[2].path(), &stop, &mut |_| {}).expect("runs");
-    assert!(
-        stopped.status.to_string() == "interrupted",
-        "{}",
-        stopped.status
-    );
-    let resume = RunOptions {
-        resume: true,
-        ..RunOptions::default()
-    };
-    let resumed = run::run(&s, dirs[2].path(), &resume, &mut |_| {}).expect("resumes");
-    assert_eq!(resumed.status.to_string(), "complete");
-    same_frames(
-        dirs[0].path(),
-        dirs[2].path(),
-        frames,
-        "a resumed run differs from an uninterrupted one",
-    );
 }
 
 /// Particle-steps per second of a square sheet of about `particles` particles (Han
