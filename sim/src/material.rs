@@ -18,6 +18,8 @@ pub struct Material {
     pub plastic_limit: f64,
     /// Critical weighted stretch s^ω (Chen Eq. 19); `None` for unbreakable.
     pub critical_stretch: Option<f64>,
+    /// Critical weighted compression s^ω_c (Eq. 19 mirrored); `None` for no crushing.
+    pub critical_compression: Option<f64>,
     /// Anti-shatter parameter α (Chen Eq. 19).
     pub alpha: f64,
     /// Anisotropy matrix G (Chen Eq. 17), `None` for isotropic.
@@ -60,6 +62,7 @@ impl Material {
             yield_rule,
             plastic_limit: spec.plastic_limit,
             critical_stretch: spec.critical_stretch,
+            critical_compression: spec.critical_compression,
             alpha: spec.alpha,
             anisotropy: spec.anisotropy,
             air_damping: spec.air_damping,
@@ -106,6 +109,7 @@ impl Material {
             b,
             psi0,
             critical_stretch: self.critical_stretch.unwrap_or(f64::INFINITY),
+            critical_compression: self.critical_compression.unwrap_or(f64::INFINITY),
             alpha: self.alpha,
             plastic_limit: self.plastic_limit,
         }
@@ -125,6 +129,9 @@ pub struct PdConstants {
     pub psi0: f64,
     /// s^ω threshold (Eq. 19); infinite for unbreakable.
     pub critical_stretch: f64,
+    /// s^ω_c: a bond crushes when its weighted stretch is below −s^ω_c; infinite for
+    /// never.
+    pub critical_compression: f64,
     /// α (Eq. 19).
     pub alpha: f64,
     /// γ/|ξ| (Eq. 16).
@@ -146,6 +153,7 @@ mod tests {
             yield_stretch: None,
             plastic_limit: f64::INFINITY,
             critical_stretch: None,
+            critical_compression: None,
             alpha: 0.0,
             anisotropy: None,
             air_damping: 0.0,

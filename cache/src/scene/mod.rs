@@ -136,6 +136,12 @@ pub struct MaterialSpec {
     /// Critical weighted stretch s^ω of Chen Eq. 19 (Table 1). Default: none (unbreakable).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub critical_stretch: Option<f64>,
+    /// Critical weighted compression s^ω_c: a bond also breaks (crushes) when its
+    /// weighted stretch falls below −s^ω_c (Chen Eq. 19 mirrored; not in Chen et al.,
+    /// whose bonds break only in tension). Needs `critical_stretch`. Default: none (no
+    /// crushing).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub critical_compression: Option<f64>,
     /// Anti-shatter parameter α of Chen Eq. 19. Default 0.
     #[serde(default)]
     pub alpha: f64,
@@ -1283,6 +1289,28 @@ resolution = 0.1
         let again = Scene::parse(&s.to_toml(), Path::new("resolved.toml"), Path::new("."))
             .expect("round trip");
         assert_eq!(again.to_toml(), s.to_toml());
+    }
+
+    #[test]
+    fn crushing_needs_a_positive_threshold_and_tension_failure() {
+        let crushing = |keys: &str| error(&GOOD.replace("shear_modulus = 2.0e10", keys));
+        let (line, key, message) = crushing("shear_modulus = 2.0e10\ncritical_compression = 0.005");
+        assert_eq!(
+            (line, key.as_str()),
+            (8, "materials.glass.critical_compression")
+        );
+        assert!(message.contains("set critical_stretch"), "{message}");
+        let (_, key, message) = crushing(
+            "shear_modulus = 2.0e10\ncritical_stretch = 0.0005\ncritical_compression = -1",
+        );
+        assert_eq!(key, "materials.glass.critical_compression");
+        assert!(message.contains("positive"), "{message}");
+        let both = GOOD.replace(
+            "shear_modulus = 2.0e10",
+            "shear_modulus = 2.0e10\ncritical_stretch = 0.0005\ncritical_compression = 0.005",
+        );
+        let s = Scene::parse(&both, Path::new("good.toml"), Path::new(".")).expect("valid");
+        assert_eq!(s.materials["glass"].critical_compression, Some(0.005));
     }
 
     #[test]

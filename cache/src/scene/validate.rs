@@ -237,6 +237,17 @@ fn material(name: &str, m: &MaterialSpec) -> Check {
     if let Some(s) = m.critical_stretch {
         positive(&p("critical_stretch"), s, "the critical stretch")?;
     }
+    if let Some(s) = m.critical_compression {
+        positive(&p("critical_compression"), s, "the critical compression")?;
+        if m.critical_stretch.is_none() {
+            return Err(issue(
+                &p("critical_compression"),
+                "a material that crushes must also break in tension: set critical_stretch \
+                 (typically 1/10 to 1/20 of critical_compression for a brittle solid)"
+                    .to_string(),
+            ));
+        }
+    }
     if !(m.alpha.is_finite() && m.alpha >= 0.0) {
         return Err(issue(
             &p("alpha"),
@@ -597,6 +608,7 @@ fn membrane(scene: &Scene) -> Check {
             ("yield_psi0", m.yield_psi0.is_some()),
             ("yield_stretch", m.yield_stretch.is_some()),
             ("critical_stretch", m.critical_stretch.is_some()),
+            ("critical_compression", m.critical_compression.is_some()),
             ("alpha", m.alpha != 0.0),
             ("anisotropy", m.anisotropy.is_some()),
             ("laplacian_damping", m.laplacian_damping != 0.0),
@@ -845,11 +857,12 @@ fn mpm_material(name: &str, spec: &MpmSpec) -> Check {
 
 /// The material keys only a bonded (peridynamic) model reads, each with whether the
 /// material sets it: the FEM and MPM refuse a set one by name.
-fn bond_keys(m: &MaterialSpec) -> [(&'static str, bool); 5] {
+fn bond_keys(m: &MaterialSpec) -> [(&'static str, bool); 6] {
     [
         ("yield_psi0", m.yield_psi0.is_some()),
         ("yield_stretch", m.yield_stretch.is_some()),
         ("critical_stretch", m.critical_stretch.is_some()),
+        ("critical_compression", m.critical_compression.is_some()),
         ("anisotropy", m.anisotropy.is_some()),
         ("laplacian_damping", m.laplacian_damping != 0.0),
     ]

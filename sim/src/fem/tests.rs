@@ -18,6 +18,7 @@ fn material() -> Material {
         yield_stretch: None,
         plastic_limit: f64::INFINITY,
         critical_stretch: None,
+        critical_compression: None,
         alpha: 0.0,
         anisotropy: None,
         air_damping: 0.0,

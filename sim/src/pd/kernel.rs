@@ -229,7 +229,8 @@ fn return_mapping<const F: bool, const A: bool>(
 ///
 /// With fracture, the same pass then breaks each bond whose weighted elastic stretch
 /// s^ω = (e − e^p)/(ω|ξ|) (Eq. 18–19) exceeds (1 + αφ) s_c in either direction (so
-/// both ends agree, reading φ of the previous step), and updates φ.
+/// both ends agree, reading φ of the previous step), or, for a material with a
+/// `critical_compression`, falls below −(1 + αφ) s_c^ω (crushing), and updates φ.
 ///
 /// Eq. 19 prints s^ω = (1 + αφ)(e − e^p)/δ, which makes a damaged particle's bonds
 /// break *sooner*: in the test `alpha_leaves_fewer_larger_fragments` that form gave
@@ -352,13 +353,17 @@ fn particle_force<const P: bool, const F: bool, const A: bool, const L: bool>(
             } else {
                 delta
             };
-            let threshold = c.critical_stretch * omega_r;
             let gj = if c.alpha != 0.0 {
                 1.0 / (1.0 + c.alpha * phi[j])
             } else {
                 1.0
             };
-            if (gi * (e - ep_ij)).max(gj * (e - ep_ji)) > threshold {
+            let (s_i, s_j) = (gi * (e - ep_ij), gj * (e - ep_ji));
+            // Crushing mirrors Eq. 19 in compression: s^ω < −s^ω_c (ours; Chen's bonds
+            // break only in tension, so they store any compression and give it back).
+            if s_i.max(s_j) > c.critical_stretch * omega_r
+                || s_i.min(s_j) < -c.critical_compression * omega_r
+            {
                 *nb |= BROKEN;
                 broken += 1;
             } else {

@@ -18,6 +18,7 @@ fn material(e: f64, nu: f64) -> MaterialSpec {
         yield_stretch: None,
         plastic_limit: f64::INFINITY,
         critical_stretch: None,
+        critical_compression: None,
         alpha: 0.0,
         anisotropy: None,
         air_damping: 0.0,
@@ -545,4 +546,68 @@ fn anisotropy_stiffens_as_eq17_predicts() {
         (measured / predicted - 1.0).abs() < 0.05,
         "measured {measured}, predicted {predicted}"
     );
+}
+
+/// The bonds of a block broken by one force pass under the uniform strain F = (1 + ε)I,
+/// as (broken, rest length) pairs, for a material breaking at s^ω = `stretch` in
+/// tension and (optionally) crushing at s^ω_c = `compression`.
+fn broken_under(eps: f64, stretch: f64, compression: Option<f64>) -> (Vec<(bool, f64)>, f64) {
+    let spec = MaterialSpec {
+        critical_stretch: Some(stretch),
+        critical_compression: compression,
+        ..material(1e6, 0.25)
+    };
+    let lambda = 0.02;
+    let mut m = block(
+        [0.1; 3],
+        lambda,
+        1.45,
+        &spec,
+        DilatationForm::Objective,
+        true,
+    );
+    deform(
+        &mut m,
+        [
+            [1.0 + eps, 0.0, 0.0],
+            [0.0, 1.0 + eps, 0.0],
+            [0.0, 0.0, 1.0 + eps],
+        ],
+    );
+    m.internal_forces();
+    let bonds = (0..m.bonds.neighbours.len())
+        .map(|k| (m.bonds.neighbours[k] & BROKEN != 0, m.bonds.rest_length[k]))
+        .collect();
+    (bonds, 1.45 * lambda)
+}
+
+#[test]
+fn a_crushing_material_breaks_exactly_the_bonds_compressed_past_its_threshold() {
+    // Under F = (1 − ε)I a bond of rest length |ξ| has e = −ε|ξ| and weighted stretch
+    // e/δ (isotropic ω|ξ| = δ): with s^ω_c = 0.0075 and ε = 0.01 exactly the bonds
+    // longer than 0.75δ crush, in both directions.
+    let (bonds, delta) = broken_under(-0.01, 1.0, Some(0.0075));
+    let (mut long, mut short) = (0, 0);
+    for &(broken, r) in &bonds {
+        if r > 0.75 * delta * (1.0 + 1e-9) {
+            assert!(broken, "a bond of {r} m compressed past s^ω_c is intact");
+            long += 1;
+        } else if r < 0.75 * delta * (1.0 - 1e-9) {
+            assert!(!broken, "a bond of {r} m within s^ω_c broke");
+            short += 1;
+        }
+    }
+    assert!(
+        long > 1000 && short > 1000,
+        "{long} long, {short} short bonds"
+    );
+    // Chen's tension-only law (no critical_compression) and the same strain in
+    // tension under a large s^ω break nothing.
+    for (eps, compression) in [(-0.01, None), (0.01, Some(0.0075))] {
+        let (bonds, _) = broken_under(eps, 1.0, compression);
+        assert!(
+            bonds.iter().all(|&(b, _)| !b),
+            "ε = {eps}, s_c = {compression:?}"
+        );
+    }
 }
