@@ -13,8 +13,8 @@ use perifrac_sim::run;
 use perifrac_sim::scene::Scene;
 
 /// The fastest particle of the demo scene (as shipped but for λ = 0.024 m and, with
-/// `crushing`, the three settings above) at the scene's frame times (what its cache holds), in
-/// units of the ball's speed.
+/// `crushing`, the three settings above) at the scene's frame times (what its cache
+/// holds), in units of the ball's speed.
 fn fastest(crushing: bool) -> f64 {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/scenes/demo.toml");
     let text = std::fs::read_to_string(&path).expect("the demo scene");
