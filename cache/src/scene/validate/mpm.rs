@@ -1,0 +1,173 @@
+//! The checks of MPM bodies and their materials (Lyu 2021).
+
+use super::*;
+
+/// The material point method runs a whole scene (its bodies share one grid) and has
+/// no bonds: no mixing with other models, no initial cracks, no bond parameters.
+pub(super) fn mpm(scene: &Scene) -> Check {
+    let Some(first) = scene.bodies.iter().position(|b| b.model == ModelKind::Mpm) else {
+        if scene.mpm.is_some() {
+            return Err(issue(
+                &["mpm"],
+                "[mpm] sets the grid of model = \"mpm\" bodies and this scene has none: remove it",
+            ));
+        }
+        return Ok(());
+    };
+    if let Some(settings) = &scene.mpm
+        && !(0.0..=1.0).contains(&settings.flip_ratio)
+    {
+        return Err(issue(
+            &["mpm", "flip_ratio"],
+            format!(
+                "FLIP's share must lie in [0, 1] (0 is PIC), got {}",
+                settings.flip_ratio
+            ),
+        ));
+    }
+    for (i, b) in scene.bodies.iter().enumerate() {
+        let i = i.to_string();
+        if b.model != ModelKind::Mpm {
+            return Err(issue(
+                &["body", &i, "model"],
+                format!(
+                    "body {first} uses model = \"mpm\" and this one does not: a scene runs one solver, \
+                     so give every body model = \"mpm\" or none"
+                ),
+            ));
+        }
+        if !b.cracks.is_empty() {
+            return Err(issue(
+                &["body", &i, "crack"],
+                "MPM bodies have no bonds to cut: remove [[body.crack]] or use peridynamics",
+            ));
+        }
+        let m = &scene.materials[&b.material];
+        let mut unsupported = bond_keys(m).to_vec();
+        unsupported.push(("air_damping", m.air_damping != 0.0));
+        if let Some((key, _)) = unsupported.iter().find(|(_, set)| *set) {
+            return Err(issue(
+                &["materials", &b.material, key],
+                format!(
+                    "body {i} uses model = \"mpm\", whose materials are set in [materials.{}.mpm]: \
+                     remove {key} or use model = \"peridynamics\"",
+                    b.material
+                ),
+            ));
+        }
+        if let Some(spec) = &m.mpm {
+            mpm_material(&b.material, spec)?;
+        }
+    }
+    Ok(())
+}
+
+/// The keys of one `[materials.NAME.mpm]`.
+fn mpm_material(name: &str, spec: &MpmSpec) -> Check {
+    let at = |key: &'static str| ["materials", name, "mpm", key];
+    let shock = spec.elasticity == MpmElasticity::Shock;
+    match spec.bulk_sound_speed {
+        Some(c) => {
+            if !shock {
+                return Err(issue(
+                    &at("bulk_sound_speed"),
+                    "the bulk sound speed is read by elasticity = \"shock\" only: remove it or set that elasticity",
+                ));
+            }
+            positive(&at("bulk_sound_speed"), c, "the bulk sound speed c₀ (m/s)")?;
+        }
+        None if shock => {
+            return Err(issue(
+                &at("bulk_sound_speed"),
+                "elasticity = \"shock\" needs the bulk sound speed c₀ of its Mie–Grüneisen \
+                 pressure (Lyu Eq. 7.4): add bulk_sound_speed = <m/s>",
+            ));
+        }
+        None => {}
+    }
+    if !(spec.shock_slope.is_finite() && spec.shock_slope >= 1.0) {
+        return Err(issue(
+            &at("shock_slope"),
+            format!(
+                "the slope S of v_s = c₀ + S v_p must be finite and at least 1 (1.1 in the thesis), got {}",
+                spec.shock_slope
+            ),
+        ));
+    }
+    positive(
+        &at("gruneisen"),
+        spec.gruneisen,
+        "the Grüneisen parameter γ",
+    )?;
+    let plastic = |key: &'static str| ["materials", name, "mpm", "plasticity", key];
+    match spec.plasticity {
+        MpmPlasticity::None => {}
+        MpmPlasticity::JohnsonCook {
+            yield_stress,
+            hardening,
+            exponent,
+            rate_coefficient,
+            reference_rate,
+        } => {
+            positive(
+                &plastic("yield_stress"),
+                yield_stress,
+                "the yield stress A (Pa)",
+            )?;
+            for (key, value, what) in [
+                ("hardening", hardening, "the hardening coefficient B (Pa)"),
+                ("exponent", exponent, "the hardening exponent n"),
+                (
+                    "rate_coefficient",
+                    rate_coefficient,
+                    "the strain-rate coefficient C",
+                ),
+            ] {
+                if !(value.is_finite() && value >= 0.0) {
+                    return Err(issue(
+                        &plastic(key),
+                        format!("{what} must be finite and non-negative, got {value}"),
+                    ));
+                }
+            }
+            if exponent > 1.0 {
+                return Err(issue(
+                    &plastic("exponent"),
+                    format!(
+                        "the hardening exponent n must lie in [0, 1] (Lyu §7.4.2), got {exponent}"
+                    ),
+                ));
+            }
+            positive(
+                &plastic("reference_rate"),
+                reference_rate,
+                "the reference plastic strain rate ε̇₀ (1/s)",
+            )?;
+        }
+        MpmPlasticity::Snow {
+            critical_compression,
+            critical_stretch,
+        } => {
+            if !(critical_compression > 0.0 && critical_compression < 1.0) {
+                return Err(issue(
+                    &plastic("critical_compression"),
+                    format!(
+                        "θ_c must lie in (0, 1) (singular values are clamped to [1 − θ_c, 1 + θ_s]), got {critical_compression}"
+                    ),
+                ));
+            }
+            positive(&plastic("critical_stretch"), critical_stretch, "θ_s")?;
+        }
+        MpmPlasticity::DruckerPrager { friction_angle } => {
+            if !(friction_angle > 0.0 && friction_angle < 90.0) {
+                return Err(issue(
+                    &plastic("friction_angle"),
+                    format!(
+                        "the friction angle is in degrees and must lie in (0, 90), got {friction_angle}"
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
