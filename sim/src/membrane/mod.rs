@@ -61,6 +61,7 @@
 //! the same critical strain η_c on each bond. Linear law only.
 
 mod diffusion;
+mod forces;
 pub mod law;
 pub mod sheet;
 mod solver;
@@ -69,11 +70,7 @@ pub mod source;
 mod tests;
 mod triangles;
 
-use std::time::Instant;
-
-use diffusion::conductance;
 use perifrac_math::{det_sum, dist};
-use rayon::iter::Either;
 use rayon::prelude::*;
 
 pub use law::Law;
@@ -84,7 +81,7 @@ use crate::error::{Result, SimError};
 use crate::family::{self, BROKEN, Bonds, INDEX};
 use crate::geometry::discretize::Discretization;
 use crate::material::Material;
-use crate::pd::{Cracks, blocks_mut, rows_mut};
+use crate::pd::Cracks;
 use crate::scene::{MembraneFormulation, MembraneMaterialSpec, ModelKind, Scene};
 
 /// Particles per parallel task of the passes over the bonds.
@@ -361,166 +358,6 @@ impl MembraneModel {
     /// Whether there are no particles.
     pub fn is_empty(&self) -> bool {
         self.reference.is_empty()
-    }
-
-    /// Bond strains η_ij (Eq. 10), fracture (Eq. 27–28: a bond whose strain passes
-    /// η_c breaks for good), the force densities of Eq. 18 and 22 into
-    /// [`MembraneModel::force`] and the diffusion rates of Eq. 25 over the bonds left
-    /// intact (Eq. 28; for [`MembraneModel::step_quantity`]), in one pass gathering
-    /// over each particle's bonds in a fixed order; for the state-based option, the
-    /// force states of [`state`](self#the-state-based-option) after a first pass for
-    /// the dilatations. Returns the number of directed bonds that broke.
-    pub fn internal_forces(&mut self) -> usize {
-        let t = Instant::now();
-        let broken_first = if self.weighted_volume.is_empty() {
-            0
-        } else {
-            self.dilatations()
-        };
-        let (y, volume, body, bodies) = (&self.position, &self.volume, &self.body, &self.bodies);
-        let (theta, area) = (&self.quantity, &self.area);
-        let (m, dilatation) = (&self.weighted_volume, &self.dilatation);
-        let (rest, weight, offsets) = (&self.bonds.rest_length, &self.weight, &self.bonds.offsets);
-        let inverse_rest = &self.inverse_rest;
-        let initial = &self.initial_bonds;
-        // Particle i's bonds, force, damage and rate (when a body conducts); returns
-        // the bonds that broke.
-        let particle = |i: usize,
-                        row: &mut [u32],
-                        force: &mut [f64; 3],
-                        damage: &mut f64,
-                        rate: Option<&mut f64>| {
-            let constants = &bodies[body[i] as usize];
-            let (c, critical) = (constants.micromodulus, constants.critical_strain);
-            let (law, alpha) = (constants.law, constants.expansion);
-            let yi = y[i];
-            let conducts = rate.is_some() && constants.conductivity != 0.0;
-            let mut f = [0.0; 3];
-            let mut flow = 0.0;
-            let (mut broke, mut intact) = (0, 0);
-            for (k, nb) in (offsets[i]..).zip(row.iter_mut()) {
-                if *nb & BROKEN != 0 {
-                    continue;
-                }
-                let j = (*nb & INDEX) as usize;
-                let r = [y[j][0] - yi[0], y[j][1] - yi[1], y[j][2] - yi[2]];
-                let length = (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt();
-                // The strain over the expanded rest length |ξ|(1 + αθ̄) (see [`law`]).
-                let expanded = 1.0 + alpha * 0.5 * (theta[i] + theta[j]);
-                let stretch = length * inverse_rest[k];
-                let eta = if alpha == 0.0 {
-                    stretch - 1.0
-                } else {
-                    stretch / expanded - 1.0
-                };
-                if eta > critical {
-                    *nb |= BROKEN;
-                    broke += 1;
-                    continue;
-                }
-                intact += 1;
-                if conducts {
-                    flow += (theta[j] - theta[i]) * conductance(weight, inverse_rest, k) * area[j];
-                }
-                if length > 0.0 {
-                    let s = match constants.state {
-                        None => c * law.force(eta) * weight[k] * volume[j] / length,
-                        Some(plane) => {
-                            let (w, xi) = (weight[k], rest[k]);
-                            let e = length - xi * expanded;
-                            let t = |p: usize| {
-                                2.0 * plane.bulk * dilatation[p] / m[p] * w * xi
-                                    + 8.0 * plane.shear / m[p] * w * (e - 0.5 * dilatation[p] * xi)
-                            };
-                            (t(i) + t(j)) * area[j] / length
-                        }
-                    };
-                    for a in 0..3 {
-                        f[a] += s * r[a];
-                    }
-                }
-            }
-            *force = f;
-            if let Some(rate) = rate {
-                *rate = if conducts {
-                    constants.conductivity * flow
-                        / (constants.density * constants.capacity * area[i])
-                } else {
-                    0.0
-                };
-            }
-            *damage = if initial[i] == 0 {
-                0.0
-            } else {
-                1.0 - intact as f64 / initial[i] as f64
-            };
-            broke
-        };
-        let blocks = blocks_mut(&mut self.bonds.neighbours, offsets, BLOCK);
-        let rates = if self.rate.is_empty() {
-            Either::Right((0..blocks.len()).into_par_iter().map(|_| None))
-        } else {
-            Either::Left(self.rate.par_chunks_mut(BLOCK).map(Some))
-        };
-        let broken: usize = blocks
-            .into_par_iter()
-            .zip(self.force.par_chunks_mut(BLOCK))
-            .zip(self.damage.par_chunks_mut(BLOCK))
-            .zip(rates)
-            .map(|((((first, mut rows), forces), damages), mut rates)| {
-                let mut broke = 0;
-                for (p, (force, damage)) in forces.iter_mut().zip(damages.iter_mut()).enumerate() {
-                    let i = first + p;
-                    let (row, rest) = rows.split_at_mut(offsets[i + 1] - offsets[i]);
-                    rows = rest;
-                    let rate = rates.as_mut().map(|r| &mut r[p]);
-                    broke += particle(i, row, force, damage, rate);
-                }
-                broke
-            })
-            .sum();
-        self.times.forces += t.elapsed().as_secs_f64();
-        broken_first + broken
-    }
-
-    /// The first pass of the state-based option: fracture (Eq. 27–28) and the
-    /// dilatation ϑ_i = (2/m_i) Σ_j W_ij |ξ_ij| e_ij A_j of every particle of a
-    /// state-based body, over its intact bonds. Returns the bonds that broke.
-    fn dilatations(&mut self) -> usize {
-        let (y, body, bodies) = (&self.position, &self.body, &self.bodies);
-        let (theta, area, m) = (&self.quantity, &self.area, &self.weighted_volume);
-        let (rest, weight, offsets) = (&self.bonds.rest_length, &self.weight, &self.bonds.offsets);
-        let rows = rows_mut(&mut self.bonds.neighbours, offsets);
-        rows.into_par_iter()
-            .zip(self.dilatation.par_iter_mut())
-            .enumerate()
-            .with_min_len(256)
-            .map(|(i, (row, dilatation))| {
-                let constants = &bodies[body[i] as usize];
-                *dilatation = 0.0;
-                if constants.state.is_none() || m[i] == 0.0 {
-                    return 0;
-                }
-                let mut sum = 0.0;
-                let mut broke = 0;
-                for (k, nb) in (offsets[i]..).zip(row.iter_mut()) {
-                    if *nb & BROKEN != 0 {
-                        continue;
-                    }
-                    let j = (*nb & INDEX) as usize;
-                    let length = dist(y[i], y[j]);
-                    let expanded = 1.0 + constants.expansion * 0.5 * (theta[i] + theta[j]);
-                    if length / (rest[k] * expanded) - 1.0 > constants.critical_strain {
-                        *nb |= BROKEN;
-                        broke += 1;
-                        continue;
-                    }
-                    sum += weight[k] * rest[k] * (length - rest[k] * expanded) * area[j];
-                }
-                *dilatation = 2.0 * sum / m[i];
-                broke
-            })
-            .sum()
     }
 
     /// The largest stable step and the particle that limits it: the smaller of
