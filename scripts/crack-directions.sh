@@ -10,11 +10,12 @@
 # prints the bins and the largest over the mean. Cracks without preferred directions
 # give under 1.5×.
 #
-#   scripts/crack-directions.sh [PERIFRAC] [OUT] [LATTICE] [SEED] [SPEED]
+#   scripts/crack-directions.sh [PERIFRAC] [OUT] [LATTICE] [SEED] [SPEED] [HORIZON]
 #
 # PERIFRAC defaults to target/release/perifrac; LATTICE ("rotated" or "aligned") sets
 # the plate's `lattice` key (default: the scene's default, rotated for glass); SEED
-# the scene's seed (default 0); SPEED the ball's speed in m/s (default 20).
+# the scene's seed (default 0); SPEED the ball's speed in m/s (default 20); HORIZON
+# δ/λ (default the demo's 1.45).
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 bin="${1:-$here/target/release/perifrac}"
@@ -22,15 +23,17 @@ out="${2:-$(mktemp -d)}"
 lattice="${3:-}"
 seed="${4:-0}"
 speed="${5:-20}"
+horizon="${6:-1.45}"
 mkdir -p "$out"
 sed -e 's/^surface = "embedded"/surface = "none"/' \
     -e 's/^checkpoint_every = 10/checkpoint_every = 0\npreview = false/' \
     -e "s/^velocity = \[0.0, 0.0, 50.0\]/velocity = [0.0, 0.0, $speed]/" \
     -e "s/^gravity = \(.*\)/gravity = \1\nseed = $seed/" \
     -e 's/^fps = 7500.0 .*/fps = 2500.0/' \
+    -e "s/^horizon = 1.45 .*/horizon = $horizon/" \
     "$here/assets/scenes/demo.toml" > "$out/plate.toml"
 if [ -n "$lattice" ]; then
-  sed -i "s/^horizon = 1.45 .*/horizon = 1.45\nlattice = \"$lattice\"/" "$out/plate.toml"
+  sed -i "s/^horizon = $horizon/&\nlattice = \"$lattice\"/" "$out/plate.toml"
 fi
 "$bin" run "$out/plate.toml" -o "$out/plate" --quiet --force
 PYTHONPATH="$here/scripts" python3 - "$out/plate" <<'PY'
