@@ -36,7 +36,7 @@ mod stage;
 use perifrac_cache::mesh::SurfaceMesh;
 use perifrac_cache::vtu::TetFrame;
 use perifrac_math::{
-    TET_FACES, UnionFind, cross, dot, from_vector, norm, signed_volume, sub, to_matrix,
+    TET_FACES, UnionFind, add, cross, dot, from_vector, norm, signed_volume, sub, to_matrix,
 };
 
 pub use stage::{EmbeddedReport, stage};
@@ -438,7 +438,8 @@ pub fn surface(frame: &TetFrame, passes: usize) -> EmbeddedSurface {
 /// crack surface (neighbours and theirs) is `ring` with centroid `mean`: half way,
 /// within the constraint, to the plane fitted through the ring (through `mean`, its
 /// normal the direction of least spread of the ring's points), and no further than
-/// half the distance to `mean`. On a planar crack the move is nil wherever the ring
+/// half the distance to `mean` nor out of the ball around `mean` through the ring's
+/// farthest point. On a planar crack the move is nil wherever the ring
 /// lies, so a rim vertex at a box edge, whose ring lies on the inner side of the
 /// edge, is not pulled off the crack's plane as a move towards `mean` would pull it.
 /// (The neighbours alone were measured too few: fitted to a zig-zag, their plane
@@ -450,8 +451,10 @@ fn rim_move(
     ring: impl Iterator<Item = [f64; 3]>,
 ) -> [f64; 3] {
     let mut spread = [[0.0; 3]; 3];
+    let mut radius = 0.0f64;
     for p in ring {
         let d = sub(p, mean);
+        radius = radius.max(norm(d));
         for (a, row) in spread.iter_mut().enumerate() {
             for (b, e) in row.iter_mut().enumerate() {
                 *e += d[a] * d[b];
@@ -471,10 +474,22 @@ fn rim_move(
         return [0.0; 3];
     }
     let offset = sub(mean, x);
-    let m = d.map(|e| STEP * dot(n, offset) * e / dd);
+    let mut m = d.map(|e| STEP * dot(n, offset) * e / dd);
     let cap = STEP * norm(offset);
     let l = norm(m);
-    if l > cap { m.map(|e| e * cap / l) } else { m }
+    if l > cap {
+        m = m.map(|e| e * cap / l);
+    }
+    // The vertex stays within the ball of the ring around its centroid: a move along
+    // the constraint nearly parallel to the fitted plane would otherwise carry it
+    // away from its ring, pass after pass.
+    for _ in 0..4 {
+        if norm(sub(add(x, m), mean)) <= radius {
+            return m;
+        }
+        m = m.map(|e| e / 2.0);
+    }
+    [0.0; 3]
 }
 
 /// Area vector of the crack faces at each movable vertex (a third of each face's
