@@ -8,7 +8,7 @@
 //! (free to move), or on the rim where a crack meets a flat part of the original
 //! surface (they slide within that plane, along the edge of two such planes, or along
 //! a box edge that the stuffing turned into a band of tilted triangles, so the flat
-//! faces stay flat; rim vertices on curved surface stay put; see `constraints`).
+//! faces stay flat; see `constraints`).
 //! Vertices on an edge not shared by exactly two boundary faces (a crack front
 //! inside the body) stay put. Each pass (Jacobi updates, deterministic) moves every
 //! inside crack vertex half way to the mean of its neighbours along crack edges: an
@@ -559,9 +559,11 @@ impl OriginalSurface<'_> {
 ///   turns into a band of tilted triangles between the two faces (no vertex lies on
 ///   the edge itself);
 /// - otherwise two planes: they slide along the planes' intersection;
-/// - otherwise (a corner, or a curved surface) they stay put.
+/// - otherwise (a corner, or three or more planes of a curved surface) they stay put.
 ///
-/// In every case a vertex stays in the plane of each of its flat faces.
+/// In every case a vertex stays in the plane of each of its flat faces. A vertex of
+/// curved surface whose own triangles span one or two planes slides in them, leaving
+/// the curved surface (by up to 0.07λ on a ball: docs/embedded.md).
 fn constraints(
     points: &[[f64; 3]],
     parent: &[i32],
