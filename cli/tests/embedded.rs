@@ -283,3 +283,112 @@ fn surface_embedded_without_tets_is_an_input_error() {
     assert_eq!(out.status.code(), Some(2), "{stderr}");
     assert!(stderr.contains("tets/0001.vtu is missing"), "{stderr}");
 }
+
+/// The unsigned integer values of index accessor `a` (u16 or u32).
+fn indices(doc: &serde_json::Value, bin: &[u8], a: u64) -> Vec<u32> {
+    let acc = &doc["accessors"][a as usize];
+    let view = &doc["bufferViews"][acc["bufferView"].as_u64().unwrap() as usize];
+    let start = view["byteOffset"].as_u64().unwrap_or(0) as usize
+        + acc["byteOffset"].as_u64().unwrap_or(0) as usize;
+    let count = acc["count"].as_u64().unwrap() as usize;
+    match acc["componentType"].as_u64().unwrap() {
+        5123 => (0..count)
+            .map(|i| {
+                u16::from_le_bytes(bin[start + 2 * i..start + 2 * i + 2].try_into().unwrap()).into()
+            })
+            .collect(),
+        5125 => (0..count)
+            .map(|i| u32::from_le_bytes(bin[start + 4 * i..start + 4 * i + 4].try_into().unwrap()))
+            .collect(),
+        t => panic!("index component type {t}"),
+    }
+}
+
+/// Issue 13, item 4 on the demo itself (λ = 0.024 m instead of 0.016): at every frame no split tet is inverted (read
+/// back by the reader above) and no crack triangle of the smoothed surface (the
+/// "crack" primitive of `surface/NNNN.glb`) has an edge over 3λ.
+#[test]
+fn the_demo_split_mesh_has_no_inverted_tet_and_no_crack_needle() {
+    let lambda = 0.024;
+    let demo = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/scenes/demo.toml"),
+    )
+    .unwrap();
+    let scene = demo
+        .replace("resolution = 0.016 ", &format!("resolution = {lambda} "))
+        .replace(
+            "checkpoint_every = 10",
+            "checkpoint_every = 0\npreview = false\nusd = false",
+        );
+    assert_ne!(scene, demo, "the demo's resolution line");
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("demo.toml");
+    std::fs::write(&path, scene).unwrap();
+    let out = dir.path().join("out");
+    let run = perifrac(&[
+        "run",
+        path.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let (mut frames, mut worst_volume, mut longest) = (0, f64::INFINITY, 0.0f64);
+    for entry in std::fs::read_dir(out.join("tets")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|e| e != "vtu") {
+            continue;
+        }
+        let (points, connectivity, types, _, _) = read_vtu(&path);
+        assert!(types.iter().all(|&t| t == 10));
+        for t in connectivity.chunks(4) {
+            let [a, b, c, d] = [0, 1, 2, 3].map(|i| points[t[i] as usize]);
+            let e = |p: [f64; 3]| [p[0] - a[0], p[1] - a[1], p[2] - a[2]];
+            let (u, v, w) = (e(b), e(c), e(d));
+            let volume = (u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0])
+                + u[2] * (v[0] * w[1] - v[1] * w[0]))
+                / 6.0;
+            worst_volume = worst_volume.min(volume);
+        }
+        frames += 1;
+    }
+    for entry in std::fs::read_dir(out.join("surface")).unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_str().unwrap();
+        if name == "animated.glb" || !name.ends_with(".glb") {
+            continue;
+        }
+        let (doc, bin) = glb(&path);
+        let Some(crack) = doc["meshes"][0]["primitives"].get(1) else {
+            continue;
+        };
+        let points = vec3s(
+            &doc,
+            &bin,
+            crack["attributes"]["POSITION"].as_u64().unwrap(),
+        );
+        for t in indices(&doc, &bin, crack["indices"].as_u64().unwrap()).chunks(3) {
+            for (i, j) in [(0, 1), (1, 2), (2, 0)] {
+                let (p, q) = (points[t[i] as usize], points[t[j] as usize]);
+                let d = [0, 1, 2].map(|k| f64::from(p[k] - q[k]));
+                longest = longest.max((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt());
+            }
+        }
+    }
+    eprintln!(
+        "demo at λ = {lambda} m, {frames} frames: smallest tet volume {worst_volume:.3e} m³, \
+         longest crack edge {:.2}λ",
+        longest / lambda
+    );
+    assert_eq!(frames, 31, "frame 0 and the demo's 30");
+    assert!(worst_volume > 0.0, "an inverted tet: {worst_volume:e} m³");
+    assert!(
+        longest > 0.0 && longest <= 3.0 * lambda,
+        "a crack edge of {:.2}λ",
+        longest / lambda
+    );
+}

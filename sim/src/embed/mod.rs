@@ -580,7 +580,7 @@ impl EmbeddedMesh {
                 }
             })
             .collect();
-        let star = |v: usize| offsets[v + 1] - offsets[v];
+        let star = |v: usize| &incident[offsets[v]..offsets[v + 1]];
         let rigid = Rigid {
             reference,
             position,
@@ -672,16 +672,19 @@ impl EmbeddedMesh {
     ///    particles then and now and R the rotation of the best rigid fit of the
     ///    particles (the polar rotation of Σ_p m_p (x_p − c) ⊗ (X_p − C), Kabsch).
     ///    Every tet of the fragment then keeps its rest volume.
-    /// 3. A tet still below the bound that has a vertex of its own (in no other tet)
-    ///    lifts that vertex off the plane of the opposite face to the height that
-    ///    gives it the bound's volume (other tets do not move).
+    /// 3. A tet still below the bound lifts one of its vertices off the plane of the
+    ///    opposite face to the height that gives it the bound's volume: a vertex of its
+    ///    own (in no other tet) if it has one, else the vertex in fewest tets whose
+    ///    other tets all stay at or above the bound after the move (a tet hanging by
+    ///    two faces in a large fragment, as in the demo); if none can, it stays.
     ///
-    /// Deterministic: every round reads the positions of the previous one.
-    fn untangle(
+    /// Deterministic: every round reads the positions of the previous one, and step 3
+    /// takes the tets in order.
+    fn untangle<'a>(
         &self,
         points: &mut [[f64; 3]],
         predict: &(dyn Fn(usize, usize) -> [f64; 3] + Sync),
-        star: &(dyn Fn(usize) -> usize + Sync),
+        star: &(dyn Fn(usize) -> &'a [u32] + Sync),
         rigid: &Rigid<'_>,
     ) {
         let low = |points: &[[f64; 3]]| -> Vec<usize> {
@@ -722,24 +725,38 @@ impl EmbeddedMesh {
             return;
         }
         self.place_small_fragments(points, &bad, rigid);
+        let volume = |points: &[[f64; 3]], q: usize| {
+            let [a, b, c, d] = self.tets[q].map(|v| points[v as usize]);
+            signed_volume(a, b, c, d)
+        };
         for p in low(points) {
             let t = self.tets[p];
-            let Some(own) = (0..4).find(|&i| star(t[i] as usize) == 1) else {
-                continue;
-            };
-            // The face opposite vertex `own`, wound so that its normal points to the
-            // side a positively oriented tet has the vertex on.
-            let face = TET_FACES[own].map(|i| points[t[i] as usize]);
-            let area = cross(sub(face[1], face[0]), sub(face[2], face[0]));
-            let twice = norm(area);
-            if twice <= 0.0 {
-                continue;
+            let mut corners = [0, 1, 2, 3];
+            corners.sort_by_key(|&i| star(t[i] as usize).len());
+            for own in corners {
+                let v = t[own] as usize;
+                // The face opposite vertex `own`, wound so that its normal points to
+                // the side a positively oriented tet has the vertex on.
+                let face = TET_FACES[own].map(|i| points[t[i] as usize]);
+                let area = cross(sub(face[1], face[0]), sub(face[2], face[0]));
+                let twice = norm(area);
+                if twice <= 0.0 {
+                    continue;
+                }
+                let n = area.map(|c| -c / twice);
+                let x = points[v];
+                let height = dot(sub(x, face[0]), n);
+                let wanted = 6.0 * MIN_VOLUME_FRACTION * self.rest_volume(p) / twice;
+                points[v] = [0, 1, 2].map(|a| x[a] + (wanted - height) * n[a]);
+                let kept = star(v).iter().all(|&q| {
+                    let q = q as usize;
+                    q == p || volume(points, q) >= MIN_VOLUME_FRACTION * self.rest_volume(q)
+                });
+                if kept {
+                    break;
+                }
+                points[v] = x;
             }
-            let n = area.map(|c| -c / twice);
-            let x = points[t[own] as usize];
-            let height = dot(sub(x, face[0]), n);
-            let wanted = 6.0 * MIN_VOLUME_FRACTION * self.rest_volume(p) / twice;
-            points[t[own] as usize] = [0, 1, 2].map(|a| x[a] + (wanted - height) * n[a]);
         }
     }
 

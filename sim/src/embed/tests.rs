@@ -516,3 +516,49 @@ fn a_tet_hanging_by_one_face_and_pushed_through_it_is_mended() {
     assert!(smallest >= MIN_VOLUME_FRACTION * (1.0 - 1e-9), "{smallest}");
     assert!(longest < 3.0 * lambda, "{}λ", longest / lambda);
 }
+
+#[test]
+fn a_tet_without_a_vertex_of_its_own_in_a_large_fragment_is_lifted() {
+    // A tet of an unbroken block (one fragment of far more than SMALL_FRAGMENT tets, no
+    // vertex in its tet alone) turned inside out by one vertex pushed through the
+    // opposite face, with predictions that agree on the wrong place (so the rounds
+    // and the rigid placement cannot mend it): step 3 lifts a vertex whose other tets
+    // stay above the bound.
+    let lambda = 0.02;
+    let (disc, bonds) = block([0.1, 0.1, 0.1], lambda);
+    let mesh = EmbeddedMesh::build(&disc, &bonds, &names()).unwrap();
+    assert!(mesh.tets.len() > SMALL_FRAGMENT);
+    let q = central(&disc.position);
+    let t = mesh.tets[q];
+    let mut points = mesh.reference.clone();
+    let face = TET_FACES[0].map(|i| points[t[i] as usize]);
+    let v = t[0] as usize;
+    assert!(
+        t.iter()
+            .all(|&w| mesh.tets.iter().filter(|s| s.contains(&w)).count() > 1)
+    );
+    // To 0.3 of its height beyond the face.
+    let mirror = reflect(points[v], face);
+    points[v] = [0, 1, 2].map(|a| points[v][a] + 0.65 * (mirror[a] - points[v][a]));
+    let [a, b, c, d] = t.map(|w| points[w as usize]);
+    assert!(signed_volume(a, b, c, d) < 0.0, "tet {q} is not inverted");
+    let wrong = points.clone();
+    let predict = |_: usize, w: usize| wrong[w];
+    let mut incident: Vec<Vec<u32>> = vec![Vec::new(); points.len()];
+    for (p, s) in mesh.tets.iter().enumerate() {
+        for &w in s {
+            incident[w as usize].push(p as u32);
+        }
+    }
+    let star = |w: usize| incident[w].as_slice();
+    let mass: Vec<f64> = disc.volume.iter().map(|v| 2200.0 * v).collect();
+    let rigid = Rigid {
+        reference: &disc.position,
+        position: &disc.position,
+        mass: &mass,
+    };
+    mesh.untangle(&mut points, &predict, &star, &rigid);
+    let (smallest, longest) = worst_tet(&mesh, &points);
+    assert!(smallest >= MIN_VOLUME_FRACTION * (1.0 - 1e-9), "{smallest}");
+    assert!(longest < 3.0 * lambda, "{}λ", longest / lambda);
+}

@@ -80,6 +80,11 @@ pub const MAX_VOLUME_CHANGE: f64 = 1e-3;
 /// (10% stopped rim vertices short of the plane of a flat cut; 2% lets them reach it.)
 const MIN_VOLUME_FRACTION: f64 = 0.02;
 
+/// Longest edge a guarded tet may reach in smoothing, over its longest edge before:
+/// the split mesh's tets have edges up to about 1.6λ, so smoothing adds no crack edge
+/// over 3λ (without this bound the rim moves stretched a few to 4λ in the demo).
+const MAX_EDGE_GROWTH: f64 = 1.8;
+
 /// The surface of one frame.
 #[derive(Debug, Clone, Default)]
 pub struct EmbeddedSurface {
@@ -123,6 +128,17 @@ pub struct RenderMesh {
     /// Positions, area-weighted unit normals per class, damage, and the original
     /// and crack triangles.
     pub mesh: SurfaceMesh,
+}
+
+/// The longest edge of tet `t`.
+fn longest_edge(x: &[[f64; 3]], t: [u32; 4]) -> f64 {
+    let mut longest = 0.0f64;
+    for i in 0..4 {
+        for j in i + 1..4 {
+            longest = longest.max(norm(sub(x[t[i] as usize], x[t[j] as usize])));
+        }
+    }
+    longest
 }
 
 fn tet_volume(x: &[[f64; 3]], t: [u32; 4]) -> f64 {
@@ -327,6 +343,10 @@ pub fn surface(frame: &TetFrame, passes: usize) -> EmbeddedSurface {
         .iter()
         .map(|&t| tet_volume(&points, frame.tets[t]))
         .collect();
+    let reach: Vec<f64> = guarded
+        .iter()
+        .map(|&t| MAX_EDGE_GROWTH * longest_edge(&points, frame.tets[t]))
+        .collect();
     let fragment_volume = |x: &[[f64; 3]]| -> Vec<f64> {
         let count = fragment.iter().map(|&f| f as usize + 1).max().unwrap_or(0);
         let mut v = vec![0.0; count];
@@ -371,8 +391,15 @@ pub fn surface(frame: &TetFrame, passes: usize) -> EmbeddedSurface {
                 }
             })
             .collect();
-        stats.backed_off +=
-            guarded_move(&mut points, &movable, moves, frame, &guarded, &rest, &slot);
+        stats.backed_off += guarded_move(
+            &mut points,
+            &movable,
+            moves,
+            frame,
+            &guarded,
+            (&rest, &reach),
+            &slot,
+        );
     }
     // Restore each fragment's volume with a common normal offset of its vertices.
     for _ in 0..3 {
@@ -404,8 +431,15 @@ pub fn surface(frame: &TetFrame, passes: usize) -> EmbeddedSurface {
                 n.map(|c| h * c / len)
             })
             .collect();
-        stats.backed_off +=
-            guarded_move(&mut points, &movable, moves, frame, &guarded, &rest, &slot);
+        stats.backed_off += guarded_move(
+            &mut points,
+            &movable,
+            moves,
+            frame,
+            &guarded,
+            (&rest, &reach),
+            &slot,
+        );
     }
     // A fragment whose volume could not be restored (the guard held its vertices)
     // is left unsmoothed.
@@ -461,7 +495,8 @@ fn crack_normals(
 
 /// Applies `moves` to the movable vertices, halving (up to four times, then
 /// dropping) the moves of the vertices of any guarded tet that would keep less than
-/// [`MIN_VOLUME_FRACTION`] of its rest volume, until no tet does; returns how many
+/// [`MIN_VOLUME_FRACTION`] of its rest volume or have an edge longer than its
+/// `reach` ([`MAX_EDGE_GROWTH`]), until no tet does; returns how many
 /// moves were cut. Dropping moves can leave a tet whose other vertices still move
 /// below the bound, so the drops repeat until none is (each round drops at least
 /// one move, and with every move dropped the tets are where they started).
@@ -471,7 +506,7 @@ fn guarded_move(
     mut moves: Vec<[f64; 3]>,
     frame: &TetFrame,
     guarded: &[usize],
-    rest: &[f64],
+    (rest, reach): (&[f64], &[f64]),
     slot: &[u32],
 ) -> usize {
     let start: Vec<[f64; 3]> = movable.iter().map(|&v| points[v as usize]).collect();
@@ -482,8 +517,11 @@ fn guarded_move(
         }
         let bad: Vec<usize> = guarded
             .iter()
-            .zip(rest)
-            .filter(|&(&t, &r)| tet_volume(points, frame.tets[t]) < MIN_VOLUME_FRACTION * r)
+            .zip(rest.iter().zip(reach))
+            .filter(|&(&t, (&r, &l))| {
+                tet_volume(points, frame.tets[t]) < MIN_VOLUME_FRACTION * r
+                    || longest_edge(points, frame.tets[t]) > l
+            })
             .map(|(&t, _)| t)
             .collect();
         let before = cut;
