@@ -24,8 +24,10 @@
 //! each pass every tet touching a moved vertex must keep at least
 //! `MIN_VOLUME_FRACTION` (2%) of its signed volume: a tet mesh whose tets stay
 //! positively oriented maps each vertex's neighbourhood one-to-one, so a fragment's
-//! surface cannot fold over itself locally; where a tet would fall below, the moves
-//! of its vertices are halved (four times, then dropped). Finally each fragment's
+//! surface cannot fold over itself locally; nor may a tet's longest edge grow past
+//! `MAX_EDGE_GROWTH` (1.8) times its length before smoothing (no crack needles);
+//! where a tet would break either bound, the moves of its vertices are halved (four
+//! times, then dropped). Finally each fragment's
 //! volume (the sum of its tets' signed volumes, equal to the volume its surface
 //! encloses) is restored by moving its crack vertices along their normals (rim
 //! vertices along their normals' part within their face) by a common offset
