@@ -33,9 +33,11 @@
 //! vertices along their normals' part within their face) by a common offset
 //! h = ΔV / A (three Newton steps), under the same guard.
 
+mod guard;
 mod rim;
 mod stage;
 
+use guard::Guard;
 use perifrac_cache::mesh::SurfaceMesh;
 use perifrac_cache::vtu::TetFrame;
 use perifrac_math::{TET_FACES, UnionFind, cross, dot, norm, signed_volume, sub};
@@ -82,11 +84,6 @@ pub const MAX_VOLUME_CHANGE: f64 = 1e-3;
 /// (10% stopped rim vertices short of the plane of a flat cut; 2% lets them reach it.)
 const MIN_VOLUME_FRACTION: f64 = 0.02;
 
-/// Longest edge a guarded tet may reach in smoothing, over its longest edge before:
-/// the split mesh's tets have edges up to about 1.6λ, so smoothing adds no crack edge
-/// over 3λ (without this bound the rim moves stretched a few to 4λ in the demo).
-const MAX_EDGE_GROWTH: f64 = 1.8;
-
 /// The surface of one frame.
 #[derive(Debug, Clone, Default)]
 pub struct EmbeddedSurface {
@@ -130,17 +127,6 @@ pub struct RenderMesh {
     /// Positions, area-weighted unit normals per class, damage, and the original
     /// and crack triangles.
     pub mesh: SurfaceMesh,
-}
-
-/// The longest edge of tet `t`.
-fn longest_edge(x: &[[f64; 3]], t: [u32; 4]) -> f64 {
-    let mut longest = 0.0f64;
-    for i in 0..4 {
-        for j in i + 1..4 {
-            longest = longest.max(norm(sub(x[t[i] as usize], x[t[j] as usize])));
-        }
-    }
-    longest
 }
 
 fn tet_volume(x: &[[f64; 3]], t: [u32; 4]) -> f64 {
@@ -337,29 +323,19 @@ pub fn surface(frame: &TetFrame, passes: usize) -> EmbeddedSurface {
             ring
         })
         .collect();
-    // Tets touching movable vertices, with their volumes before smoothing.
-    let guarded: Vec<usize> = (0..frame.tets.len())
-        .filter(|&t| frame.tets[t].iter().any(|&v| slot[v as usize] != u32::MAX))
-        .collect();
-    let rest: Vec<f64> = guarded
-        .iter()
-        .map(|&t| tet_volume(&points, frame.tets[t]))
-        .collect();
-    let reach: Vec<f64> = guarded
-        .iter()
-        .map(|&t| MAX_EDGE_GROWTH * longest_edge(&points, frame.tets[t]))
-        .collect();
+    let guard = Guard::new(frame, &points, &movable, &slot);
+    let guarded = &guard.tets;
     let fragment_volume = |x: &[[f64; 3]]| -> Vec<f64> {
         let count = fragment.iter().map(|&f| f as usize + 1).max().unwrap_or(0);
         let mut v = vec![0.0; count];
-        for &t in &guarded {
+        for &t in guarded {
             v[fragment[t] as usize] += tet_volume(x, frame.tets[t]);
         }
         v
     };
     let before = fragment_volume(&points);
     let mut frag_of = vec![0usize; movable.len()];
-    for &t in &guarded {
+    for &t in guarded {
         for &v in &frame.tets[t] {
             if slot[v as usize] != u32::MAX {
                 frag_of[slot[v as usize] as usize] = fragment[t] as usize;
@@ -393,15 +369,7 @@ pub fn surface(frame: &TetFrame, passes: usize) -> EmbeddedSurface {
                 }
             })
             .collect();
-        stats.backed_off += guarded_move(
-            &mut points,
-            &movable,
-            moves,
-            frame,
-            &guarded,
-            (&rest, &reach),
-            &slot,
-        );
+        stats.backed_off += guard.apply(&mut points, moves);
     }
     // Restore each fragment's volume with a common normal offset of its vertices.
     for _ in 0..3 {
@@ -433,15 +401,7 @@ pub fn surface(frame: &TetFrame, passes: usize) -> EmbeddedSurface {
                 n.map(|c| h * c / len)
             })
             .collect();
-        stats.backed_off += guarded_move(
-            &mut points,
-            &movable,
-            moves,
-            frame,
-            &guarded,
-            (&rest, &reach),
-            &slot,
-        );
+        stats.backed_off += guard.apply(&mut points, moves);
     }
     // A fragment whose volume could not be restored (the guard held its vertices)
     // is left unsmoothed.
@@ -493,61 +453,6 @@ fn crack_normals(
         }
     }
     normal
-}
-
-/// Applies `moves` to the movable vertices, halving (up to four times, then
-/// dropping) the moves of the vertices of any guarded tet that would keep less than
-/// [`MIN_VOLUME_FRACTION`] of its rest volume or have an edge longer than its
-/// `reach` ([`MAX_EDGE_GROWTH`]), until no tet does; returns how many
-/// moves were cut. Dropping moves can leave a tet whose other vertices still move
-/// below the bound, so the drops repeat until none is (each round drops at least
-/// one move, and with every move dropped the tets are where they started).
-fn guarded_move(
-    points: &mut [[f64; 3]],
-    movable: &[u32],
-    mut moves: Vec<[f64; 3]>,
-    frame: &TetFrame,
-    guarded: &[usize],
-    (rest, reach): (&[f64], &[f64]),
-    slot: &[u32],
-) -> usize {
-    let start: Vec<[f64; 3]> = movable.iter().map(|&v| points[v as usize]).collect();
-    let mut cut = 0;
-    for attempt in 0.. {
-        for (i, &v) in movable.iter().enumerate() {
-            points[v as usize] = [0, 1, 2].map(|a| start[i][a] + moves[i][a]);
-        }
-        let bad: Vec<usize> = guarded
-            .iter()
-            .zip(rest.iter().zip(reach))
-            .filter(|&(&t, (&r, &l))| {
-                tet_volume(points, frame.tets[t]) < MIN_VOLUME_FRACTION * r
-                    || longest_edge(points, frame.tets[t]) > l
-            })
-            .map(|(&t, _)| t)
-            .collect();
-        let before = cut;
-        for t in bad {
-            for &v in &frame.tets[t] {
-                let s = slot[v as usize];
-                if s != u32::MAX {
-                    let m = &mut moves[s as usize];
-                    if *m != [0.0; 3] {
-                        cut += 1;
-                        *m = if attempt < 4 {
-                            m.map(|c| c / 2.0)
-                        } else {
-                            [0.0; 3]
-                        };
-                    }
-                }
-            }
-        }
-        if cut == before {
-            break;
-        }
-    }
-    cut
 }
 
 impl EmbeddedSurface {

@@ -86,27 +86,10 @@ pub fn random_rotation(seed: u64, stream: u64) -> [[f64; 3]; 3] {
     let mut rng = perifrac_math::SplitMix64::new(seed ^ stream.wrapping_mul(0xd1b5_4a32_d192_ed03));
     let (u1, u2, u3) = (rng.next_f64(), rng.next_f64(), rng.next_f64());
     let (a, b) = ((1.0 - u1).sqrt(), u1.sqrt());
-    let (w, x, y, z) = (
+    crate::fem::rotation::matrix([
         a * (TAU * u2).sin(),
         a * (TAU * u2).cos(),
         b * (TAU * u3).sin(),
         b * (TAU * u3).cos(),
-    );
-    [
-        [
-            1.0 - 2.0 * (y * y + z * z),
-            2.0 * (x * y - w * z),
-            2.0 * (x * z + w * y),
-        ],
-        [
-            2.0 * (x * y + w * z),
-            1.0 - 2.0 * (x * x + z * z),
-            2.0 * (y * z - w * x),
-        ],
-        [
-            2.0 * (x * z - w * y),
-            2.0 * (y * z + w * x),
-            1.0 - 2.0 * (x * x + y * y),
-        ],
-    ]
+    ])
 }
