@@ -5,6 +5,9 @@
 
 use std::collections::HashMap;
 
+use perifrac_math::{det3, mat_mul, norm};
+
+use super::gradient::inverse;
 use super::*;
 use crate::family;
 use crate::geometry::{Cuboid, TetMesh, stuff};

@@ -1,0 +1,181 @@
+//! Mending the tets that the averaged vertex positions leave inverted or flattened
+//! (a departure from Chen §5.2: see [`EmbeddedMesh::untangle`]).
+
+use perifrac_math::{TET_FACES, UnionFind, add, cross, dot, norm, signed_volume, sub};
+use rayon::prelude::*;
+
+use super::{EmbeddedMesh, MIN_VOLUME_FRACTION, SMALL_FRAGMENT, UNTANGLE_ROUNDS};
+use crate::mpm::constitutive::{mul_transpose, rotation_svd};
+
+/// The particles, for placing a fragment rigidly ([`EmbeddedMesh::untangle`]).
+pub(super) struct Rigid<'a> {
+    pub(super) reference: &'a [[f64; 3]],
+    pub(super) position: &'a [[f64; 3]],
+    pub(super) mass: &'a [f64],
+}
+
+impl EmbeddedMesh {
+    /// Puts right the tets that the averaged vertices leave below
+    /// [`MIN_VOLUME_FRACTION`] of their rest volume V_p (a departure from Chen §5.2,
+    /// whose Eq. 20–22 average can turn a tet inside out where the particles of a
+    /// vertex's tets disagree: a sliver hanging on by one face, a tet pushed through
+    /// its neighbours).
+    ///
+    /// 1. [`UNTANGLE_ROUNDS`] rounds: each vertex of a tet below the bound moves to the
+    ///    mean of where those tets' own particles put it, x_p + G_p (X_v − X_p); a tet
+    ///    placed by its own particle alone has volume det G_p V_p > 0 (G_p is a trusted
+    ///    F or a rotation), so a tet whose vertices are its alone is mended in one
+    ///    round, and a vertex shared by disagreeing tets takes their compromise.
+    /// 2. A tet still below the bound in a fragment (tets joined through shared
+    ///    vertices) of at most [`SMALL_FRAGMENT`] tets places its whole fragment
+    ///    rigidly: x_v = c + R (X_v − C), with C, c the mass centres of the fragment's
+    ///    particles then and now and R the rotation of the best rigid fit of the
+    ///    particles (the polar rotation of Σ_p m_p (x_p − c) ⊗ (X_p − C), Kabsch).
+    ///    Every tet of the fragment then keeps its rest volume.
+    /// 3. A tet still below the bound lifts one of its vertices off the plane of the
+    ///    opposite face to the height that gives it the bound's volume: a vertex of its
+    ///    own (in no other tet) if it has one, else the vertex in fewest tets whose
+    ///    other tets all stay at or above the bound after the move (a tet hanging by
+    ///    two faces in a large fragment, as in the demo); if none can, it stays.
+    ///
+    /// Deterministic: every round reads the positions of the previous one, and step 3
+    /// takes the tets in order.
+    pub(super) fn untangle<'a>(
+        &self,
+        points: &mut [[f64; 3]],
+        predict: &(dyn Fn(usize, usize) -> [f64; 3] + Sync),
+        star: &(dyn Fn(usize) -> &'a [u32] + Sync),
+        rigid: &Rigid<'_>,
+    ) {
+        let low = |points: &[[f64; 3]]| -> Vec<usize> {
+            (0..self.tets.len())
+                .into_par_iter()
+                .filter(|&p| {
+                    let [a, b, c, d] = self.tets[p].map(|v| points[v as usize]);
+                    signed_volume(a, b, c, d) < MIN_VOLUME_FRACTION * self.rest_volume(p)
+                })
+                .collect()
+        };
+        let mut bad = low(points);
+        for _ in 0..UNTANGLE_ROUNDS {
+            if bad.is_empty() {
+                return;
+            }
+            let mut target: Vec<(u32, [f64; 3])> = bad
+                .par_iter()
+                .flat_map_iter(|&p| self.tets[p].map(|v| (v, predict(p, v as usize))))
+                .collect();
+            target.sort_by_key(|t| t.0);
+            let mut i = 0;
+            while i < target.len() {
+                let v = target[i].0;
+                let mut j = i;
+                let mut sum = [0.0; 3];
+                while j < target.len() && target[j].0 == v {
+                    sum = add(sum, target[j].1);
+                    j += 1;
+                }
+                let n = (j - i) as f64;
+                points[v as usize] = sum.map(|c| c / n);
+                i = j;
+            }
+            bad = low(points);
+        }
+        if bad.is_empty() {
+            return;
+        }
+        self.place_small_fragments(points, &bad, rigid);
+        let volume = |points: &[[f64; 3]], q: usize| {
+            let [a, b, c, d] = self.tets[q].map(|v| points[v as usize]);
+            signed_volume(a, b, c, d)
+        };
+        for p in low(points) {
+            let t = self.tets[p];
+            let mut corners = [0, 1, 2, 3];
+            corners.sort_by_key(|&i| star(t[i] as usize).len());
+            for own in corners {
+                let v = t[own] as usize;
+                // The face opposite vertex `own`, wound so that its normal points to
+                // the side a positively oriented tet has the vertex on.
+                let face = TET_FACES[own].map(|i| points[t[i] as usize]);
+                let area = cross(sub(face[1], face[0]), sub(face[2], face[0]));
+                let twice = norm(area);
+                if twice <= 0.0 {
+                    continue;
+                }
+                let n = area.map(|c| -c / twice);
+                let x = points[v];
+                let height = dot(sub(x, face[0]), n);
+                let wanted = 6.0 * MIN_VOLUME_FRACTION * self.rest_volume(p) / twice;
+                points[v] = [0, 1, 2].map(|a| x[a] + (wanted - height) * n[a]);
+                let kept = star(v).iter().all(|&q| {
+                    let q = q as usize;
+                    q == p || volume(points, q) >= MIN_VOLUME_FRACTION * self.rest_volume(q)
+                });
+                if kept {
+                    break;
+                }
+                points[v] = x;
+            }
+        }
+    }
+
+    /// Step 2 of [`Self::untangle`]: the fragments of at most [`SMALL_FRAGMENT`] tets
+    /// that hold a tet of `bad` are placed rigidly.
+    fn place_small_fragments(&self, points: &mut [[f64; 3]], bad: &[usize], rigid: &Rigid<'_>) {
+        let nv = points.len();
+        let n = self.tets.len();
+        let mut sets = UnionFind::new(nv + n);
+        for (p, t) in self.tets.iter().enumerate() {
+            for &v in t {
+                sets.union(nv + p, v as usize);
+            }
+        }
+        let label = sets.labels_of(nv..nv + n);
+        // The tets of each fragment holding a bad tet, gathered in one pass (in tet
+        // order, fragments in label order: deterministic).
+        let mut fragments: std::collections::BTreeMap<u32, Vec<usize>> =
+            bad.iter().map(|&p| (label[p], Vec::new())).collect();
+        for (p, k) in label.iter().enumerate() {
+            if let Some(members) = fragments.get_mut(k) {
+                members.push(p);
+            }
+        }
+        for members in fragments.into_values() {
+            if members.len() > SMALL_FRAGMENT {
+                continue;
+            }
+            let total: f64 = members.iter().map(|&p| rigid.mass[p]).sum();
+            if total <= 0.0 {
+                continue;
+            }
+            let centre = |x: &[[f64; 3]]| {
+                [0, 1, 2].map(|a| {
+                    members
+                        .iter()
+                        .map(|&p| rigid.mass[p] * x[p][a])
+                        .sum::<f64>()
+                        / total
+                })
+            };
+            let (c0, c) = (centre(rigid.reference), centre(rigid.position));
+            let mut h = [[0.0; 3]; 3];
+            for &p in &members {
+                let (d, e) = (sub(rigid.position[p], c), sub(rigid.reference[p], c0));
+                for r in 0..3 {
+                    for col in 0..3 {
+                        h[r][col] += rigid.mass[p] * d[r] * e[col];
+                    }
+                }
+            }
+            let svd = rotation_svd(&h);
+            let rotation = mul_transpose(&svd.u, &svd.v);
+            for &p in &members {
+                for &v in &self.tets[p] {
+                    let d = sub(self.reference[v as usize], c0);
+                    points[v as usize] = [0, 1, 2].map(|a| c[a] + dot(rotation[a], d));
+                }
+            }
+        }
+    }
+}
