@@ -40,10 +40,9 @@
 //! docs/embedded.md.
 
 mod gradient;
-mod untangle;
+mod placement;
 
 pub use gradient::{TRUSTED_CONDITIONING, TRUSTED_STRETCH, deformation_gradients};
-use untangle::Rigid;
 
 use perifrac_math::{TET_FACES, UnionFind, cross, dot, signed_volume, sub};
 use rayon::prelude::*;
@@ -516,73 +515,6 @@ impl EmbeddedMesh {
             }
         }
         Ok(())
-    }
-
-    /// Vertex positions for particles at `position`, from their reference positions
-    /// `reference`, masses `mass` and gradients `gradient` (from
-    /// [`deformation_gradients`]): Chen Eq. 20–21 weights on first-order predictions
-    /// (see the module doc), then the untangling of tets below
-    /// [`MIN_VOLUME_FRACTION`] of their rest volume (`untangle`).
-    pub fn positions(
-        &self,
-        reference: &[[f64; 3]],
-        position: &[[f64; 3]],
-        mass: &[f64],
-        gradient: &[[[f64; 3]; 3]],
-    ) -> Vec<[f64; 3]> {
-        let nv = self.reference.len();
-        let mut offsets = vec![0usize; nv + 1];
-        for t in &self.tets {
-            for &v in t {
-                offsets[v as usize + 1] += 1;
-            }
-        }
-        for v in 0..nv {
-            offsets[v + 1] += offsets[v];
-        }
-        let mut fill = offsets.clone();
-        let mut incident = vec![0u32; offsets[nv]];
-        for (p, t) in self.tets.iter().enumerate() {
-            for &v in t {
-                incident[fill[v as usize]] = p as u32;
-                fill[v as usize] += 1;
-            }
-        }
-        let predict = |p: usize, v: usize| -> [f64; 3] {
-            let d = sub(self.reference[v], reference[p]);
-            let f = &gradient[p];
-            [0, 1, 2].map(|a| position[p][a] + f[a][0] * d[0] + f[a][1] * d[1] + f[a][2] * d[2])
-        };
-        let mut points: Vec<[f64; 3]> = (0..nv)
-            .into_par_iter()
-            .map(|v| {
-                let mut sum = [0.0; 3];
-                let mut omega = 0.0;
-                for &p in &incident[offsets[v]..offsets[v + 1]] {
-                    let p = p as usize;
-                    // ω_v = Σ_p m_p/4 (Eq. 20).
-                    let w = 0.25 * mass[p];
-                    let pred = predict(p, v);
-                    for a in 0..3 {
-                        sum[a] += w * pred[a];
-                    }
-                    omega += w;
-                }
-                if omega > 0.0 {
-                    sum.map(|s| s / omega)
-                } else {
-                    self.reference[v]
-                }
-            })
-            .collect();
-        let star = |v: usize| &incident[offsets[v]..offsets[v + 1]];
-        let rigid = Rigid {
-            reference,
-            position,
-            mass,
-        };
-        self.untangle(&mut points, &predict, &star, &rigid);
-        points
     }
 
     /// Reference (rest) volume of tet p.

@@ -8,6 +8,7 @@ use std::collections::HashMap;
 use perifrac_math::{det3, mat_mul, norm};
 
 use super::gradient::inverse;
+use super::placement::Rigid;
 use super::*;
 use crate::family;
 use crate::geometry::{Cuboid, TetMesh, stuff};

@@ -1,5 +1,6 @@
-//! Mending the tets that the averaged vertex positions leave inverted or flattened
-//! (a departure from Chen §5.2: see [`EmbeddedMesh::untangle`]).
+//! Placing the split mesh's vertices from the particles (Chen Eq. 20–22 on first-order
+//! predictions, [`EmbeddedMesh::positions`]) and mending the tets that the average
+//! leaves inverted or flattened (a departure from Chen §5.2: `EmbeddedMesh::untangle`).
 
 use perifrac_math::{TET_FACES, UnionFind, add, cross, dot, norm, signed_volume, sub};
 use rayon::prelude::*;
@@ -15,6 +16,73 @@ pub(super) struct Rigid<'a> {
 }
 
 impl EmbeddedMesh {
+    /// Vertex positions for particles at `position`, from their reference positions
+    /// `reference`, masses `mass` and gradients `gradient` (from
+    /// [`super::deformation_gradients`]): Chen Eq. 20–21 weights on first-order predictions
+    /// (see the module doc), then the untangling of tets below
+    /// [`MIN_VOLUME_FRACTION`] of their rest volume (`untangle`).
+    pub fn positions(
+        &self,
+        reference: &[[f64; 3]],
+        position: &[[f64; 3]],
+        mass: &[f64],
+        gradient: &[[[f64; 3]; 3]],
+    ) -> Vec<[f64; 3]> {
+        let nv = self.reference.len();
+        let mut offsets = vec![0usize; nv + 1];
+        for t in &self.tets {
+            for &v in t {
+                offsets[v as usize + 1] += 1;
+            }
+        }
+        for v in 0..nv {
+            offsets[v + 1] += offsets[v];
+        }
+        let mut fill = offsets.clone();
+        let mut incident = vec![0u32; offsets[nv]];
+        for (p, t) in self.tets.iter().enumerate() {
+            for &v in t {
+                incident[fill[v as usize]] = p as u32;
+                fill[v as usize] += 1;
+            }
+        }
+        let predict = |p: usize, v: usize| -> [f64; 3] {
+            let d = sub(self.reference[v], reference[p]);
+            let f = &gradient[p];
+            [0, 1, 2].map(|a| position[p][a] + f[a][0] * d[0] + f[a][1] * d[1] + f[a][2] * d[2])
+        };
+        let mut points: Vec<[f64; 3]> = (0..nv)
+            .into_par_iter()
+            .map(|v| {
+                let mut sum = [0.0; 3];
+                let mut omega = 0.0;
+                for &p in &incident[offsets[v]..offsets[v + 1]] {
+                    let p = p as usize;
+                    // ω_v = Σ_p m_p/4 (Eq. 20).
+                    let w = 0.25 * mass[p];
+                    let pred = predict(p, v);
+                    for a in 0..3 {
+                        sum[a] += w * pred[a];
+                    }
+                    omega += w;
+                }
+                if omega > 0.0 {
+                    sum.map(|s| s / omega)
+                } else {
+                    self.reference[v]
+                }
+            })
+            .collect();
+        let star = |v: usize| &incident[offsets[v]..offsets[v + 1]];
+        let rigid = Rigid {
+            reference,
+            position,
+            mass,
+        };
+        self.untangle(&mut points, &predict, &star, &rigid);
+        points
+    }
+
     /// Puts right the tets that the averaged vertices leave below
     /// [`MIN_VOLUME_FRACTION`] of their rest volume V_p (a departure from Chen §5.2,
     /// whose Eq. 20–22 average can turn a tet inside out where the particles of a
@@ -47,13 +115,14 @@ impl EmbeddedMesh {
         star: &(dyn Fn(usize) -> &'a [u32] + Sync),
         rigid: &Rigid<'_>,
     ) {
+        let volume = |points: &[[f64; 3]], q: usize| {
+            let [a, b, c, d] = self.tets[q].map(|v| points[v as usize]);
+            signed_volume(a, b, c, d)
+        };
         let low = |points: &[[f64; 3]]| -> Vec<usize> {
             (0..self.tets.len())
                 .into_par_iter()
-                .filter(|&p| {
-                    let [a, b, c, d] = self.tets[p].map(|v| points[v as usize]);
-                    signed_volume(a, b, c, d) < MIN_VOLUME_FRACTION * self.rest_volume(p)
-                })
+                .filter(|&p| volume(points, p) < MIN_VOLUME_FRACTION * self.rest_volume(p))
                 .collect()
         };
         let mut bad = low(points);
@@ -85,10 +154,6 @@ impl EmbeddedMesh {
             return;
         }
         self.place_small_fragments(points, &bad, rigid);
-        let volume = |points: &[[f64; 3]], q: usize| {
-            let [a, b, c, d] = self.tets[q].map(|v| points[v as usize]);
-            signed_volume(a, b, c, d)
-        };
         for p in low(points) {
             let t = self.tets[p];
             let mut corners = [0, 1, 2, 3];
