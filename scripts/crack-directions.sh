@@ -37,46 +37,10 @@ if [ -n "$lattice" ]; then
 fi
 "$bin" run "$out/plate.toml" -o "$out/plate" --quiet --force
 PYTHONPATH="$here/scripts" python3 - "$out/plate" <<'PY'
-import math, os, sys
-d = sys.argv[1]
-lam, centre = 0.016, (0.0, 0.2)
-from cache_ply import particles as ply
-frames = sorted(os.listdir(os.path.join(d, 'particles')))
-# Positions in the plate's plane at the last frame would carry the fragments' flight;
-# the directions are read where the cracks formed, at the positions of frame 1.
-first = ply(os.path.join(d, 'particles', frames[0]))
-end = ply(os.path.join(d, 'particles', frames[-1]))
-damaged = [(p['x'], p['y']) for p, q in zip(first, end) if q['damage'] >= 0.35]
-cell = 2.5 * lam
-grid = {}
-for i, (x, y) in enumerate(damaged):
-    grid.setdefault((math.floor(x / cell), math.floor(y / cell)), []).append(i)
-bins = [0] * 12
-used = 0
-for (x, y) in damaged:
-    if math.hypot(x - centre[0], y - centre[1]) < 3 * lam:
-        continue
-    cx, cy = math.floor(x / cell), math.floor(y / cell)
-    near = [damaged[j] for a in (-1, 0, 1) for b in (-1, 0, 1)
-            for j in grid.get((cx + a, cy + b), [])
-            if math.hypot(damaged[j][0] - x, damaged[j][1] - y) <= cell]
-    if len(near) < 6:
-        continue
-    mx = sum(p[0] for p in near) / len(near)
-    my = sum(p[1] for p in near) / len(near)
-    sxx = sum((p[0] - mx) ** 2 for p in near)
-    syy = sum((p[1] - my) ** 2 for p in near)
-    sxy = sum((p[0] - mx) * (p[1] - my) for p in near)
-    tr, det = sxx + syy, sxx * syy - sxy * sxy
-    root = math.sqrt(max(tr * tr / 4 - det, 0.0))
-    big, small = tr / 2 + root, tr / 2 - root
-    if small > 0 and big / small < 4:
-        continue
-    angle = math.degrees(0.5 * math.atan2(2 * sxy, sxx - syy)) % 180.0
-    bins[int(((angle + 7.5) % 180.0) // 15.0)] += 1
-    used += 1
-mean = used / 12
-print(f"{len(damaged)} damaged particles, {used} with a crack direction; "
-      f"bins (0°, 15°, ... 165°): {bins}")
-print(f"largest bin / mean = {max(bins) / mean:.2f}" if used else "no cracks")
+import sys
+from crack_directions import directions, histogram, peak
+found = directions(sys.argv[1], (0.0, 0.2))
+bins = histogram(found)
+print(f"{len(found)} crack directions; bins (0°, 15°, ... 165°): {bins}")
+print(f"largest bin / mean = {peak(bins):.2f}" if found else "no cracks")
 PY

@@ -467,10 +467,12 @@ pub struct BodySpec {
     /// Initial cracks (`[[body.crack]]`): bonds cut before the run starts.
     #[serde(default, rename = "crack")]
     pub cracks: Vec<CrackSpec>,
-    /// Orientation of the body's meshing lattice: `"aligned"` with the scene axes, or
-    /// `"rotated"` by a random rotation drawn from the scene's `seed` and the body's
-    /// index, so that the lattice's preferred crack directions are not the scene's
-    /// axes (within the body cracks still follow the turned lattice: docs/lattice.md).
+    /// The body's meshing lattice: `"aligned"` with the scene axes, `"rotated"` by a
+    /// random rotation drawn from the scene's `seed` and the body's index, so that
+    /// the lattice's preferred crack directions are not the scene's axes (within the
+    /// body cracks still follow the turned lattice: docs/lattice.md), or
+    /// `"unstructured"`: no lattice, a Delaunay mesh of blue-noise points drawn from
+    /// the same seed, whose cracks have no preferred directions.
     /// Default: `"rotated"`
     /// for a peridynamic body whose material breaks (`critical_stretch`), `"aligned"`
     /// otherwise; a mesh body that the turned lattice fits worse than λ/4 (it bevels
@@ -490,15 +492,24 @@ pub enum LatticeOrientation {
     /// index: the lattice's preferred crack directions are not the scene's axes; the
     /// same seed gives the same bytes.
     Rotated,
+    /// No lattice: a Delaunay tetrahedralization of blue-noise points seeded by the
+    /// scene's `seed` and the body's index, fitted to the surface; no preferred
+    /// directions, at the price of slivers (docs/lattice.md).
+    Unstructured,
 }
 
 impl BodySpec {
-    /// Whether the body's lattice is rotated: its `lattice` key, by default rotated for
-    /// a peridynamic body whose `material` breaks.
-    pub fn lattice_rotated(&self, material: &MaterialSpec) -> bool {
+    /// The body's meshing lattice: its `lattice` key, by default rotated for a
+    /// peridynamic body whose `material` breaks and aligned otherwise.
+    pub fn lattice(&self, material: &MaterialSpec) -> LatticeOrientation {
         match self.lattice {
-            Some(orientation) => orientation == LatticeOrientation::Rotated,
-            None => self.model == ModelKind::Peridynamics && material.critical_stretch.is_some(),
+            Some(orientation) => orientation,
+            None if self.model == ModelKind::Peridynamics
+                && material.critical_stretch.is_some() =>
+            {
+                LatticeOrientation::Rotated
+            }
+            None => LatticeOrientation::Aligned,
         }
     }
 

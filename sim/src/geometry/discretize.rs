@@ -12,10 +12,11 @@ use super::mesh::{Conformity, MeshSdf, TriMesh, conform};
 use super::sdf::Sdf;
 use super::shape::{placement, to_sdf};
 use super::stuffing::{random_rotation, stuff, stuff_rotated};
+use super::unstructured::{mesh_seed, mesh_unstructured};
 use super::{MeshQuality, TetMesh};
 use crate::error::{Result, SimError};
 use crate::membrane::sheet::{self, Sheet};
-use crate::scene::{ModelKind, Scene, ShapeSpec};
+use crate::scene::{LatticeOrientation, ModelKind, Scene, ShapeSpec};
 
 /// The particles of all bodies, sorted spatially.
 #[derive(Debug, Clone, Default)]
@@ -59,16 +60,21 @@ pub fn discretize(scene: &Scene) -> Result<Discretization> {
                 message,
             };
             // A breaking body's lattice is turned at random (issue 13: an aligned
-            // lattice's weak planes showed as axis-aligned cracks); others stay aligned
-            // and centred, so symmetric shapes get symmetric particles.
-            let rotation = scene
+            // lattice's weak planes showed as axis-aligned cracks) unless it asks for
+            // an unstructured mesh; others stay aligned and centred, so symmetric
+            // shapes get symmetric particles.
+            let lattice = scene
                 .materials
                 .get(&b.material)
-                .filter(|m| b.lattice_rotated(m))
-                .map(|_| random_rotation(scene.scene.seed, index as u64));
-            let stuff = |sdf: &dyn Sdf, lambda: f64| match rotation {
-                Some(r) => stuff_rotated(sdf, lambda, r),
-                None => stuff(sdf, lambda),
+                .map_or(LatticeOrientation::Aligned, |m| b.lattice(m));
+            let stuff = |sdf: &dyn Sdf, lambda: f64| match lattice {
+                LatticeOrientation::Rotated => {
+                    stuff_rotated(sdf, lambda, random_rotation(scene.scene.seed, index as u64))
+                }
+                LatticeOrientation::Unstructured => {
+                    mesh_unstructured(sdf, lambda, mesh_seed(scene.scene.seed, index as u64))
+                }
+                LatticeOrientation::Aligned => stuff(sdf, lambda),
             };
             match (&b.shape, placement(&b.shape)) {
                 // Membranes sample their sheet; MPM bodies seed their own particles.
@@ -79,21 +85,25 @@ pub fn discretize(scene: &Scene) -> Result<Discretization> {
                     let surface = TriMesh::load(&scene.base_dir.join(path), &placement)
                         .map_err(|e| error(e.to_string()))?;
                     let sdf = MeshSdf::new(&surface);
-                    let mesh_on = |rotation: Option<[[f64; 3]; 3]>| {
-                        let mut tets = match rotation {
-                            Some(r) => stuff_rotated(&sdf, b.resolution, r),
-                            None => super::stuffing::stuff(&sdf, b.resolution),
+                    let mesh_on = |aligned: bool| {
+                        let mut tets = if aligned {
+                            super::stuffing::stuff(&sdf, b.resolution)
+                        } else {
+                            stuff(&sdf, b.resolution)
                         }
                         .map_err(|e| error(e.to_string()))?;
                         let fit = conform(&mut tets, &surface, &sdf, b.resolution);
                         Ok::<_, SimError>((tets, fit))
                     };
-                    let (tets, fit) = mesh_on(rotation)?;
+                    let (tets, fit) = mesh_on(false)?;
                     // A turned lattice bevels creases that an aligned one follows (a mesh
                     // cube: 0.43λ against 0.000λ) and snapping cannot always restore them.
                     // By default such a mesh keeps whichever lattice fits it better.
-                    if rotation.is_some() && b.lattice.is_none() && fit.max > ROTATED_FIT_BOUND {
-                        let (aligned, aligned_fit) = mesh_on(None)?;
+                    if lattice == LatticeOrientation::Rotated
+                        && b.lattice.is_none()
+                        && fit.max > ROTATED_FIT_BOUND
+                    {
+                        let (aligned, aligned_fit) = mesh_on(true)?;
                         if aligned_fit.max < fit.max {
                             return Ok((aligned, Some(aligned_fit)));
                         }

@@ -4,9 +4,12 @@
 
 pub mod discretize;
 pub mod mesh;
+#[cfg(test)]
+mod mesh_check;
 pub mod sdf;
 pub mod shape;
 pub mod stuffing;
+pub mod unstructured;
 
 use std::fmt;
 

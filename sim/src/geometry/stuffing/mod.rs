@@ -434,7 +434,7 @@ impl CutTable {
 /// and `fb` of opposite signs at the ends: regula falsi with the Illinois
 /// modification (bisecting where values are infinite), stopping when the
 /// value or the bracket drops below `tol`.
-fn find_zero(
+pub(super) fn find_zero(
     sdf: &dyn Sdf,
     a: [f64; 3],
     fa: f64,

@@ -1,0 +1,352 @@
+//! Fitting a background tetrahedralization to the surface: the warp and the stencils
+//! of isosurface stuffing (Labelle & Shewchuk 2007, §3) generalized to tetrahedra of
+//! any shape. Where stuffing's BCC stencils choose the diagonals of quadrilateral
+//! faces by the lattice's parity, here every quadrilateral is split by the diagonal
+//! through its vertex of smallest index, and a prism by the rule of Dompierre et al.
+//! (1999), "How to subdivide pyramids, prisms and hexahedra into tetrahedra", which
+//! follows that diagonal on each of its three quadrilaterals: two tetrahedra sharing
+//! a face split it alike, so the mesh stays conforming.
+
+use std::collections::HashMap;
+
+use rayon::prelude::*;
+
+use perifrac_math::{dist, lerp, signed_volume};
+
+use super::super::sdf::Sdf;
+use super::super::{MeshError, TetMesh};
+use super::delaunay::orient;
+use super::{ALPHA, MIN_VOLUME, ROOT_TOLERANCE, find_zero};
+
+/// Most rounds of [`unpinch`].
+const UNPINCH_ROUNDS: usize = 8;
+
+fn opposite_signs(a: f64, b: f64) -> bool {
+    (a < 0.0 && b > 0.0) || (a > 0.0 && b < 0.0)
+}
+
+/// The mesh of the inside of `sdf` cut from the background tetrahedra `tets` on
+/// `points`, whose signed distances are `values`: `points` and `values` are warped
+/// in place. `r` is the background's sampling radius.
+pub(super) fn cleave(
+    sdf: &dyn Sdf,
+    points: &mut [[f64; 3]],
+    values: &mut [f64],
+    tets: &[[u32; 4]],
+    r: f64,
+) -> Result<TetMesh, MeshError> {
+    let edges = cut_edges(tets, values);
+    let tol = ROOT_TOLERANCE * r;
+    let cuts: Vec<[f64; 3]> = edges
+        .par_iter()
+        .map(|&(u, v)| {
+            let (a, b) = (points[u as usize], points[v as usize]);
+            find_zero(sdf, a, values[u as usize], b, values[v as usize], tol).map(|t| lerp(a, b, t))
+        })
+        .collect::<Result<_, _>>()?;
+    warp(points, values, tets, &edges, &cuts, r);
+    // Cut points that survive the warp (both ends still off the surface) become
+    // vertices after the background's points, in edge order.
+    let mut vertices = points.to_vec();
+    let mut cut_vertex = HashMap::with_capacity(edges.len());
+    for (&(u, v), &c) in edges.iter().zip(&cuts) {
+        if opposite_signs(values[u as usize], values[v as usize]) {
+            cut_vertex.insert((u, v), vertices.len() as u32);
+            vertices.push(c);
+        }
+    }
+    let cut = |a: u32, b: u32| cut_vertex[&(a.min(b), a.max(b))];
+    let min_volume = MIN_VOLUME * r.powi(3);
+    let mut out = Vec::with_capacity(tets.len());
+    let mut emit = |mut t: [u32; 4]| {
+        let [a, b, c, d] = t.map(|v| vertices[v as usize]);
+        let volume = signed_volume(a, b, c, d);
+        if volume.abs() > min_volume {
+            if volume < 0.0 {
+                t.swap(0, 1);
+            }
+            out.push(t);
+        }
+    };
+    for tet in tets {
+        let sign = |v: u32| {
+            let value = values[v as usize];
+            if value < 0.0 {
+                -1
+            } else if value > 0.0 {
+                1
+            } else {
+                0
+            }
+        };
+        let with = |s: i8| {
+            tet.iter()
+                .copied()
+                .filter(|&v| sign(v) == s)
+                .collect::<Vec<u32>>()
+        };
+        let (neg, zero, pos) = (with(-1), with(0), with(1));
+        match (neg.len(), zero.len(), pos.len()) {
+            (0, 4, 0) => {
+                // All four on the surface (a tetrahedron spanning a crease, or a thin
+                // part): kept where its middle is inside, or the body would pinch there.
+                let [a, b, c, d] = tet.map(|v| vertices[v as usize]);
+                let middle = [0, 1, 2].map(|k| 0.25 * (a[k] + b[k] + c[k] + d[k]));
+                let value = sdf.distance(middle);
+                if value.is_nan() {
+                    return Err(MeshError::NonFiniteDistance { point: middle });
+                }
+                if value < 0.0 {
+                    emit(*tet);
+                }
+            }
+            (0, _, _) => {}
+            (_, _, 0) => emit(*tet),
+            (1, _, _) => {
+                // One inside vertex: a corner tetrahedron on the zeros and cut points.
+                let n = neg[0];
+                emit(tet.map(|v| if sign(v) > 0 { cut(n, v) } else { v }));
+            }
+            (2, 1, 1) => {
+                // A pyramid on the quadrilateral n1 n2 c2 c1 with apex at the zero.
+                let (n1, n2, p) = (neg[0], neg[1], pos[0]);
+                pyramid(zero[0], [n1, n2, cut(n2, p), cut(n1, p)], &mut emit);
+            }
+            (2, 0, 2) => {
+                let (n1, n2, p1, p2) = (neg[0], neg[1], pos[0], pos[1]);
+                prism(
+                    [n1, cut(n1, p1), cut(n1, p2)],
+                    [n2, cut(n2, p1), cut(n2, p2)],
+                    &mut emit,
+                );
+            }
+            _ => {
+                // Three inside vertices and one outside: a prism under the cut triangle.
+                let p = pos[0];
+                prism(
+                    [neg[0], neg[1], neg[2]],
+                    [cut(neg[0], p), cut(neg[1], p), cut(neg[2], p)],
+                    &mut emit,
+                );
+            }
+        }
+    }
+    unpinch(&vertices, &mut out);
+    Ok(compact(vertices, out))
+}
+
+/// Where a crease of the surface passes between two background vertices, the inside
+/// can meet itself along a single edge: a vertex in the corner the chord cuts off
+/// keeps a fan of tetrahedra of its own around the edge, and the boundary is not a
+/// manifold there (four boundary faces on one edge). Each such edge keeps its
+/// largest fan by volume; the corner's slivers go. Repeated until no edge is pinched
+/// (removing a fan can pinch a neighbouring edge), at most [`UNPINCH_ROUNDS`] times.
+fn unpinch(vertices: &[[f64; 3]], tets: &mut Vec<[u32; 4]>) {
+    for _ in 0..UNPINCH_ROUNDS {
+        let mut faces: HashMap<[u32; 3], (u32, u32)> = HashMap::with_capacity(tets.len() * 2);
+        for (t, tet) in tets.iter().enumerate() {
+            for skip in 0..4 {
+                let mut face = [0; 3];
+                let mut n = 0;
+                for (k, &v) in tet.iter().enumerate() {
+                    if k != skip {
+                        face[n] = v;
+                        n += 1;
+                    }
+                }
+                face.sort_unstable();
+                faces.entry(face).or_insert((t as u32, 0)).1 += 1;
+            }
+        }
+        let mut on_edge: HashMap<(u32, u32), usize> = HashMap::new();
+        for (face, &(_, count)) in &faces {
+            if count == 1 {
+                for (a, b) in [(0, 1), (0, 2), (1, 2)] {
+                    *on_edge.entry((face[a], face[b])).or_default() += 1;
+                }
+            }
+        }
+        let mut pinched: Vec<(u32, u32)> = on_edge
+            .into_iter()
+            .filter(|&(_, count)| count > 2)
+            .map(|(edge, _)| edge)
+            .collect();
+        if pinched.is_empty() {
+            return;
+        }
+        pinched.sort_unstable();
+        let mut removed = vec![false; tets.len()];
+        let incident = incidence(tets, vertices.len());
+        for (u, v) in pinched {
+            let around: Vec<usize> = incident[u as usize]
+                .iter()
+                .map(|&t| t as usize)
+                .filter(|&t| !removed[t] && tets[t].contains(&v))
+                .collect();
+            // Fans: tetrahedra around the edge joined through faces holding it.
+            let mut fan = vec![usize::MAX; around.len()];
+            let mut fans = 0;
+            for start in 0..around.len() {
+                if fan[start] != usize::MAX {
+                    continue;
+                }
+                fan[start] = fans;
+                let mut stack = vec![start];
+                while let Some(i) = stack.pop() {
+                    for j in 0..around.len() {
+                        let shared = tets[around[i]]
+                            .iter()
+                            .filter(|w| tets[around[j]].contains(w))
+                            .count();
+                        if fan[j] == usize::MAX && shared == 3 {
+                            fan[j] = fans;
+                            stack.push(j);
+                        }
+                    }
+                }
+                fans += 1;
+            }
+            let mut volume = vec![0.0; fans];
+            for (i, &t) in around.iter().enumerate() {
+                let [a, b, c, d] = tets[t].map(|w| vertices[w as usize]);
+                volume[fan[i]] += signed_volume(a, b, c, d);
+            }
+            let keep = (0..fans)
+                .max_by(|&x, &y| volume[x].total_cmp(&volume[y]))
+                .unwrap_or(0);
+            for (i, &t) in around.iter().enumerate() {
+                if fan[i] != keep {
+                    removed[t] = true;
+                }
+            }
+        }
+        let mut t = 0;
+        tets.retain(|_| {
+            t += 1;
+            !removed[t - 1]
+        });
+    }
+}
+
+/// The background edges whose ends have opposite signs, as sorted pairs, sorted.
+fn cut_edges(tets: &[[u32; 4]], values: &[f64]) -> Vec<(u32, u32)> {
+    let mut edges: Vec<(u32, u32)> = tets
+        .iter()
+        .flat_map(|t| {
+            [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)]
+                .map(|(i, j)| (t[i].min(t[j]), t[i].max(t[j])))
+        })
+        .filter(|&(u, v)| opposite_signs(values[u as usize], values[v as usize]))
+        .collect();
+    edges.sort_unstable();
+    edges.dedup();
+    edges
+}
+
+/// Labelle & Shewchuk's warp: a vertex with a cut point closer than [`ALPHA`] of its
+/// edge's length moves onto its closest such cut point and its value becomes zero
+/// (the cuts on its other edges vanish). Violations are taken closest first, so the
+/// result does not depend on the order of the vertices; a move that would invert or
+/// flatten a tetrahedron around the vertex is not made (the cut stays, and the
+/// stencils fill the tetrahedron instead).
+fn warp(
+    points: &mut [[f64; 3]],
+    values: &mut [f64],
+    tets: &[[u32; 4]],
+    edges: &[(u32, u32)],
+    cuts: &[[f64; 3]],
+    r: f64,
+) {
+    let mut violations = Vec::new();
+    for (e, (&(u, v), &c)) in edges.iter().zip(cuts).enumerate() {
+        let (a, b) = (points[u as usize], points[v as usize]);
+        let length = dist(a, b);
+        for (vertex, other, gap) in [(u, v, dist(a, c)), (v, u, dist(b, c))] {
+            if gap < ALPHA * length {
+                // Distances in units of 1e-9 r, so that mirror-image ties stay ties.
+                violations.push(((gap / r * 1e9).round() as u64, vertex, other, e));
+            }
+        }
+    }
+    violations.sort_unstable();
+    let around = incidence(tets, points.len());
+    let mut warped = vec![false; points.len()];
+    for (_, vertex, other, e) in violations {
+        if warped[vertex as usize] || warped[other as usize] {
+            continue;
+        }
+        let to = cuts[e];
+        let keeps_orientation = around[vertex as usize].iter().all(|&t| {
+            let corners =
+                tets[t as usize].map(|w| if w == vertex { to } else { points[w as usize] });
+            orient(corners[0], corners[1], corners[2], corners[3]) > 0.0
+        });
+        if keeps_orientation {
+            points[vertex as usize] = to;
+            values[vertex as usize] = 0.0;
+            warped[vertex as usize] = true;
+        }
+    }
+}
+
+/// The tetrahedra around each vertex.
+fn incidence(tets: &[[u32; 4]], vertices: usize) -> Vec<Vec<u32>> {
+    let mut around = vec![Vec::new(); vertices];
+    for (t, tet) in tets.iter().enumerate() {
+        for &v in tet {
+            around[v as usize].push(t as u32);
+        }
+    }
+    around
+}
+
+/// The two tetrahedra of a pyramid with apex `apex` over the quadrilateral `quad`
+/// (cyclic), split by the quadrilateral's diagonal through its smallest index.
+fn pyramid(apex: u32, quad: [u32; 4], emit: &mut impl FnMut([u32; 4])) {
+    let [q0, q1, q2, q3] = quad;
+    if q0.min(q2) < q1.min(q3) {
+        emit([apex, q0, q1, q2]);
+        emit([apex, q0, q2, q3]);
+    } else {
+        emit([apex, q1, q2, q3]);
+        emit([apex, q1, q3, q0]);
+    }
+}
+
+/// The three tetrahedra of the prism between triangles `a` and `b` (a[i]–b[i] its
+/// lateral edges), after Dompierre et al. (1999): the tetrahedron joining the
+/// smallest index to the opposite triangle, and the pyramid left over.
+fn prism(a: [u32; 3], b: [u32; 3], emit: &mut impl FnMut([u32; 4])) {
+    let six = [a[0], a[1], a[2], b[0], b[1], b[2]];
+    let smallest = (0..6).min_by_key(|&i| six[i]).expect("six vertices");
+    let (near, far) = if smallest < 3 { (a, b) } else { (b, a) };
+    let k = smallest % 3;
+    let (n0, n1, n2) = (near[k], near[(k + 1) % 3], near[(k + 2) % 3]);
+    let (f0, f1, f2) = (far[k], far[(k + 1) % 3], far[(k + 2) % 3]);
+    emit([n0, f0, f1, f2]);
+    pyramid(n0, [n1, n2, f2, f1], emit);
+}
+
+/// The mesh of the used vertices, renumbered in order of index.
+fn compact(vertices: Vec<[f64; 3]>, mut tets: Vec<[u32; 4]>) -> TetMesh {
+    let mut new_index = vec![u32::MAX; vertices.len()];
+    for t in &tets {
+        for &v in t {
+            new_index[v as usize] = 0;
+        }
+    }
+    let mut kept = Vec::new();
+    for (v, p) in vertices.into_iter().enumerate() {
+        if new_index[v] == 0 {
+            new_index[v] = kept.len() as u32;
+            kept.push(p);
+        }
+    }
+    for t in &mut tets {
+        *t = t.map(|v| new_index[v as usize]);
+    }
+    TetMesh {
+        vertices: kept,
+        tets,
+    }
+}

@@ -1,0 +1,188 @@
+//! An unstructured tetrahedral mesh of a signed-distance shape, for bodies whose
+//! cracks must not follow a lattice (issue 13; `lattice = "unstructured"`).
+//!
+//! Chen et al. (2018, §5.2) mesh their bodies with TetGen, so their cracks have no
+//! preferred directions; a BCC lattice, even turned, has weak planes that cracks
+//! follow. Here the body is filled with blue-noise points (Poisson-disk samples,
+//! seeded), the points are tetrahedralized (Delaunay, [`delaunay`]), and the
+//! tetrahedra are fitted to the surface as isosurface stuffing fits its lattice's
+//! (Labelle & Shewchuk 2007; "lattice cleaving" of an arbitrary background mesh,
+//! Bronson, Levine & Whitaker 2012): vertices close to the surface are warped onto it,
+//! and a tetrahedron the surface cuts is replaced by the tetrahedra filling its inside
+//! part. Boundary vertices lie on the zero set; every tetrahedron is positively
+//! oriented. Unlike stuffing's, the dihedral angles are not bounded: Delaunay
+//! tetrahedralizations of random points hold slivers, which the peridynamic model
+//! takes as particles of small volume (forces weigh the neighbour's volume, not the
+//! particle's own).
+
+mod cleave;
+mod delaunay;
+
+use rayon::prelude::*;
+
+use perifrac_math::{SplitMix64, dist};
+
+use super::sdf::Sdf;
+use super::stuffing::find_zero;
+use super::{MeshError, TetMesh};
+
+/// Poisson-disk radius over the target mean edge length: the mean edge of the
+/// Delaunay tetrahedralization of the samples is then the asked edge length (measured
+/// by `the_mean_edge_is_the_asked_edge_length`).
+const RADIUS_PER_EDGE: f64 = 0.78;
+
+/// Candidates tried in each background cell before it is left empty.
+const CANDIDATES: usize = 24;
+
+/// Samples are kept up to this many radii outside the surface, so that the
+/// tetrahedra around the surface have outside vertices to cut against.
+const OUTSIDE_MARGIN: f64 = 1.5;
+
+/// Warping threshold: a vertex whose edge is cut closer than this fraction of the
+/// edge's length moves onto the cut point (stuffing uses 0.25 and 0.41 on the BCC
+/// lattice's two kinds of edge).
+const ALPHA: f64 = 0.3;
+
+/// Largest number of background cells the sampler will visit.
+const MAX_CELLS: u64 = 100_000_000;
+
+/// Stopping tolerance of the cut-point search, relative to the sampling radius.
+const ROOT_TOLERANCE: f64 = 1e-10;
+
+/// Tetrahedra smaller than this times r³ are dropped.
+const MIN_VOLUME: f64 = 1e-12;
+
+/// The seed of body `stream`'s points from the scene's `seed`.
+pub fn mesh_seed(seed: u64, stream: u64) -> u64 {
+    seed ^ stream.wrapping_mul(0x9e37_79b9_7f4a_7c15)
+}
+
+/// Meshes `sdf` with tetrahedra of mean edge length ≈ `edge_length` on blue-noise
+/// points drawn from `seed` (the same seed gives the same mesh).
+///
+/// # Errors
+/// [`MeshError::InvalidEdgeLength`], [`MeshError::InvalidBounds`],
+/// [`MeshError::LatticeTooLarge`] (too many background cells),
+/// [`MeshError::NonFiniteDistance`], or [`MeshError::EmptyMesh`] for a shape
+/// thinner than the points resolve.
+pub fn mesh_unstructured(sdf: &dyn Sdf, edge_length: f64, seed: u64) -> Result<TetMesh, MeshError> {
+    if !(edge_length.is_finite() && edge_length > 0.0) {
+        return Err(MeshError::InvalidEdgeLength(edge_length));
+    }
+    let (min, max) = sdf.bounds();
+    if (0..3).any(|k| !(max[k] - min[k]).is_finite() || min[k] >= max[k]) {
+        return Err(MeshError::InvalidBounds { min, max });
+    }
+    let r = RADIUS_PER_EDGE * edge_length;
+    let (mut points, mut values) = sample(sdf, min, max, r, seed, edge_length)?;
+    let tets = delaunay::tetrahedralize(&points);
+    let mesh = cleave::cleave(sdf, &mut points, &mut values, &tets, r)?;
+    if mesh.tets.is_empty() {
+        let thinnest = (0..3)
+            .map(|k| max[k] - min[k])
+            .fold(f64::INFINITY, f64::min);
+        return Err(MeshError::EmptyMesh {
+            edge_length,
+            suggested_edge_length: (0.25 * thinnest).min(0.5 * edge_length),
+        });
+    }
+    Ok(mesh)
+}
+
+/// Poisson-disk samples of radius `r` (no two closer than r) in the shape and up to
+/// [`OUTSIDE_MARGIN`] r outside it, with their signed distances: dart throwing in a
+/// background grid of cells of side r/√3 (at most one sample a cell), the cells
+/// visited in a random order drawn from `seed`, [`CANDIDATES`] darts a cell.
+fn sample(
+    sdf: &dyn Sdf,
+    min: [f64; 3],
+    max: [f64; 3],
+    r: f64,
+    seed: u64,
+    edge_length: f64,
+) -> Result<(Vec<[f64; 3]>, Vec<f64>), MeshError> {
+    let cell = r / 3f64.sqrt();
+    let pad = 2.0 * r;
+    let origin = min.map(|m| m - pad);
+    let dims = [0, 1, 2].map(|k| ((max[k] - min[k] + 2.0 * pad) / cell).ceil().max(1.0));
+    let cells = dims.iter().product::<f64>();
+    if cells > MAX_CELLS as f64 {
+        let grow = (cells / MAX_CELLS as f64).cbrt();
+        return Err(MeshError::LatticeTooLarge {
+            points: cells as u64,
+            limit: MAX_CELLS,
+            edge_length,
+            suggested_edge_length: edge_length * grow * 1.01,
+        });
+    }
+    let [nx, ny, nz] = dims.map(|d| d as usize);
+    let total = nx * ny * nz;
+    // The signed distance at each cell's centre decides which cells are worth darts;
+    // evaluated in parallel, in cell order.
+    let centres: Vec<f64> = (0..total)
+        .into_par_iter()
+        .map(|c| {
+            let (i, j, k) = (c % nx, c / nx % ny, c / (nx * ny));
+            sdf.distance([
+                origin[0] + (i as f64 + 0.5) * cell,
+                origin[1] + (j as f64 + 0.5) * cell,
+                origin[2] + (k as f64 + 0.5) * cell,
+            ])
+        })
+        .collect();
+    if let Some(c) = centres.iter().position(|d| d.is_nan()) {
+        let (i, j, k) = (c % nx, c / nx % ny, c / (nx * ny));
+        let point = [i, j, k].map(|n| n as f64 + 0.5);
+        return Err(MeshError::NonFiniteDistance {
+            point: [0, 1, 2].map(|a| origin[a] + point[a] * cell),
+        });
+    }
+    // A cell can hold a kept sample if its centre is within half its diagonal (r/2)
+    // of the kept region.
+    let reach = OUTSIDE_MARGIN * r + 0.5 * r;
+    let mut order: Vec<u32> = (0..total as u32)
+        .filter(|&c| centres[c as usize] <= reach)
+        .collect();
+    let mut rng = SplitMix64::new(seed);
+    for i in (1..order.len()).rev() {
+        order.swap(i, rng.below(i + 1));
+    }
+    let mut grid = vec![u32::MAX; total];
+    let (mut points, mut values) = (Vec::new(), Vec::new());
+    for c in order {
+        let c = c as usize;
+        let (i, j, k) = (c % nx, c / nx % ny, c / (nx * ny));
+        for _ in 0..CANDIDATES {
+            let p = [
+                origin[0] + (i as f64 + rng.next_f64()) * cell,
+                origin[1] + (j as f64 + rng.next_f64()) * cell,
+                origin[2] + (k as f64 + rng.next_f64()) * cell,
+            ];
+            let crowded = (k.saturating_sub(2)..(k + 3).min(nz)).any(|c2| {
+                (j.saturating_sub(2)..(j + 3).min(ny)).any(|c1| {
+                    (i.saturating_sub(2)..(i + 3).min(nx)).any(|c0| {
+                        let q = grid[c0 + nx * (c1 + ny * c2)];
+                        q != u32::MAX && dist(points[q as usize], p) < r
+                    })
+                })
+            });
+            if crowded {
+                continue;
+            }
+            let value = sdf.distance(p);
+            if value.is_nan() {
+                return Err(MeshError::NonFiniteDistance { point: p });
+            }
+            if value <= OUTSIDE_MARGIN * r {
+                grid[c] = points.len() as u32;
+                points.push(p);
+                values.push(value);
+                break;
+            }
+        }
+    }
+    Ok((points, values))
+}
+
+#[cfg(test)]
+mod tests;
