@@ -57,6 +57,9 @@ pub const NONE: u32 = u32::MAX;
 pub const NO_PARENT: u32 = u32::MAX;
 /// Fraction of its rest volume below which [`EmbeddedMesh::positions`] mends a tet.
 pub const MIN_VOLUME_FRACTION: f64 = 0.05;
+/// Fraction of their rest volume that `EmbeddedMesh::untangle`'s last resort lets
+/// other tets fall to while it turns an inverted tet right side out.
+pub const FLOOR_FRACTION: f64 = 0.01;
 /// Rounds of `EmbeddedMesh::untangle`'s first stage.
 pub const UNTANGLE_ROUNDS: usize = 8;
 /// Largest fragment (in tets) that `EmbeddedMesh::untangle` may place rigidly.

@@ -5,7 +5,7 @@
 use perifrac_math::{TET_FACES, UnionFind, add, cross, dot, norm, signed_volume, sub};
 use rayon::prelude::*;
 
-use super::{EmbeddedMesh, MIN_VOLUME_FRACTION, SMALL_FRAGMENT, UNTANGLE_ROUNDS};
+use super::{EmbeddedMesh, FLOOR_FRACTION, MIN_VOLUME_FRACTION, SMALL_FRAGMENT, UNTANGLE_ROUNDS};
 use crate::mpm::constitutive::{mul_transpose, rotation_svd};
 
 /// The particles, for placing a fragment rigidly ([`EmbeddedMesh::untangle`]).
@@ -104,7 +104,11 @@ impl EmbeddedMesh {
     ///    opposite face to the height that gives it the bound's volume: a vertex of its
     ///    own (in no other tet) if it has one, else the vertex in fewest tets whose
     ///    other tets all stay at or above the bound after the move (a tet hanging by
-    ///    two faces in a large fragment, as in the demo); if none can, it stays.
+    ///    two faces in a large fragment, as in the demo); if none can, it stays. A tet
+    ///    still inside out after that gets a last resort: the same lift, with the
+    ///    vertex's other tets allowed down to [`FLOOR_FRACTION`] of their rest volume
+    ///    (a pair of tets folded over their shared face among slivers, on an
+    ///    unstructured mesh).
     ///
     /// Deterministic: every round reads the positions of the previous one, and step 3
     /// takes the tets in order.
@@ -154,34 +158,59 @@ impl EmbeddedMesh {
             return;
         }
         self.place_small_fragments(points, &bad, rigid);
+        // Step 3, then its last resort for the tets it leaves inside out: the other
+        // tets of the lifted vertex may then fall to FLOOR_FRACTION of their rest
+        // volume (flat, not inverted).
         for p in low(points) {
-            let t = self.tets[p];
-            let mut corners = [0, 1, 2, 3];
-            corners.sort_by_key(|&i| star(t[i] as usize).len());
-            for own in corners {
-                let v = t[own] as usize;
-                // The face opposite vertex `own`, wound so that its normal points to
-                // the side a positively oriented tet has the vertex on.
-                let face = TET_FACES[own].map(|i| points[t[i] as usize]);
-                let area = cross(sub(face[1], face[0]), sub(face[2], face[0]));
-                let twice = norm(area);
-                if twice <= 0.0 {
-                    continue;
-                }
-                let n = area.map(|c| -c / twice);
-                let x = points[v];
-                let height = dot(sub(x, face[0]), n);
-                let wanted = 6.0 * MIN_VOLUME_FRACTION * self.rest_volume(p) / twice;
-                points[v] = [0, 1, 2].map(|a| x[a] + (wanted - height) * n[a]);
-                let kept = star(v).iter().all(|&q| {
-                    let q = q as usize;
-                    q == p || volume(points, q) >= MIN_VOLUME_FRACTION * self.rest_volume(q)
-                });
-                if kept {
-                    break;
-                }
-                points[v] = x;
+            self.lift(points, p, MIN_VOLUME_FRACTION, &volume, star);
+        }
+        let inverted: Vec<usize> = low(points)
+            .into_iter()
+            .filter(|&p| volume(points, p) <= 0.0)
+            .collect();
+        for p in inverted {
+            self.lift(points, p, FLOOR_FRACTION, &volume, star);
+        }
+    }
+
+    /// Step 3 of [`Self::untangle`] for tet `p`: lifts one of its vertices (fewest
+    /// tets first) off the plane of the opposite face to the height that gives `p` the
+    /// bound's volume, if the vertex's other tets all keep `floor` of their rest
+    /// volume; else no vertex moves.
+    fn lift<'a>(
+        &self,
+        points: &mut [[f64; 3]],
+        p: usize,
+        floor: f64,
+        volume: &impl Fn(&[[f64; 3]], usize) -> f64,
+        star: &(dyn Fn(usize) -> &'a [u32] + Sync),
+    ) {
+        let t = self.tets[p];
+        let mut corners = [0, 1, 2, 3];
+        corners.sort_by_key(|&i| star(t[i] as usize).len());
+        for own in corners {
+            let v = t[own] as usize;
+            // The face opposite vertex `own`, wound so that its normal points to
+            // the side a positively oriented tet has the vertex on.
+            let face = TET_FACES[own].map(|i| points[t[i] as usize]);
+            let area = cross(sub(face[1], face[0]), sub(face[2], face[0]));
+            let twice = norm(area);
+            if twice <= 0.0 {
+                continue;
             }
+            let n = area.map(|c| -c / twice);
+            let x = points[v];
+            let height = dot(sub(x, face[0]), n);
+            let wanted = 6.0 * MIN_VOLUME_FRACTION * self.rest_volume(p) / twice;
+            points[v] = [0, 1, 2].map(|a| x[a] + (wanted - height) * n[a]);
+            let kept = star(v).iter().all(|&q| {
+                let q = q as usize;
+                q == p || volume(points, q) >= floor * self.rest_volume(q)
+            });
+            if kept {
+                return;
+            }
+            points[v] = x;
         }
     }
 
