@@ -4,7 +4,7 @@
 //! Chen et al. (2018, §5.2) mesh their bodies with TetGen, so their cracks have no
 //! preferred directions; a BCC lattice, even turned, has weak planes that cracks
 //! follow. Here the body is filled with blue-noise points (Poisson-disk samples,
-//! seeded), the points are tetrahedralized (Delaunay, [`delaunay`]), and the
+//! seeded), the points are tetrahedralized (Delaunay, `delaunay.rs`), and the
 //! tetrahedra are fitted to the surface as isosurface stuffing fits its lattice's
 //! (Labelle & Shewchuk 2007; "lattice cleaving" of an arbitrary background mesh,
 //! Bronson, Levine & Whitaker 2012): vertices close to the surface are warped onto it,
