@@ -97,6 +97,31 @@ impl fmt::Display for MeshError {
 
 impl std::error::Error for MeshError {}
 
+/// The bounds of `sdf`, after checking them and `edge_length` (both meshers).
+fn checked_bounds(sdf: &dyn sdf::Sdf, edge_length: f64) -> Result<([f64; 3], [f64; 3]), MeshError> {
+    if !(edge_length.is_finite() && edge_length > 0.0) {
+        return Err(MeshError::InvalidEdgeLength(edge_length));
+    }
+    let (min, max) = sdf.bounds();
+    let finite = (0..3).all(|k| (max[k] - min[k]).is_finite());
+    if !finite || (0..3).any(|k| min[k] >= max[k]) {
+        return Err(MeshError::InvalidBounds { min, max });
+    }
+    Ok((min, max))
+}
+
+/// The error for a shape meshed at `edge_length` into no tetrahedra, with an edge
+/// length that resolves its thinnest side.
+fn empty_mesh(min: [f64; 3], max: [f64; 3], edge_length: f64) -> MeshError {
+    let thinnest = (0..3)
+        .map(|k| max[k] - min[k])
+        .fold(f64::INFINITY, f64::min);
+    MeshError::EmptyMesh {
+        edge_length,
+        suggested_edge_length: (0.25 * thinnest).min(0.5 * edge_length),
+    }
+}
+
 /// A tetrahedral mesh: shared vertices and tetrahedra indexing them.
 ///
 /// Meshes made by [`stuff`] have every tetrahedron positively oriented

@@ -25,7 +25,7 @@ use std::hash::{BuildHasherDefault, Hasher};
 use perifrac_math::{dist, lerp};
 
 use super::sdf::Sdf;
-use super::{MeshError, TetMesh};
+use super::{MeshError, TetMesh, checked_bounds, empty_mesh};
 use stencil::Filler;
 pub use turned::{random_rotation, stuff_rotated};
 
@@ -48,14 +48,15 @@ const PADDING: f64 = 2.0;
 /// Side, in cubes, of the blocks used to skip SDF evaluations far from the surface.
 const BLOCK: usize = 8;
 
-/// Stopping tolerance of the cut-point search, relative to the lattice spacing.
-const ROOT_TOLERANCE: f64 = 1e-10;
+/// Stopping tolerance of the cut-point search, relative to the mesh's length scale
+/// (the lattice spacing; the unstructured mesher's sampling radius).
+pub(super) const ROOT_TOLERANCE: f64 = 1e-10;
 
 /// Iteration cap of the cut-point search.
 const ROOT_MAX_ITERATIONS: usize = 100;
 
 /// Tetrahedra smaller than this times `h³` are dropped.
-const MIN_VOLUME: f64 = 1e-12;
+pub(super) const MIN_VOLUME: f64 = 1e-12;
 
 /// Labelle & Shewchuk 2007, "Isosurface stuffing: fast tetrahedral meshes with good dihedral angles".
 ///
@@ -91,14 +92,7 @@ pub fn lattice_size(sdf: &dyn Sdf, edge_length: f64) -> (f64, f64) {
 
 /// [`stuff`], also returning how many near-zero-volume tetrahedra were dropped.
 fn stuff_counted(sdf: &dyn Sdf, edge_length: f64) -> Result<(TetMesh, usize), MeshError> {
-    if !(edge_length.is_finite() && edge_length > 0.0) {
-        return Err(MeshError::InvalidEdgeLength(edge_length));
-    }
-    let (min, max) = sdf.bounds();
-    let finite = (0..3).all(|k| (max[k] - min[k]).is_finite());
-    if !finite || (0..3).any(|k| min[k] >= max[k]) {
-        return Err(MeshError::InvalidBounds { min, max });
-    }
+    let (min, max) = checked_bounds(sdf, edge_length)?;
     let lattice = Lattice::covering(min, max, edge_length)?;
     let mut values = evaluate(sdf, &lattice)?;
     let mut cuts = CutTable::default();
@@ -130,13 +124,7 @@ fn stuff_counted(sdf: &dyn Sdf, edge_length: f64) -> Result<(TetMesh, usize), Me
     mesh.vertices.shrink_to_fit();
     mesh.tets.shrink_to_fit();
     if mesh.tets.is_empty() {
-        let thinnest = (0..3)
-            .map(|k| max[k] - min[k])
-            .fold(f64::INFINITY, f64::min);
-        return Err(MeshError::EmptyMesh {
-            edge_length,
-            suggested_edge_length: (0.25 * thinnest).min(0.5 * edge_length),
-        });
+        return Err(empty_mesh(min, max, edge_length));
     }
     Ok((mesh, dropped))
 }

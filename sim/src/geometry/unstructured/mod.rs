@@ -23,12 +23,12 @@ use rayon::prelude::*;
 use perifrac_math::{SplitMix64, dist};
 
 use super::sdf::Sdf;
-use super::stuffing::find_zero;
-use super::{MeshError, TetMesh};
+use super::stuffing::{MIN_VOLUME, ROOT_TOLERANCE, find_zero};
+use super::{MeshError, TetMesh, checked_bounds, empty_mesh};
 
 /// Poisson-disk radius over the target mean edge length: the mean edge of the
-/// Delaunay tetrahedralization of the samples is then the asked edge length (measured
-/// by `the_mean_edge_is_the_asked_edge_length`).
+/// Delaunay tetrahedralization of the samples is then about the asked edge length (measured
+/// by `a_ball_gets_a_conforming_mesh_of_its_volume_and_edge_length`: 1.04λ).
 const RADIUS_PER_EDGE: f64 = 0.78;
 
 /// Candidates tried in each background cell before it is left empty.
@@ -46,12 +46,6 @@ const ALPHA: f64 = 0.3;
 /// Largest number of background cells the sampler will visit.
 const MAX_CELLS: u64 = 100_000_000;
 
-/// Stopping tolerance of the cut-point search, relative to the sampling radius.
-const ROOT_TOLERANCE: f64 = 1e-10;
-
-/// Tetrahedra smaller than this times r³ are dropped.
-const MIN_VOLUME: f64 = 1e-12;
-
 /// The seed of body `stream`'s points from the scene's `seed`.
 pub fn mesh_seed(seed: u64, stream: u64) -> u64 {
     seed ^ stream.wrapping_mul(0x9e37_79b9_7f4a_7c15)
@@ -66,25 +60,13 @@ pub fn mesh_seed(seed: u64, stream: u64) -> u64 {
 /// [`MeshError::NonFiniteDistance`], or [`MeshError::EmptyMesh`] for a shape
 /// thinner than the points resolve.
 pub fn mesh_unstructured(sdf: &dyn Sdf, edge_length: f64, seed: u64) -> Result<TetMesh, MeshError> {
-    if !(edge_length.is_finite() && edge_length > 0.0) {
-        return Err(MeshError::InvalidEdgeLength(edge_length));
-    }
-    let (min, max) = sdf.bounds();
-    if (0..3).any(|k| !(max[k] - min[k]).is_finite() || min[k] >= max[k]) {
-        return Err(MeshError::InvalidBounds { min, max });
-    }
+    let (min, max) = checked_bounds(sdf, edge_length)?;
     let r = RADIUS_PER_EDGE * edge_length;
     let (mut points, mut values) = sample(sdf, min, max, r, seed, edge_length)?;
     let tets = delaunay::tetrahedralize(&points);
     let mesh = cleave::cleave(sdf, &mut points, &mut values, &tets, r)?;
     if mesh.tets.is_empty() {
-        let thinnest = (0..3)
-            .map(|k| max[k] - min[k])
-            .fold(f64::INFINITY, f64::min);
-        return Err(MeshError::EmptyMesh {
-            edge_length,
-            suggested_edge_length: (0.25 * thinnest).min(0.5 * edge_length),
-        });
+        return Err(empty_mesh(min, max, edge_length));
     }
     Ok(mesh)
 }
