@@ -83,7 +83,7 @@ pub(super) fn membrane(scene: &Scene) -> Check {
         if b.lattice.is_some() && matches!(b.model, ModelKind::Membrane | ModelKind::Mpm) {
             return Err(issue(
                 &["body", &i, "lattice"],
-                "`lattice` orients the tet mesher's lattice, and membranes and MPM bodies are not tet-meshed: remove it",
+                "`lattice` chooses how the body is tet-meshed, and membranes and MPM bodies are not tet-meshed: remove it",
             ));
         }
         if let Some(first) = first.filter(|_| !is_membrane) {
