@@ -67,7 +67,7 @@ pub fn discretize(scene: &Scene) -> Result<Discretization> {
                 .materials
                 .get(&b.material)
                 .map_or(LatticeOrientation::Aligned, |m| b.lattice(m));
-            let stuff = |sdf: &dyn Sdf, lambda: f64| match lattice {
+            let tet_mesh = |sdf: &dyn Sdf, lambda: f64| match lattice {
                 LatticeOrientation::Rotated => {
                     stuff_rotated(sdf, lambda, random_rotation(scene.scene.seed, index as u64))
                 }
@@ -87,9 +87,9 @@ pub fn discretize(scene: &Scene) -> Result<Discretization> {
                     let sdf = MeshSdf::new(&surface);
                     let mesh_on = |aligned: bool| {
                         let mut tets = if aligned {
-                            super::stuffing::stuff(&sdf, b.resolution)
-                        } else {
                             stuff(&sdf, b.resolution)
+                        } else {
+                            tet_mesh(&sdf, b.resolution)
                         }
                         .map_err(|e| error(e.to_string()))?;
                         let fit = conform(&mut tets, &surface, &sdf, b.resolution);
@@ -113,7 +113,7 @@ pub fn discretize(scene: &Scene) -> Result<Discretization> {
                 (shape, _) => {
                     let sdf = to_sdf(shape, &scene.base_dir).map_err(error)?;
                     let tets =
-                        stuff(sdf.as_ref(), b.resolution).map_err(|e| error(e.to_string()))?;
+                        tet_mesh(sdf.as_ref(), b.resolution).map_err(|e| error(e.to_string()))?;
                     Ok((tets, None))
                 }
             }
@@ -189,7 +189,8 @@ pub fn discretize(scene: &Scene) -> Result<Discretization> {
     })
 }
 
-fn bounds<'a>(points: impl Iterator<Item = &'a [f64; 3]>) -> ([f64; 3], [f64; 3]) {
+/// The bounding box of `points`.
+pub(super) fn bounds<'a>(points: impl Iterator<Item = &'a [f64; 3]>) -> ([f64; 3], [f64; 3]) {
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
     for v in points {
@@ -202,7 +203,7 @@ fn bounds<'a>(points: impl Iterator<Item = &'a [f64; 3]>) -> ([f64; 3], [f64; 3]
 }
 
 /// 63-bit Morton code of `p` in the box [lo, hi].
-fn morton(p: [f64; 3], lo: [f64; 3], hi: [f64; 3]) -> u64 {
+pub(super) fn morton(p: [f64; 3], lo: [f64; 3], hi: [f64; 3]) -> u64 {
     let mut code = 0u64;
     let q: Vec<u64> = (0..3)
         .map(|a| {

@@ -7,6 +7,8 @@
 
 use robust::Coord3D;
 
+use super::super::discretize::{bounds, morton};
+
 /// No neighbour across a face (the hull of the enclosing tetrahedron).
 const NONE: u32 = u32::MAX;
 
@@ -186,13 +188,7 @@ pub fn tetrahedralize(points: &[[f64; 3]]) -> Vec<[u32; 4]> {
     if points.len() < 4 {
         return Vec::new();
     }
-    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for p in points {
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
+    let (lo, hi) = bounds(points.iter());
     let centre = [0, 1, 2].map(|k| 0.5 * (lo[k] + hi[k]));
     let size = ENCLOSING_SCALE * perifrac_math::dist(lo, hi).max(f64::MIN_POSITIVE);
     let n = points.len() as u32;
@@ -244,27 +240,10 @@ pub fn tetrahedralize(points: &[[f64; 3]]) -> Vec<[u32; 4]> {
 
 /// Indices of `points` sorted along a Morton (Z-order) curve over their bounds.
 fn morton_order(points: &[[f64; 3]], lo: [f64; 3], hi: [f64; 3]) -> Vec<u32> {
-    let scale = [0, 1, 2].map(|k| {
-        let extent = hi[k] - lo[k];
-        if extent > 0.0 { 1023.0 / extent } else { 0.0 }
-    });
-    let spread = |mut x: u64| {
-        x &= 0x3ff;
-        x = (x | x << 16) & 0x0300_00ff;
-        x = (x | x << 8) & 0x0300_f00f;
-        x = (x | x << 4) & 0x030c_30c3;
-        (x | x << 2) & 0x0924_9249
-    };
     let mut keyed: Vec<(u64, u32)> = points
         .iter()
         .enumerate()
-        .map(|(i, p)| {
-            let cell = [0, 1, 2].map(|k| ((p[k] - lo[k]) * scale[k]) as u64);
-            (
-                spread(cell[0]) | spread(cell[1]) << 1 | spread(cell[2]) << 2,
-                i as u32,
-            )
-        })
+        .map(|(i, &p)| (morton(p, lo, hi), i as u32))
         .collect();
     keyed.sort_unstable();
     keyed.into_iter().map(|(_, i)| i).collect()
