@@ -456,3 +456,30 @@ fn committed_assets_mesh_to_their_volume() {
     }
     assert!(failures.is_empty(), "out of bounds: {failures:?}");
 }
+
+/// A box mesh's creases are its 12 edges (its face diagonals are flat) and its corners
+/// its 8 vertices; a sphere mesh fine enough to turn less than 30° across each edge has
+/// none. Meshed without a lattice, the box keeps them: its volume is exact to 1e-9.
+#[test]
+fn a_box_mesh_reports_its_edges_and_a_sphere_mesh_none() {
+    let m = box_mesh([-0.15, -0.1, -0.05], [0.15, 0.1, 0.05]);
+    let sdf = MeshSdf::new(&m);
+    let features = sdf.features(0.01);
+    assert_eq!(features.corners.len(), 8);
+    assert_eq!(features.creases.len(), 12);
+    let length: f64 = features
+        .creases
+        .iter()
+        .flat_map(|c| c.windows(2).map(|s| perifrac_math::dist(s[0], s[1])))
+        .sum();
+    assert!((length - 4.0 * (0.3 + 0.2 + 0.1)).abs() < 1e-12, "{length}");
+    let sphere = MeshSdf::new(&sphere_mesh(1.0, 3));
+    assert_eq!(
+        sphere.features(0.01),
+        crate::geometry::sdf::Features::default()
+    );
+    let tets = crate::geometry::unstructured::mesh_unstructured(&sdf, 0.02, 0).expect("meshing");
+    let error = tets.total_volume() / 0.006 - 1.0;
+    println!("box mesh, unstructured: volume error {error:+.2e}");
+    assert!(error.abs() < 1e-9, "volume error {error}");
+}
