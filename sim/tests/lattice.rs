@@ -138,11 +138,11 @@ fn an_unstructured_body_is_fixed_by_the_seed_and_as_fine_as_the_lattice() {
     );
     // About as many particles as the lattice gives at the same λ (so δ = 1.45λ keeps its
     // ~100 bonds): the points placed on the creases and beside them make the tets
-    // there smaller, which on this thin block (five λ through) adds 31% (10,900 against
-    // the lattice's 8,322; 8,007 before feature-aware sampling). The box's volume is
-    // exact to 1e-6 (its edges and corners are kept; −2.2% before, bevelled).
+    // there smaller, which on this thin block (five λ through) gives 14% more than the
+    // lattice (9,449 against 8,322; 8,007 before feature-aware sampling). The box's
+    // volume is exact to 1e-6 (its edges and corners are kept; −2.2% before, bevelled).
     assert!(
-        n / n_aligned > 0.95 && n / n_aligned < 1.35,
+        n / n_aligned > 0.95 && n / n_aligned < 1.2,
         "{n} against {n_aligned}"
     );
     assert!(
