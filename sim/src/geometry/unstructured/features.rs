@@ -59,7 +59,7 @@ const WEDGE_DIRECTIONS: usize = 72;
 /// tetrahedron.
 const NARROW_WEDGE: usize = 34;
 
-/// Close points placed so far, in cells of side `gap`.
+/// The points placed so far, hashed in cells of side `gap` to find close ones.
 struct Placed {
     gap: f64,
     cells: HashMap<[i64; 3], Vec<u32>>,

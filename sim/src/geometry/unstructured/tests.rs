@@ -173,8 +173,9 @@ fn corner_gap(mesh: &TetMesh, corners: &[[f64; 3]]) -> f64 {
 
 /// Feature-aware sampling: the glass block's 8 corners are mesh vertices and its 12
 /// edges lie on the mesh's boundary (before, chords between cut points on two faces
-/// bevelled them at random depths: 0.27λ deep at seed 0, volume −2.2%); the boundary is
-/// a closed manifold on the surface; the same seed gives the same mesh.
+/// bevelled them at random depths: the boundary 0.90λ from an edge and a corner 1.0λ
+/// from any vertex at seed 0, volume −2.2%); the volume is exact to 1e-6; the boundary
+/// is a closed manifold on the surface; the same seed gives the same mesh.
 #[test]
 fn a_box_keeps_its_corners_and_edges() {
     let lambda = 0.02;
@@ -187,20 +188,22 @@ fn a_box_keeps_its_corners_and_edges() {
         let deviation = crease_deviation(&mesh, &features.creases) / lambda;
         let gap = corner_gap(&mesh, &features.corners) / lambda;
         println!(
-            "glass block, seed {seed}: {} tets, volume error {:+.3}%, crease deviation \
+            "glass block, seed {seed}: {} tets, volume error {:+.1e}, crease deviation \
              {deviation:.2e}λ, corner gap {gap:.1e}λ, surface error {:.1e}",
-            r.tets,
-            100.0 * error,
-            r.surface_error
+            r.tets, error, r.surface_error
         );
         assert!(gap < 1e-9, "a corner is not a vertex: {gap}λ away");
         assert!(deviation < 0.01, "crease deviation {deviation}λ");
-        assert!(error.abs() < 0.005, "volume error {error}");
+        assert!(error.abs() < 1e-6, "volume error {error}");
     }
     let again = mesh_unstructured(&glass_block(), lambda, 1).expect("meshing");
     let once = mesh_unstructured(&glass_block(), lambda, 1).expect("meshing");
     assert_eq!(again.tets, once.tets);
     assert_eq!(again.vertices, once.vertices);
+    let other = mesh_unstructured(&glass_block(), lambda, 2).expect("meshing");
+    assert_ne!(again.vertices, other.vertices);
+    let zero = mesh_unstructured(&glass_block(), lambda, 0).expect("meshing");
+    assert_ne!(zero.vertices, other.vertices);
 }
 
 /// A cylinder's rims are kept: the boundary strays from them no more than the chord
