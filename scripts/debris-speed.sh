@@ -3,29 +3,29 @@
 # 50 m/s, with how many particles exceed 100 m/s (2x) and how many of those are
 # fragments of one particle. Runs the demo without surfaces or previews.
 #
-#   scripts/debris-speed.sh [PERIFRAC] [OUT] [LATTICE] [SEED] [CRUSH]
+#   scripts/debris-speed.sh [PERIFRAC] [OUT] [LATTICE] [SEED] [chen]
 #
-# PERIFRAC defaults to target/release/perifrac; LATTICE ("rotated" or "aligned", or ""
-# for the scene's default) sets the wall's `lattice` key; SEED the scene's seed (which
-# turns the lattice; default 0); CRUSH, if given, runs the bounded variant of
-# docs/lattice.md: the glass's critical_compression = CRUSH, `[contact] damping = 1.0`
-# and the ball's friction 0.5.
+# PERIFRAC defaults to target/release/perifrac; LATTICE ("rotated", "aligned" or
+# "unstructured", or "" for the scene's default) sets the wall's `lattice` key; SEED the
+# scene's seed (which turns the lattice; default 0). With `chen`, the glass is Chen's
+# tension-only glass with the default contact (the demo without its
+# critical_compression, ball friction and [contact] table), the unbounded case of
+# docs/lattice.md.
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 bin="${1:-$here/target/release/perifrac}"
 out="${2:-$(mktemp -d)}"
 lattice="${3:-}"
 seed="${4:-0}"
-crush="${5:-}"
+variant="${5:-}"
 mkdir -p "$out"
 sed -e 's/^surface = "embedded"/surface = "none"/' \
     -e 's/^checkpoint_every = 10/checkpoint_every = 0\npreview = false/' \
     -e "s/^gravity = \(.*\)/gravity = \1\nseed = $seed/" \
     "$here/assets/scenes/demo.toml" > "$out/demo.toml"
-if [ -n "$crush" ]; then
-  sed -i -e "s/^critical_stretch = 0.0005 .*/&\ncritical_compression = $crush/" \
-      -e 's/^mass = 4.11/&\nfriction = 0.5/' \
-      -e 's/^\[output\]/[contact]\ndamping = 1.0\n\n&/' "$out/demo.toml"
+if [ "$variant" = chen ]; then
+  sed -i -e '/^critical_compression = /d' -e '/^friction = 0.5 /d' \
+      -e '/^\[contact\]/,/^distance = /d' "$out/demo.toml"
 fi
 if [ -n "$lattice" ]; then
   sed -i "s/^horizon = 1.45 .*/horizon = 1.45\nlattice = \"$lattice\"/" "$out/demo.toml"

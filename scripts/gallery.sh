@@ -30,6 +30,6 @@ LIST
 rm -rf "$out/demo-vdb"
 cp -r "$out/demo" "$out/demo-vdb"
 "$bin" surface "$out/demo-vdb" --method vdb --quiet
-"$bin" render "$out/demo-vdb" --frame 10 --size 960x540 --azimuth 145 --quiet
-cp "$out/demo-vdb/preview/frame_0010.png" "$root/docs/gallery/demo-vdb.png"
-echo "docs/gallery/demo-vdb.png: frame 10 of the demo, vdb method"
+"$bin" render "$out/demo-vdb" --frame 20 --size 960x540 --azimuth 145 --quiet
+cp "$out/demo-vdb/preview/frame_0020.png" "$root/docs/gallery/demo-vdb.png"
+echo "docs/gallery/demo-vdb.png: frame 20 of the demo, vdb method"

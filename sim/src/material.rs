@@ -18,7 +18,8 @@ pub struct Material {
     pub plastic_limit: f64,
     /// Critical weighted stretch s^ω (Chen Eq. 19); `None` for unbreakable.
     pub critical_stretch: Option<f64>,
-    /// Critical weighted compression s^ω_c (Eq. 19 mirrored); `None` for no crushing.
+    /// Critical compressive strain ε_c of a bond (crushing; not in Chen et al.); `None`
+    /// for no crushing.
     pub critical_compression: Option<f64>,
     /// Anti-shatter parameter α (Chen Eq. 19).
     pub alpha: f64,
@@ -129,8 +130,8 @@ pub struct PdConstants {
     pub psi0: f64,
     /// s^ω threshold (Eq. 19); infinite for unbreakable.
     pub critical_stretch: f64,
-    /// s^ω_c: a bond crushes when its weighted stretch is below −s^ω_c; infinite for
-    /// never.
+    /// ε_c: a bond crushes when its strain (e − e^p)/|ξ| is below −(1 + αφ) ε_c;
+    /// infinite for never.
     pub critical_compression: f64,
     /// α (Eq. 19).
     pub alpha: f64,

@@ -140,9 +140,9 @@ pub struct MaterialSpec {
     /// Critical weighted stretch s^ω of Chen Eq. 19 (Table 1). Default: none (unbreakable).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub critical_stretch: Option<f64>,
-    /// Critical weighted compression s^ω_c: a bond also breaks (crushes) when its
-    /// weighted stretch falls below −s^ω_c (Chen Eq. 19 mirrored; not in Chen et al.,
-    /// whose bonds break only in tension). Needs `critical_stretch`. Default: none (no
+    /// Critical compressive strain ε_c: a bond also breaks (crushes) when its strain
+    /// (e − e^p)/|ξ| falls below −ε_c (not in Chen et al., whose bonds break only in
+    /// tension). Between 0 and 1; needs `critical_stretch`. Default: none (no
     /// crushing).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub critical_compression: Option<f64>,

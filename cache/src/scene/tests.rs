@@ -44,7 +44,7 @@ fn the_good_scene_parses_with_defaults() {
 }
 
 #[test]
-fn crushing_needs_a_positive_threshold_and_tension_failure() {
+fn crushing_needs_a_strain_between_zero_and_one_and_tension_failure() {
     let glass = |keys: &str| {
         GOOD.replace(
             "shear_modulus = 2.0e10",
@@ -62,6 +62,11 @@ fn crushing_needs_a_positive_threshold_and_tension_failure() {
     ));
     assert_eq!(key, "materials.glass.critical_compression");
     assert!(message.contains("positive"), "{message}");
+    let (_, key, message) = error(&glass(
+        "critical_stretch = 0.0005\ncritical_compression = 1.5",
+    ));
+    assert_eq!(key, "materials.glass.critical_compression");
+    assert!(message.contains("strain below 1"), "{message}");
     let both = glass("critical_stretch = 0.0005\ncritical_compression = 0.005");
     let s = Scene::parse(&both, Path::new("good.toml"), Path::new(".")).expect("valid");
     assert_eq!(s.materials["glass"].critical_compression, Some(0.005));

@@ -550,7 +550,7 @@ fn anisotropy_stiffens_as_eq17_predicts() {
 
 /// The bonds of a block broken by one force pass under the uniform strain F = (1 + ε)I,
 /// as (broken, rest length) pairs, for a material breaking at s^ω = `stretch` in
-/// tension and (optionally) crushing at s^ω_c = `compression`.
+/// tension and (optionally) crushing at the strain ε_c = `compression`.
 fn broken_under(eps: f64, stretch: f64, compression: Option<f64>) -> (Vec<(bool, f64)>, f64) {
     let spec = MaterialSpec {
         critical_stretch: Some(stretch),
@@ -582,32 +582,27 @@ fn broken_under(eps: f64, stretch: f64, compression: Option<f64>) -> (Vec<(bool,
 }
 
 #[test]
-fn a_crushing_material_breaks_exactly_the_bonds_compressed_past_its_threshold() {
-    // Under F = (1 − ε)I a bond of rest length |ξ| has e = −ε|ξ| and weighted stretch
-    // e/δ (isotropic ω|ξ| = δ): with s^ω_c = 0.0075 and ε = 0.01 exactly the bonds
-    // longer than 0.75δ crush, in both directions.
-    let (bonds, delta) = broken_under(-0.01, 1.0, Some(0.0075));
-    let (mut long, mut short) = (0, 0);
-    for &(broken, r) in &bonds {
-        if r > 0.75 * delta * (1.0 + 1e-9) {
-            assert!(broken, "a bond of {r} m compressed past s^ω_c is intact");
-            long += 1;
-        } else if r < 0.75 * delta * (1.0 - 1e-9) {
-            assert!(!broken, "a bond of {r} m within s^ω_c broke");
-            short += 1;
-        }
-    }
+fn a_crushing_material_breaks_every_bond_compressed_past_its_strain_whatever_its_length() {
+    // Under F = (1 − ε)I every bond has the strain e/|ξ| = −ε: with ε_c just under ε
+    // all crush, short and long alike; just over, none do. (Eq. 19's weighted form,
+    // e/δ < −ε_c, would crush only the bonds longer than ε_c δ/ε.)
+    let (bonds, delta) = broken_under(-0.01, 1.0, Some(0.0099));
+    assert!(bonds.iter().all(|&(b, _)| b), "a bond past ε_c is intact");
+    let shortest = bonds.iter().fold(f64::INFINITY, |m, &(_, r)| m.min(r));
     assert!(
-        long > 1000 && short > 1000,
-        "{long} long, {short} short bonds"
+        shortest < 0.5 * delta,
+        "the block has short bonds: {shortest}"
     );
+    assert!(bonds.len() > 2000, "{} bonds", bonds.len());
+    let (bonds, _) = broken_under(-0.01, 1.0, Some(0.0101));
+    assert!(bonds.iter().all(|&(b, _)| !b), "a bond within ε_c crushed");
     // Chen's tension-only law (no critical_compression) and the same strain in
     // tension under a large s^ω break nothing.
-    for (eps, compression) in [(-0.01, None), (0.01, Some(0.0075))] {
+    for (eps, compression) in [(-0.01, None), (0.01, Some(0.0099))] {
         let (bonds, _) = broken_under(eps, 1.0, compression);
         assert!(
             bonds.iter().all(|&(b, _)| !b),
-            "ε = {eps}, s_c = {compression:?}"
+            "ε = {eps}, ε_c = {compression:?}"
         );
     }
 }

@@ -242,6 +242,15 @@ fn material(name: &str, m: &MaterialSpec) -> Check {
     }
     if let Some(s) = m.critical_compression {
         positive(&p("critical_compression"), s, "the critical compression")?;
+        if s >= 1.0 {
+            return Err(issue(
+                &p("critical_compression"),
+                format!(
+                    "{s} is a compressive strain of 100% or more, which no bond reaches: \
+                     give a strain below 1 (about 0.01 for glass) or remove the key"
+                ),
+            ));
+        }
         if m.critical_stretch.is_none() {
             return Err(issue(
                 &p("critical_compression"),
