@@ -136,15 +136,17 @@ fn an_unstructured_body_is_fixed_by_the_seed_and_as_fine_as_the_lattice() {
         volume(&a),
         volume(&aligned)
     );
-    // As many particles as the lattice gives at the same λ (so δ = 1.45λ keeps its
-    // ~100 bonds), and the box's volume within 3% (its creases are bevelled: 2.2% at
-    // five particles through the thickness).
+    // About as many particles as the lattice gives at the same λ (so δ = 1.45λ keeps its
+    // ~100 bonds): the points placed on the creases and beside them make the tets
+    // there smaller, which on this thin block (five λ through) gives 14% more than the
+    // lattice (9,449 against 8,322; 8,007 before feature-aware sampling). The box's
+    // volume is exact to 1e-6 (its edges and corners are kept; −2.2% before, bevelled).
     assert!(
-        (n / n_aligned - 1.0).abs() < 0.05,
+        n / n_aligned > 0.95 && n / n_aligned < 1.2,
         "{n} against {n_aligned}"
     );
     assert!(
-        (volume(&a) / 0.006 - 1.0).abs() < 0.03,
+        (volume(&a) / 0.006 - 1.0).abs() < 1e-6,
         "volume {}",
         volume(&a)
     );

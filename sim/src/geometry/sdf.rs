@@ -3,8 +3,14 @@
 //! A shape is the set where its SDF is negative. Primitives ([`Cuboid`],
 //! [`Ball`], [`Cylinder`]) are exact; the combinators [`Union`] and
 //! [`Difference`] give conservative bounds, which is all the mesher needs.
+//! Shapes also report their sharp features ([`Sdf::features`], module `features`).
+
+mod features;
 
 use perifrac_math::{dist, norm, sub};
+
+pub(crate) use self::features::mesh as mesh_features;
+pub use self::features::{Features, MESH_CREASE_ANGLE_DEG};
 
 /// A solid shape described by a signed distance function.
 pub trait Sdf: Sync {
@@ -27,6 +33,13 @@ pub trait Sdf: Sync {
             b[k] -= step;
             (self.distance(a) - self.distance(b)) / (a[k] - b[k])
         })
+    }
+
+    /// The surface's sharp features (corners, creases, planar faces), curved creases
+    /// as polylines with vertices at most `resolution` apart; none by default (a
+    /// smooth surface, such as a [`Ball`]'s, or features not known).
+    fn features(&self, _resolution: f64) -> Features {
+        Features::default()
     }
 }
 
@@ -113,6 +126,11 @@ impl Sdf for Cuboid {
             g[axis] = sign(d[axis]);
             g
         }
+    }
+
+    /// The 8 corners, 12 edges and 6 faces.
+    fn features(&self, _resolution: f64) -> Features {
+        features::cuboid(self.center, self.half_extents)
     }
 }
 
@@ -206,6 +224,21 @@ impl Sdf for Cylinder {
         g[self.axis] = ga * sign(dz);
         g
     }
+
+    /// The two rim circles and the two caps.
+    fn features(&self, resolution: f64) -> Features {
+        match self.cross_axes() {
+            Some(across) => features::cylinder(
+                self.center,
+                self.axis,
+                across,
+                self.radius,
+                self.half_height,
+                resolution,
+            ),
+            None => Features::default(),
+        }
+    }
 }
 
 impl Sdf for Union {
@@ -239,6 +272,34 @@ impl Sdf for Union {
         }
         best.map_or([0.0; 3], |(_, s)| s.gradient(p))
     }
+
+    /// Each part's features where no other part covers them (outside every other
+    /// part: the others' least distance is not negative), and the creases where two
+    /// parts' planar faces meet outside the rest.
+    fn features(&self, resolution: f64) -> Features {
+        let parts: Vec<Features> = self.0.iter().map(|s| s.features(resolution)).collect();
+        let outside_others = |skip: [usize; 2]| {
+            move |p: [f64; 3]| {
+                self.0
+                    .iter()
+                    .enumerate()
+                    .filter(|(j, _)| !skip.contains(j))
+                    .map(|(_, s)| s.distance(p))
+                    .fold(f64::INFINITY, f64::min)
+            }
+        };
+        let mut out = Features::default();
+        for (i, part) in parts.iter().enumerate() {
+            features::restrict(part, &outside_others([i, i]), resolution, &mut out);
+        }
+        for i in 0..parts.len() {
+            for j in i + 1..parts.len() {
+                let keep = outside_others([i, j]);
+                features::meeting_faces(&parts[i], &parts[j], &keep, resolution, &mut out);
+            }
+        }
+        out
+    }
 }
 
 impl Sdf for Difference {
@@ -256,6 +317,18 @@ impl Sdf for Difference {
         } else {
             self.1.gradient(p).map(|x| -x)
         }
+    }
+
+    /// The first shape's features outside the second, the second's inside the first
+    /// (a notch's edges are creases of the result), and the creases where a planar
+    /// face of one meets a planar face of the other.
+    fn features(&self, resolution: f64) -> Features {
+        let (base, cut) = (self.0.features(resolution), self.1.features(resolution));
+        let mut out = Features::default();
+        features::restrict(&base, &|p| self.1.distance(p), resolution, &mut out);
+        features::restrict(&cut, &|p| -self.0.distance(p), resolution, &mut out);
+        features::meeting_faces(&base, &cut, &|_| 0.0, resolution, &mut out);
+        out
     }
 }
 

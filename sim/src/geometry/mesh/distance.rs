@@ -8,6 +8,9 @@
 //! the face normals, edge pseudonormals the sum of the two faces' normals,
 //! vertex pseudonormals `Σ αᵢ nᵢ` over the incident faces with `αᵢ` the face's
 //! angle at the vertex (their Eq. 2).
+//!
+//! Its sharp features (for the unstructured mesher) are the mesh's edges whose two
+//! faces' normals differ by more than [`MESH_CREASE_ANGLE_DEG`](crate::geometry::sdf::MESH_CREASE_ANGLE_DEG), found once here.
 
 use std::collections::HashMap;
 
@@ -16,6 +19,7 @@ use perifrac_math::{add, cross, dot, normalize, scale, sub};
 use super::TriMesh;
 use super::bvh::{Bvh, Feature};
 use crate::geometry::Sdf;
+use crate::geometry::sdf::{Features, mesh_features};
 
 /// The signed distance function of a closed, consistently oriented mesh
 /// (as returned by [`TriMesh::load`]): negative inside.
@@ -30,6 +34,8 @@ pub struct MeshSdf {
     triangles: Vec<[u32; 3]>,
     lo: [f64; 3],
     hi: [f64; 3],
+    /// Corners and creases (edges sharper than [`MESH_CREASE_ANGLE_DEG`](crate::geometry::sdf::MESH_CREASE_ANGLE_DEG)).
+    features: Features,
 }
 
 impl MeshSdf {
@@ -68,6 +74,7 @@ impl MeshSdf {
             })
             .collect();
         let (lo, hi) = mesh.bounds();
+        let features = mesh_features(&mesh.vertices, &mesh.triangles, &face_normals);
         MeshSdf {
             bvh: Bvh::new((0..mesh.triangles.len()).map(|t| mesh.corners(t)).collect()),
             edge_normals,
@@ -76,6 +83,7 @@ impl MeshSdf {
             triangles: mesh.triangles.clone(),
             lo,
             hi,
+            features,
         }
     }
 
@@ -105,5 +113,11 @@ impl Sdf for MeshSdf {
 
     fn bounds(&self) -> ([f64; 3], [f64; 3]) {
         (self.lo, self.hi)
+    }
+
+    /// Edges whose faces' normals differ by more than [`MESH_CREASE_ANGLE_DEG`](crate::geometry::sdf::MESH_CREASE_ANGLE_DEG), and
+    /// the corners where they end or meet; exact, so `resolution` is not used.
+    fn features(&self, _resolution: f64) -> Features {
+        self.features.clone()
     }
 }

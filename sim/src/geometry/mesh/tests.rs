@@ -456,3 +456,102 @@ fn committed_assets_mesh_to_their_volume() {
     }
     assert!(failures.is_empty(), "out of bounds: {failures:?}");
 }
+
+/// A box mesh's creases are its 12 edges (its face diagonals are flat) and its corners
+/// its 8 vertices; a sphere mesh fine enough to turn less than 30° across each edge has
+/// none. Meshed without a lattice, the box keeps them: its volume is exact to 1e-9.
+#[test]
+fn a_box_mesh_reports_its_edges_and_a_sphere_mesh_none() {
+    let m = box_mesh([-0.15, -0.1, -0.05], [0.15, 0.1, 0.05]);
+    let sdf = MeshSdf::new(&m);
+    let features = sdf.features(0.01);
+    assert_eq!(features.corners.len(), 8);
+    assert_eq!(features.creases.len(), 12);
+    let length: f64 = features
+        .creases
+        .iter()
+        .flat_map(|c| c.windows(2).map(|s| perifrac_math::dist(s[0], s[1])))
+        .sum();
+    assert!((length - 4.0 * (0.3 + 0.2 + 0.1)).abs() < 1e-12, "{length}");
+    let sphere = MeshSdf::new(&sphere_mesh(1.0, 3));
+    assert_eq!(
+        sphere.features(0.01),
+        crate::geometry::sdf::Features::default()
+    );
+    let tets = crate::geometry::unstructured::mesh_unstructured(&sdf, 0.02, 0).expect("meshing");
+    let error = tets.total_volume() / 0.006 - 1.0;
+    println!("box mesh, unstructured: volume error {error:+.2e}");
+    assert!(error.abs() < 1e-9, "volume error {error}");
+}
+
+/// Acute creases: a tetrahedron mesh (edges of 54.7° and 90° dihedral angle, corners
+/// of small solid angle) gives 4 corners and 6 creases, and meshed without a lattice
+/// its corners are vertices, its edges lie on the boundary (1e-15λ), the boundary is a
+/// closed manifold on the surface, and the volume is within 0.1% (−0.02% to −0.06%
+/// over four seeds). Not exact, unlike a box's: beside the 54.7° edges some boundary
+/// triangles still cut across the wedge (their middles up to 0.42λ under the surface);
+/// why the wedge points do not prevent it at that angle is not yet found.
+#[test]
+fn a_tetrahedron_mesh_keeps_its_acute_corners() {
+    let lambda = 0.02;
+    let mut m = tetrahedron();
+    for v in &mut m.vertices {
+        *v = v.map(|x| 0.3 * x);
+    }
+    let sdf = MeshSdf::new(&m);
+    let features = sdf.features(lambda);
+    assert_eq!((features.corners.len(), features.creases.len()), (4, 6));
+    for seed in 0..4 {
+        let tets =
+            crate::geometry::unstructured::mesh_unstructured(&sdf, lambda, seed).expect("meshing");
+        let report = crate::geometry::mesh_check::check(&tets, &sdf, true, 1e-9);
+        let error = report.volume / (0.027 / 6.0) - 1.0;
+        let closest_vertex = |c: [f64; 3]| {
+            tets.vertices
+                .iter()
+                .map(|&v| perifrac_math::dist(v, c))
+                .fold(f64::INFINITY, f64::min)
+        };
+        let gap = features
+            .corners
+            .iter()
+            .map(|&c| closest_vertex(c))
+            .fold(0.0, f64::max);
+        let faces = tets.boundary_faces();
+        let boundary = Bvh::new(
+            faces
+                .iter()
+                .map(|f| f.map(|v| tets.vertices[v as usize]))
+                .collect(),
+        );
+        let deviation = features
+            .creases
+            .iter()
+            .flat_map(|c| (0..=200).map(|k| perifrac_math::lerp(c[0], c[1], f64::from(k) / 200.0)))
+            .map(|p| {
+                boundary
+                    .closest(p)
+                    .expect("a boundary")
+                    .distance_squared
+                    .sqrt()
+            })
+            .fold(0.0, f64::max);
+        let deepest = faces
+            .iter()
+            .map(|f| {
+                let [a, b, c] = f.map(|v| tets.vertices[v as usize]);
+                sdf.distance([0, 1, 2].map(|k| (a[k] + b[k] + c[k]) / 3.0))
+                    .abs()
+            })
+            .fold(0.0, f64::max);
+        println!(
+            "tetrahedron, seed {seed}: volume error {error:+.2e}, corner gap {gap:.1e}, crease \
+             deviation {:.1e}λ, deepest boundary face middle {:.2}λ",
+            deviation / lambda,
+            deepest / lambda
+        );
+        assert!(gap < 1e-12, "a corner is {gap} m from any vertex");
+        assert!(deviation < 0.01 * lambda, "crease deviation {deviation}");
+        assert!(error.abs() < 1e-3, "volume error {error}");
+    }
+}
