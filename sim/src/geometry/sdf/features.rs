@@ -187,11 +187,9 @@ fn pieces(
                 // The kept side's end of the bracket, so the cut point keeps `keep ≥ 0`.
                 let cut = lerp(a, b, if value >= 0.0 { lo } else { hi });
                 out.corners.push(cut);
+                piece.push(cut);
                 if value >= 0.0 {
-                    piece.push(cut);
                     finish(&mut piece, out);
-                } else {
-                    piece.push(cut);
                 }
             }
             (t, value) = (next, next_value);
