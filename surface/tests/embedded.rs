@@ -7,7 +7,8 @@ use perifrac_sim::cache::vtu::TetFrame;
 use perifrac_sim::embed::{EmbeddedMesh, NO_PARENT};
 use perifrac_sim::family::{self, BROKEN, INDEX};
 use perifrac_sim::geometry::discretize::Discretization;
-use perifrac_sim::geometry::{Cuboid, stuff};
+use perifrac_sim::geometry::unstructured::mesh_unstructured;
+use perifrac_sim::geometry::{Cuboid, TetMesh, stuff};
 use perifrac_surface::embedded::surface;
 
 const LAMBDA: f64 = 0.02;
@@ -26,15 +27,17 @@ fn plane(n: [f64; 3], c: f64) -> Plane {
 const LEVEL: ([f64; 3], f64) = ([0.0, 1.0, 0.0], 0.0025);
 const TILTED: ([f64; 3], f64) = ([0.25, 1.0, -0.15], 0.004);
 
+const BLOCK: Cuboid = Cuboid {
+    center: [0.0; 3],
+    half_extents: [SIZE[0] / 2.0, SIZE[1] / 2.0, SIZE[2] / 2.0],
+};
+
 fn cut_block(cut: Plane) -> TetFrame {
-    let mesh = stuff(
-        &Cuboid {
-            center: [0.0; 3],
-            half_extents: SIZE.map(|s| s / 2.0),
-        },
-        LAMBDA,
-    )
-    .expect("box meshes");
+    cut_mesh(stuff(&BLOCK, LAMBDA).expect("box meshes"), cut)
+}
+
+/// `mesh` cut by pre-broken bonds across `cut`, as a frame of the split tet mesh.
+fn cut_mesh(mesh: TetMesh, cut: Plane) -> TetFrame {
     let n = mesh.tets.len();
     let disc = Discretization {
         position: (0..n).map(|t| mesh.barycentre(t)).collect(),
@@ -219,4 +222,68 @@ fn the_boundary_of_the_cut_block_is_two_closed_surfaces_with_flags() {
     for &(a, b) in &edges {
         assert!(edges.binary_search(&(b, a)).is_ok(), "edge {a}–{b} is open");
     }
+}
+
+/// The block's faces meet at right angles, and the unstructured mesh keeps its edges
+/// (the stuffing lattice bevels them): a vertex on an edge between two faces gets a
+/// copy per face, each with that face's normal, so a preview shades the edges sharp.
+/// Averaged across the crease, such a vertex's normal would point at 45°.
+#[test]
+fn the_render_mesh_keeps_each_block_face_its_normal_up_to_its_edges() {
+    let mesh = mesh_unstructured(&BLOCK, LAMBDA, 1).expect("box meshes");
+    let frame = cut_mesh(mesh, plane(TILTED.0, TILTED.1));
+    let s = surface(&frame, 4);
+    let mesh = s.render_mesh(&frame.damage);
+    // The axis (0–5, sign included) of an original triangle lying in a face of the
+    // block; none for the triangles of the corners the stuffing bevels.
+    let face_axis = |f: [u32; 3]| {
+        let [a, b, c] = f.map(|w| s.points[w as usize]);
+        let (e1, e2) = (
+            [0, 1, 2].map(|k| b[k] - a[k]),
+            [0, 1, 2].map(|k| c[k] - a[k]),
+        );
+        let n = [
+            e1[1] * e2[2] - e1[2] * e2[1],
+            e1[2] * e2[0] - e1[0] * e2[2],
+            e1[0] * e2[1] - e1[1] * e2[0],
+        ];
+        let l = n.iter().map(|x| x * x).sum::<f64>().sqrt();
+        (0..3).find_map(|k| (n[k].abs() > 0.9999 * l).then_some(2 * k + usize::from(n[k] < 0.0)))
+    };
+    // Split-mesh vertices whose original faces all lie in the block's faces, with the
+    // faces they touch.
+    let mut faces_at = vec![Some(Vec::new()); s.points.len()];
+    for (f, _) in s.triangles.iter().zip(&s.crack).filter(|(_, c)| !**c) {
+        let axis = face_axis(*f);
+        for &v in f {
+            faces_at[v as usize] = match (faces_at[v as usize].take(), axis) {
+                (Some(mut list), Some(a)) => {
+                    if !list.contains(&a) {
+                        list.push(a);
+                    }
+                    Some(list)
+                }
+                _ => None,
+            };
+        }
+    }
+    let mut on_edges = 0;
+    for (i, &v) in mesh.vertex.iter().enumerate() {
+        let Some(faces) = &faces_at[v as usize] else {
+            continue;
+        };
+        if faces.len() < 2 || !mesh.mesh.surface_indices.contains(&(i as u32)) {
+            continue;
+        }
+        on_edges += 1;
+        let n = mesh.mesh.normals[i];
+        let along = n.iter().fold(0.0f32, |m, c| m.max(c.abs()));
+        assert!(
+            along > 0.9999,
+            "a vertex on the block's edge at {:?} has the normal {n:?}",
+            s.points[v as usize]
+        );
+    }
+    println!("{on_edges} render vertices on the block's edges, each with its face's normal");
+    assert!(on_edges > 100, "{on_edges} vertices on edges");
 }

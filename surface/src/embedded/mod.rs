@@ -1,6 +1,7 @@
 //! The `embedded` surface method: the boundary of the split tet mesh of a frame
 //! (`tets/NNNN.vtu`, Chen et al. 2018 §5.2) — the original surface plus the crack
-//! faces — with per-face flags, normals split where crack meets original surface, and
+//! faces — with per-face flags, normals split where crack meets original surface and
+//! along the original surface's creases (`smoothing_groups`), and
 //! the crack-surface smoothing that Chen §7 names as the remedy for the zig-zag
 //! artefact of cracks that follow tet faces.
 //!
@@ -75,6 +76,9 @@ impl Constraint {
         }
     }
 }
+/// Original faces whose unit normals have a smaller dot product meet at a hard edge
+/// of the render mesh (30°, where a mesh file's feature edges start, `Sdf::features`).
+const HARD_EDGE_COS: f64 = 0.866_025_403_784_438_6;
 /// Fragments with fewer tets are not smoothed.
 pub const MIN_FRAGMENT_TETS: usize = 8;
 /// Largest relative volume change of a smoothed fragment; a fragment beyond it is
@@ -116,8 +120,9 @@ pub struct SmoothingStats {
 }
 
 /// A frame's surface ready for export, with the split-mesh vertex each of its
-/// vertices stands for: one vertex per split-mesh vertex and class (original or
-/// crack), so crack and original faces meeting at a vertex get a copy each, with
+/// vertices stands for: one vertex per split-mesh vertex, class (original or crack)
+/// and smoothing group, so crack and original faces meeting at a vertex, and the
+/// faces on either side of a crease of the original surface, get a copy each, with
 /// their own normals. The mesh's damage is the mean damage of the tets the vertex's
 /// faces bound.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -456,26 +461,25 @@ fn crack_normals(
 }
 
 impl EmbeddedSurface {
-    /// Render vertices (one per split-mesh vertex and class), normals, damage and
+    /// Render vertices (one per split-mesh vertex, class and smoothing group), normals, damage and
     /// the two index lists, with positions from `points` (this frame's, or another
     /// frame's positions of the same vertices).
     pub fn render_mesh(&self, damage: &[f32]) -> RenderMesh {
-        let mut key: Vec<(u32, bool)> = self
-            .triangles
-            .iter()
-            .zip(&self.crack)
-            .flat_map(|(f, &c)| f.map(|v| (v, c)))
+        let group = self.smoothing_groups();
+        let corner = |t: usize, k: usize| (self.triangles[t][k], self.crack[t], group[3 * t + k]);
+        let mut key: Vec<(u32, bool, u32)> = (0..self.triangles.len())
+            .flat_map(|t| (0..3).map(move |k| corner(t, k)))
             .collect();
         key.sort_unstable();
         key.dedup();
-        let index = |v: u32, c: bool| key.binary_search(&(v, c)).unwrap_or(0) as u32;
+        let index = |k: (u32, bool, u32)| key.binary_search(&k).unwrap_or(0) as u32;
         let mut out = RenderMesh {
             vertex: key.iter().map(|k| k.0).collect(),
             ..RenderMesh::default()
         };
         let mut damage_sum = vec![(0.0f64, 0usize); key.len()];
-        for ((f, &c), &t) in self.triangles.iter().zip(&self.crack).zip(&self.owner) {
-            let ids = f.map(|v| index(v, c));
+        for (i, (&c, &t)) in self.crack.iter().zip(&self.owner).enumerate() {
+            let ids = [0, 1, 2].map(|k| index(corner(i, k)));
             let list = if c {
                 &mut out.mesh.crack_indices
             } else {
@@ -495,6 +499,59 @@ impl EmbeddedSurface {
         out.mesh.positions = self.positions_of(&out, &self.points);
         out.mesh.normals = self.normals(&out, &self.points);
         out
+    }
+
+    /// The smoothing group of each triangle corner (`3 t + k`): the original faces
+    /// around a vertex that meet across edges bent by less than 30°
+    /// ([`HARD_EDGE_COS`]) share a group, and so a normal; across a sharper edge of the
+    /// original surface (a box's edge, a corner) each side keeps its own, so the
+    /// creases of a shape render sharp instead of as soft streaks. Crack faces all
+    /// share group 0 (their normals stay averaged over the crack surface). A group is
+    /// named by its smallest corner, so it does not depend on the order of the unions.
+    fn smoothing_groups(&self) -> Vec<u32> {
+        let mut sets = UnionFind::new(3 * self.triangles.len());
+        let mut edges: Vec<((u32, u32), usize)> = Vec::new();
+        for (t, f) in self.triangles.iter().enumerate() {
+            if !self.crack[t] {
+                for k in 0..3 {
+                    let (a, b) = (f[k], f[(k + 1) % 3]);
+                    edges.push(((a.min(b), a.max(b)), t));
+                }
+            }
+        }
+        edges.sort_unstable();
+        let corner_of =
+            |t: usize, v: u32| 3 * t + self.triangles[t].iter().position(|&w| w == v).unwrap_or(0);
+        let mut start = 0;
+        while start < edges.len() {
+            let end = start
+                + edges[start..]
+                    .iter()
+                    .take_while(|e| e.0 == edges[start].0)
+                    .count();
+            if let [(edge, t1), (_, t2)] = edges[start..end] {
+                let (n1, n2) = (
+                    area_vector(&self.points, self.triangles[t1]),
+                    area_vector(&self.points, self.triangles[t2]),
+                );
+                // A degenerate face (no normal) joins its neighbours' group.
+                if dot(n1, n2) >= HARD_EDGE_COS * norm(n1) * norm(n2) {
+                    for v in [edge.0, edge.1] {
+                        sets.union(corner_of(t1, v), corner_of(t2, v));
+                    }
+                }
+            }
+            start = end;
+        }
+        (0..3 * self.triangles.len())
+            .map(|c| {
+                if self.crack[c / 3] {
+                    0
+                } else {
+                    sets.find(c) as u32
+                }
+            })
+            .collect()
     }
 
     /// Positions of `mesh`'s render vertices in `points`.
