@@ -290,7 +290,8 @@ fn cube_obj(side: f64) -> String {
 #[test]
 fn a_breaking_mesh_cube_keeps_its_edges() {
     // The turned lattice bevels the cube's edges and snapping cannot restore them all;
-    // by default the body then takes the aligned lattice, which follows them.
+    // the default mesh of a breaking body, unstructured, samples the mesh file's feature
+    // edges first and keeps them, as the aligned lattice does for a cube on its axes.
     let dir = tempfile::tempdir().expect("temp dir");
     std::fs::write(dir.path().join("cube.obj"), cube_obj(0.05)).expect("written");
     let text = |lattice: &str| {
@@ -300,19 +301,26 @@ fn a_breaking_mesh_cube_keeps_its_edges() {
              resolution = 0.01\nshape = {{ type = \"mesh\", path = \"cube.obj\" }}\n{lattice}"
         )
     };
-    let fit = |lattice: &str| {
-        let d = discretize(&scene_in(&text(lattice), dir.path())).expect("meshes");
+    let mesh = |lattice: &str| discretize(&scene_in(&text(lattice), dir.path())).expect("meshes");
+    let fit = |d: &perifrac_sim::geometry::discretize::Discretization| {
         d.conformity[0].expect("a mesh body's fit").max
     };
-    let (default, rotated, aligned) = (
-        fit(""),
-        fit("lattice = \"rotated\"\n"),
-        fit("lattice = \"aligned\"\n"),
+    let (default, unstructured) = (mesh(""), mesh("lattice = \"unstructured\"\n"));
+    let (rotated, aligned) = (
+        fit(&mesh("lattice = \"rotated\"\n")),
+        fit(&mesh("lattice = \"aligned\"\n")),
     );
-    println!("mesh cube fit: default {default:.3}λ, rotated {rotated:.3}λ, aligned {aligned:.3}λ");
+    println!(
+        "mesh cube fit: default {:.3}λ, rotated {rotated:.3}λ, aligned {aligned:.3}λ",
+        fit(&default)
+    );
+    assert_eq!(
+        default.position, unstructured.position,
+        "the default is unstructured"
+    );
     assert!(
         rotated > 0.25,
         "the turned lattice fits the cube: {rotated}λ"
     );
-    assert!(default <= 0.25 && default == aligned, "default {default}λ");
+    assert!(fit(&default) < 1e-9, "default {}λ", fit(&default));
 }

@@ -253,10 +253,8 @@ pub struct BodySpec {
     /// body cracks still follow the turned lattice: docs/lattice.md), or
     /// `"unstructured"`: no lattice, a Delaunay mesh of blue-noise points drawn from
     /// the same seed, whose cracks have no preferred directions.
-    /// Default: `"rotated"`
-    /// for a peridynamic body whose material breaks (`critical_stretch`), `"aligned"`
-    /// otherwise; a mesh body that the turned lattice fits worse than λ/4 (it bevels
-    /// creases the aligned one follows) takes the lattice that fits it better.
+    /// Default: `"unstructured"` for a peridynamic body whose material breaks
+    /// (`critical_stretch`), `"aligned"` otherwise.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lattice: Option<LatticeOrientation>,
 }
@@ -279,15 +277,16 @@ pub enum LatticeOrientation {
 }
 
 impl BodySpec {
-    /// The body's meshing lattice: its `lattice` key, by default rotated for a
-    /// peridynamic body whose `material` breaks and aligned otherwise.
+    /// The body's meshing lattice: its `lattice` key, by default unstructured for a
+    /// peridynamic body whose `material` breaks (its cracks then follow no lattice,
+    /// issue 13) and aligned otherwise (symmetric particles for symmetric shapes).
     pub fn lattice(&self, material: &MaterialSpec) -> LatticeOrientation {
         match self.lattice {
             Some(orientation) => orientation,
             None if self.model == ModelKind::Peridynamics
                 && material.critical_stretch.is_some() =>
             {
-                LatticeOrientation::Rotated
+                LatticeOrientation::Unstructured
             }
             None => LatticeOrientation::Aligned,
         }

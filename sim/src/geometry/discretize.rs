@@ -1,10 +1,10 @@
 //! Bodies to particles (Chen §5.2): each body is tetrahedralized to edge length ≈ λ
-//! (on a lattice centred on the body, turned at random for a breaking body: see the
-//! body's `lattice` key and `docs/lattice.md`) and one particle is placed at each tet's
-//! barycentre with the tet's volume; a
+//! (a breaking body without a lattice, as Chen et al. mesh theirs with TetGen; others on
+//! a lattice centred on the body: see the body's `lattice` key and `docs/lattice.md`)
+//! and one particle is placed at each tet's barycentre with the tet's volume; a
 //! membrane body gets the particles of its sheet instead ([`crate::membrane::sheet`],
-//! an empty tet mesh). All particles are then sorted along a Morton curve so that families sit close in
-//! memory.
+//! an empty tet mesh). All particles are then sorted along a Morton curve so that
+//! families sit close in memory.
 
 use rayon::prelude::*;
 
@@ -42,12 +42,6 @@ pub struct Discretization {
     pub sheet_triangles: Vec<[u32; 3]>,
 }
 
-/// The worst fit (in λ, [`Conformity::max`]) a mesh body keeps the turned lattice
-/// with when its `lattice` key is not given; past it the body is meshed on the aligned
-/// lattice too and keeps the better fit. λ/4 is the fit the mesh import asks of the
-/// meshes it is tested on (`geometry::mesh` tests).
-pub const ROTATED_FIT_BOUND: f64 = 0.25;
-
 /// Meshes every body of the scene and places the particles.
 pub fn discretize(scene: &Scene) -> Result<Discretization> {
     let bodies: Vec<(TetMesh, Option<Conformity>)> = scene
@@ -59,10 +53,10 @@ pub fn discretize(scene: &Scene) -> Result<Discretization> {
                 body: b.name.clone(),
                 message,
             };
-            // A breaking body's lattice is turned at random (issue 13: an aligned
-            // lattice's weak planes showed as axis-aligned cracks) unless it asks for
-            // an unstructured mesh; others stay aligned and centred, so symmetric
-            // shapes get symmetric particles.
+            // A breaking body gets no lattice at all unless it asks for one (issue 13:
+            // an aligned lattice's weak planes showed as axis-aligned cracks, a turned
+            // one's as cracks along its own axes); others stay aligned and centred, so
+            // symmetric shapes get symmetric particles.
             let lattice = scene
                 .materials
                 .get(&b.material)
@@ -85,29 +79,9 @@ pub fn discretize(scene: &Scene) -> Result<Discretization> {
                     let surface = TriMesh::load(&scene.base_dir.join(path), &placement)
                         .map_err(|e| error(e.to_string()))?;
                     let sdf = MeshSdf::new(&surface);
-                    let mesh_on = |aligned: bool| {
-                        let mut tets = if aligned {
-                            stuff(&sdf, b.resolution)
-                        } else {
-                            tet_mesh(&sdf, b.resolution)
-                        }
-                        .map_err(|e| error(e.to_string()))?;
-                        let fit = conform(&mut tets, &surface, &sdf, b.resolution);
-                        Ok::<_, SimError>((tets, fit))
-                    };
-                    let (tets, fit) = mesh_on(false)?;
-                    // A turned lattice bevels creases that an aligned one follows (a mesh
-                    // cube: 0.43λ against 0.000λ) and snapping cannot always restore them.
-                    // By default such a mesh keeps whichever lattice fits it better.
-                    if lattice == LatticeOrientation::Rotated
-                        && b.lattice.is_none()
-                        && fit.max > ROTATED_FIT_BOUND
-                    {
-                        let (aligned, aligned_fit) = mesh_on(true)?;
-                        if aligned_fit.max < fit.max {
-                            return Ok((aligned, Some(aligned_fit)));
-                        }
-                    }
+                    let mut tets =
+                        tet_mesh(&sdf, b.resolution).map_err(|e| error(e.to_string()))?;
+                    let fit = conform(&mut tets, &surface, &sdf, b.resolution);
                     Ok((tets, Some(fit)))
                 }
                 (shape, _) => {
