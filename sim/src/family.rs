@@ -152,7 +152,7 @@ pub fn count_bonds(positions: &[[f64; 3]], body: &[u32], delta: &[f64]) -> Resul
     let tree = build_tree(positions)?;
     Ok((0..positions.len())
         .into_par_iter()
-        .map(|i| neighbours_of(&tree, positions, body, delta, &[], i).len())
+        .map(|i| neighbours_of(&tree, positions, body, delta, &[], &[], i).len())
         .sum())
 }
 
@@ -186,14 +186,34 @@ impl Solid<'_> {
 
     /// Whether the segment a–b stays inside: no sample strictly between the ends lies
     /// more than `tolerance` outside. A slot of width w is found when w/2 − step/2 >
-    /// tolerance (any w above 0.3λ). Sampled from the end given first; callers pass
-    /// the lower particle index first so that i→j and j→i agree to the bit.
-    pub fn contains_segment(&self, a: [f64; 3], b: [f64; 3]) -> bool {
-        let samples = (dist(a, b) / self.step).ceil().max(1.0) as usize;
-        (1..samples).all(|k| {
+    /// tolerance (any w above 0.3λ). `da` and `db` are the signed distances at a and b.
+    ///
+    /// The signed distance is 1-Lipschitz (exact for a mesh and the primitives, and
+    /// kept by the min/max of unions and differences), so a sample within
+    /// `tolerance − d` of a point of signed distance d ≤ `tolerance` cannot lie farther
+    /// out than `tolerance`: such samples are not evaluated (the ends prove the
+    /// samples near them, each evaluated sample those after it), and a bond between
+    /// two particles deep inside evaluates none. The answer is the sampling's.
+    /// Sampled from the end given first; callers pass the lower particle index first
+    /// so that i→j and j→i agree to the bit.
+    pub fn contains_segment(&self, a: [f64; 3], b: [f64; 3], da: f64, db: f64) -> bool {
+        let length = dist(a, b);
+        let samples = (length / self.step).ceil().max(1.0) as usize;
+        // The segment is proven inside up to this distance from a.
+        let mut proven = self.tolerance - da;
+        for k in 1..samples {
             let t = k as f64 / samples as f64;
-            self.sdf.distance(lerp(a, b, t)) <= self.tolerance
-        })
+            let at = t * length;
+            if at <= proven || db + (length - at) <= self.tolerance {
+                continue;
+            }
+            let d = self.sdf.distance(lerp(a, b, t));
+            if d > self.tolerance {
+                return false;
+            }
+            proven = at + (self.tolerance - d);
+        }
+        true
     }
 }
 
@@ -203,6 +223,7 @@ fn neighbours_of(
     body: &[u32],
     delta: &[f64],
     solids: &[Option<Solid>],
+    depth: &[f64],
     i: usize,
 ) -> Vec<u32> {
     let d = delta[i];
@@ -225,7 +246,7 @@ fn neighbours_of(
             let solid = solids.get(body[i] as usize).and_then(Option::as_ref);
             solid.is_none_or(|s| {
                 let (lo, hi) = (i.min(j as usize), i.max(j as usize));
-                s.contains_segment(positions[lo], positions[hi])
+                s.contains_segment(positions[lo], positions[hi], depth[lo], depth[hi])
             })
         })
         .collect();
@@ -264,9 +285,19 @@ pub fn build_through(
         )));
     }
     let tree = build_tree(positions)?;
+    // Each particle's signed distance to its body's solid (0, unread, without one).
+    let depth: Vec<f64> = (0..n)
+        .into_par_iter()
+        .map(|i| {
+            solids
+                .get(body[i] as usize)
+                .and_then(Option::as_ref)
+                .map_or(0.0, |s| s.sdf.distance(positions[i]))
+        })
+        .collect();
     let families: Vec<Vec<u32>> = (0..n)
         .into_par_iter()
-        .map(|i| neighbours_of(&tree, positions, body, delta, solids, i))
+        .map(|i| neighbours_of(&tree, positions, body, delta, solids, &depth, i))
         .collect();
     let mut offsets = Vec::with_capacity(n + 1);
     offsets.push(0usize);
@@ -509,6 +540,45 @@ fn solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::{Cuboid, Difference};
+    use perifrac_math::SplitMix64;
+
+    /// Skipping the samples the ends and earlier samples prove inside gives the answer
+    /// of evaluating every sample, on 20,000 random segments in and around a slotted
+    /// bar (between a quarter and three quarters of them crossing the slot or leaving
+    /// the bar).
+    #[test]
+    fn a_bond_skips_only_samples_proven_inside() {
+        let bar = Difference(
+            Box::new(Cuboid {
+                center: [0.0; 3],
+                half_extents: [0.15, 0.03, 0.03],
+            }),
+            Box::new(Cuboid {
+                center: [0.0; 3],
+                half_extents: [0.005, 0.1, 0.1],
+            }),
+        );
+        let solid = Solid::of(&bar, 0.02);
+        let every_sample = |a: [f64; 3], b: [f64; 3]| {
+            let samples = (dist(a, b) / solid.step).ceil().max(1.0) as usize;
+            (1..samples)
+                .all(|k| bar.distance(lerp(a, b, k as f64 / samples as f64)) <= solid.tolerance)
+        };
+        let mut rng = SplitMix64::new(3);
+        let mut point = |half: [f64; 3]| half.map(|h| (2.0 * rng.next_f64() - 1.0) * h);
+        let mut kept = 0;
+        for _ in 0..20_000 {
+            let a = point([0.16, 0.035, 0.035]);
+            let offset = point([0.03, 0.03, 0.03]);
+            let b = [0, 1, 2].map(|k| a[k] + offset[k]);
+            let (da, db) = (bar.distance(a), bar.distance(b));
+            let skipping = solid.contains_segment(a, b, da, db);
+            assert_eq!(skipping, every_sample(a, b), "{a:?}–{b:?}");
+            kept += usize::from(skipping);
+        }
+        assert!(kept > 5_000 && kept < 15_000, "{kept} of 20,000 kept");
+    }
 
     #[test]
     fn sphere_moments() {
