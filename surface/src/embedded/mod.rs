@@ -241,25 +241,19 @@ pub fn surface(frame: &TetFrame, passes: usize) -> EmbeddedSurface {
     edges.sort_unstable();
     let mut crack_edges: Vec<(u32, u32)> = Vec::new();
     let mut rim_edges: Vec<(u32, u32)> = Vec::new();
-    let mut i = 0;
-    while i < edges.len() {
-        let mut j = i + 1;
-        while j < edges.len() && edges[j].0 == edges[i].0 && edges[j].1 == edges[i].1 {
-            j += 1;
-        }
-        let (a, b) = (edges[i].0, edges[i].1);
-        if j - i != 2 {
-            fixed[a as usize] = true;
-            fixed[b as usize] = true;
-        } else {
-            let (c0, c1) = (crack[edges[i].2 as usize], crack[edges[i + 1].2 as usize]);
+    for run in edges.chunk_by(|x, y| (x.0, x.1) == (y.0, y.1)) {
+        let (a, b) = (run[0].0, run[0].1);
+        if let [(_, _, t0), (_, _, t1)] = *run {
+            let (c0, c1) = (crack[t0 as usize], crack[t1 as usize]);
             if c0 && c1 {
                 crack_edges.push((a, b));
             } else if c0 != c1 {
                 rim_edges.push((a, b));
             }
+        } else {
+            fixed[a as usize] = true;
+            fixed[b as usize] = true;
         }
-        i = j;
     }
     let constraint = constraints(
         &points,
@@ -522,14 +516,8 @@ impl EmbeddedSurface {
         edges.sort_unstable();
         let corner_of =
             |t: usize, v: u32| 3 * t + self.triangles[t].iter().position(|&w| w == v).unwrap_or(0);
-        let mut start = 0;
-        while start < edges.len() {
-            let end = start
-                + edges[start..]
-                    .iter()
-                    .take_while(|e| e.0 == edges[start].0)
-                    .count();
-            if let [(edge, t1), (_, t2)] = edges[start..end] {
+        for run in edges.chunk_by(|x, y| x.0 == y.0) {
+            if let [(edge, t1), (_, t2)] = *run {
                 let (n1, n2) = (
                     area_vector(&self.points, self.triangles[t1]),
                     area_vector(&self.points, self.triangles[t2]),
@@ -541,7 +529,6 @@ impl EmbeddedSurface {
                     }
                 }
             }
-            start = end;
         }
         (0..3 * self.triangles.len())
             .map(|c| {
