@@ -13,7 +13,7 @@ use std::time::Instant;
 
 use perifrac_sim::family::{self, Solid};
 use perifrac_sim::geometry::discretize::discretize;
-use perifrac_sim::geometry::shape::{is_convex, to_sdf};
+use perifrac_sim::geometry::shape::bond_shapes;
 use perifrac_sim::scene::Scene;
 
 fn main() -> ExitCode {
@@ -43,15 +43,7 @@ fn measure(path: &Path, repeats: usize) -> Result<(), String> {
         .iter()
         .map(|&b| scene.bodies[b as usize].delta())
         .collect();
-    let shapes = scene
-        .bodies
-        .iter()
-        .map(|b| {
-            (!is_convex(&b.shape))
-                .then(|| to_sdf(&b.shape, &scene.base_dir))
-                .transpose()
-        })
-        .collect::<Result<Vec<_>, String>>()?;
+    let shapes = bond_shapes(&scene).map_err(|e| e.to_string())?;
     let solids: Vec<Option<Solid>> = shapes
         .iter()
         .zip(&scene.bodies)

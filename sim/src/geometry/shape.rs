@@ -5,7 +5,8 @@ use std::path::Path;
 
 use super::mesh::{MeshSdf, Placement, TriMesh};
 use super::sdf::{Ball, Cuboid, Cylinder, Difference, Sdf, Union};
-use crate::scene::ShapeSpec;
+use crate::error::SimError;
+use crate::scene::{Scene, ShapeSpec};
 
 /// How a mesh file of a shape is placed in the scene.
 pub fn placement(shape: &ShapeSpec) -> Option<Placement> {
@@ -78,4 +79,26 @@ pub fn is_convex(shape: &ShapeSpec) -> bool {
             | ShapeSpec::Sphere { .. }
             | ShapeSpec::Cylinder { .. }
     )
+}
+
+/// The signed distance of each body of `scene` that is not convex, whose bonds must
+/// stay inside it ([`crate::family::Solid`], issue 13), and `None` for a convex one;
+/// the error names the body.
+///
+/// # Errors
+/// [`SimError::Mesh`] if a body's mesh file cannot be read.
+pub fn bond_shapes(scene: &Scene) -> Result<Vec<Option<Box<dyn Sdf>>>, SimError> {
+    scene
+        .bodies
+        .iter()
+        .map(|b| {
+            (!is_convex(&b.shape))
+                .then(|| to_sdf(&b.shape, &scene.base_dir))
+                .transpose()
+                .map_err(|message| SimError::Mesh {
+                    body: b.name.clone(),
+                    message,
+                })
+        })
+        .collect()
 }

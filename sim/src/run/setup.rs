@@ -12,9 +12,8 @@ use crate::embed::EmbeddedMesh;
 use crate::error::{Result, SimError};
 use crate::family::{self, Solid};
 use crate::fem::{Fem, FemBody, FemModel};
-use crate::geometry::Sdf;
 use crate::geometry::discretize::{Discretization, discretize};
-use crate::geometry::shape::{is_convex, to_sdf};
+use crate::geometry::shape::bond_shapes;
 use crate::material::Material;
 use crate::membrane::{Membrane, MembraneModel};
 use crate::model::Model;
@@ -126,19 +125,7 @@ fn peridynamic_part(scene: &Scene, disc: &Discretization) -> Result<Part> {
         .map(|&b| scene.bodies[b as usize].delta())
         .collect();
     // Bonds of a body that is not convex must stay inside its shape (issue 13).
-    let shapes: Vec<Option<Box<dyn Sdf>>> = scene
-        .bodies
-        .iter()
-        .map(|b| {
-            (!is_convex(&b.shape))
-                .then(|| to_sdf(&b.shape, &scene.base_dir))
-                .transpose()
-                .map_err(|message| SimError::Mesh {
-                    body: b.name.clone(),
-                    message,
-                })
-        })
-        .collect::<Result<_>>()?;
+    let shapes = bond_shapes(scene)?;
     let solids: Vec<Option<Solid>> = shapes
         .iter()
         .zip(&scene.bodies)
