@@ -11,12 +11,13 @@
 //! k_ij = s · min(c_i/δ_i, c_j/δ_j) V_i V_j,        c = 18κ/(πδ⁴) (the bond micromodulus)
 //! c_n  = 2ζ √(k_ij m_ij),                          m_ij = m_i m_j/(m_i + m_j)
 //! F_t  = −min(μ |F_n|, √(k_ij m_ij) |v_t|) v_t/|v_t|   (Coulomb, regularised at slip onset)
-//! d_ij = ϱ (l_i + l_j)/2,  l = V^{1/3};   one body: min(d_ij, ϱ|x_i − x_j|)
+//! d_ij = ϱ (l_i + l_j)/2,  l = V^{1/3};   one body: min(d_ij, min(ϱ, 1)|x_i − x_j|)
 //! ```
 //!
 //! with s = `[contact] stiffness` (15), ϱ = `distance` (0.9), ζ = `damping`, μ =
 //! `friction`; the normal force never pulls (F_n ≥ 0). F_ji = −F_ij bit for bit, so
-//! momentum is conserved to rounding.
+//! momentum is conserved to rounding. Two points of one body never touch beyond their
+//! reference distance, even at ϱ > 1: unbonded, they stand there at rest.
 //!
 //! Candidates come from a cell list over every participating point, kept as a Verlet
 //! list with a skin: it is rebuilt only when some point has moved more than half the
@@ -348,7 +349,7 @@ impl ParticleContact {
         let mut reach = self.settings.distance * 0.5 * (self.spacing[i] + self.spacing[j]);
         if one_body {
             let rest = sub(self.reference[i], self.reference[j]);
-            reach = reach.min(self.settings.distance * dot(rest, rest).sqrt());
+            reach = reach.min(self.settings.distance.min(1.0) * dot(rest, rest).sqrt());
         }
         let d = sub(self.position[i], self.position[j]);
         let cutoff = reach + skin;

@@ -639,3 +639,33 @@ fn bad_contact_keys_are_refused() {
     let e = bad("particle = true");
     assert!(e.contains("particle"), "{e}");
 }
+
+/// Two particles of one body touch within at most their reference distance, whatever
+/// `[contact] distance` says: a bar cut in two by a slot half a λ wide (no bond crosses
+/// it, `docs/lattice.md`) stays at rest with `distance = 1.2`. Reaching past the
+/// reference distance would push the slot's faces apart at t = 0 (as it would
+/// fragments whose bonds broke in tension).
+#[test]
+fn a_contact_distance_over_one_pushes_no_unbonded_pair_apart_at_rest() {
+    let text = "[scene]\nduration = 0.01\nfps = 1000\ngravity = [0, 0, 0]\n\
+        [materials.m]\ndensity = 1000\nyoungs_modulus = 1e6\npoisson_ratio = 0.25\n\
+        [[body]]\nmaterial = \"m\"\nresolution = 0.02\n\
+        shape = { type = \"difference\", base = { type = \"box\", center = [0, 0, 0], size = [0.3, 0.06, 0.06] }, \
+        minus = { type = \"box\", center = [0.0013, 0, 0], size = [0.01, 0.1, 0.1] } }\n\
+        [contact]\nparticles = true\ndistance = 1.2\n";
+    let mut p = prepare(text);
+    for _ in 0..50 {
+        p.world.step().expect("steps");
+    }
+    let fastest = model(&p)
+        .points()
+        .velocity
+        .iter()
+        .map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt())
+        .fold(0.0, f64::max);
+    eprintln!("slotted bar, distance 1.2: fastest particle after 50 steps {fastest:.3e} m/s");
+    assert!(
+        fastest < 1e-9,
+        "the slot's faces pushed apart: {fastest:.3e} m/s"
+    );
+}
