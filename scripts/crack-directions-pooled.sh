@@ -14,7 +14,7 @@
 #   scripts/crack-directions-pooled.sh [PERIFRAC] [OUT] [LATTICE] [RUNS]
 #
 # PERIFRAC defaults to target/release/perifrac; LATTICE is the plate's `lattice` key
-# (default "aligned"); RUNS defaults to 24. Each run takes about a minute on 2 cores.
+# (default "aligned"); RUNS defaults to 24. Each run takes a few minutes on 2 cores.
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 bin="${1:-$here/target/release/perifrac}"
