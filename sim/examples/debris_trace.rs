@@ -13,6 +13,7 @@
 use std::path::Path;
 use std::process::ExitCode;
 
+use perifrac_math::{norm, sub};
 use perifrac_sim::contact::ColliderShape;
 use perifrac_sim::run;
 use perifrac_sim::scene::Scene;
@@ -34,10 +35,6 @@ fn main() -> ExitCode {
             ExitCode::from(2)
         }
     }
-}
-
-fn length(v: [f64; 3]) -> f64 {
-    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
 }
 
 fn trace(seed: u64, particle: usize, from: u64, to: u64) -> Result<(), String> {
@@ -85,8 +82,8 @@ fn trace(seed: u64, particle: usize, from: u64, to: u64) -> Result<(), String> {
         let model = &p.world.parts[0].model;
         let points = model.points();
         for (i, &v) in points.velocity.iter().enumerate() {
-            if length(v) > top {
-                (top, top_at) = (length(v), (i, step));
+            if norm(v) > top {
+                (top, top_at) = (norm(v), (i, step));
             }
         }
         if step < from {
@@ -101,10 +98,10 @@ fn trace(seed: u64, particle: usize, from: u64, to: u64) -> Result<(), String> {
             .map_or([0.0; 3], |c| c.force(0)[particle].map(f64::round));
         let v = points.velocity[particle];
         let centre = p.world.colliders[ball].center;
-        let gap = length([0, 1, 2].map(|a| points.position[particle][a] - centre[a])) - radius;
+        let gap = norm(sub(points.position[particle], centre)) - radius;
         println!(
             "{step} | {:.1} | {:?} | {bonds:?} | {contact:?} | {:.2} | {:.2}",
-            length(v),
+            norm(v),
             v.map(|x| (x * 10.0).round() / 10.0),
             model.particles().damage[particle],
             gap * 1e3
