@@ -647,13 +647,11 @@ fn bad_contact_keys_are_refused() {
 /// fragments whose bonds broke in tension).
 #[test]
 fn a_contact_distance_over_one_pushes_no_unbonded_pair_apart_at_rest() {
-    let text = "[scene]\nduration = 0.01\nfps = 1000\ngravity = [0, 0, 0]\n\
-        [materials.m]\ndensity = 1000\nyoungs_modulus = 1e6\npoisson_ratio = 0.25\n\
-        [[body]]\nmaterial = \"m\"\nresolution = 0.02\n\
-        shape = { type = \"difference\", base = { type = \"box\", center = [0, 0, 0], size = [0.3, 0.06, 0.06] }, \
-        minus = { type = \"box\", center = [0.0013, 0, 0], size = [0.01, 0.1, 0.1] } }\n\
-        [contact]\nparticles = true\ndistance = 1.2\n";
-    let mut p = prepare(text);
+    let text = format!(
+        "{}\n[contact]\nparticles = true\ndistance = 1.2\n",
+        include_str!("scenes/slotted-bar.toml")
+    );
+    let mut p = prepare(&text);
     for _ in 0..50 {
         p.world.step().expect("steps");
     }

@@ -157,12 +157,7 @@ fn a_breaking_body_is_unstructured_fixed_by_the_seed_and_as_fine_as_the_lattice(
 
 #[test]
 fn a_slot_half_a_spacing_wide_cuts_a_bar_in_two() {
-    // λ = 0.02, δ = 1.45λ: a slot of 0.01 m (0.5λ) through the whole section.
-    let text = "[scene]\nduration = 1\n[materials.m]\ndensity = 1000\nyoungs_modulus = 1e6\n\
-        poisson_ratio = 0.25\n[[body]]\nmaterial = \"m\"\nresolution = 0.02\n\
-        shape = { type = \"difference\", base = { type = \"box\", center = [0, 0, 0], size = [0.3, 0.06, 0.06] }, \
-        minus = { type = \"box\", center = [0.0013, 0, 0], size = [0.01, 0.1, 0.1] } }\n";
-    let p = run::prepare(&scene(text)).expect("prepares");
+    let p = run::prepare(&scene(include_str!("scenes/slotted-bar.toml"))).expect("prepares");
     let m = pd(&p);
     let across = |a: [f64; 3], b: [f64; 3]| (a[0] - 0.0013) * (b[0] - 0.0013) < 0.0;
     assert_eq!(crossing_bonds(m, across), 0, "bonds across the slot");
