@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Figures of docs/embedded.md ("Defects of the split mesh", issue 13 item 4): inverted
 # tets of the split tet mesh per frame and their worst volume, the longest crack-
-# triangle edge of the smoothed surface in λ, what the smoothing backed off; and the
-# tilted planar cut's distance from its plane after smoothing (surface/tests/embedded.rs).
+# triangle edge of the smoothed surface in λ, what the smoothing backed off, the cracks'
+# zig-zag before and after smoothing; and the tilted planar cut's distance from its plane
+# after smoothing (surface/tests/embedded.rs).
 #
 #   scripts/crack-quality.sh [full|reduced] [OUT]
 #

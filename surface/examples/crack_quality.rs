@@ -6,7 +6,10 @@
 //! - the longest crack-triangle edge of the smoothed surface (what `surface/NNNN.glb`
 //!   holds), in λ, and how many crack edges are longer than 3λ;
 //! - tets inverted after smoothing, moves the smoothing backed off and vertices it
-//!   put back.
+//!   put back;
+//! - the crack surface's zig-zag before and after smoothing, in λ (the median distance
+//!   of a smoothed vertex from the plane fitted through its ring,
+//!   `SmoothingStats::roughness`).
 //!
 //! `cargo run --release -p perifrac-surface --example crack_quality -- OUT [PASSES]`
 
@@ -31,6 +34,7 @@ struct Row {
     inverted_smoothed: usize,
     backed_off: usize,
     reverted: usize,
+    zig_zag: [f64; 2],
 }
 
 fn volumes(points: &[[f64; 3]], tets: &[[u32; 4]]) -> Vec<f64> {
@@ -97,6 +101,7 @@ fn main() -> ExitCode {
                         .count(),
                     backed_off: s.stats.backed_off,
                     reverted: s.stats.reverted,
+                    zig_zag: s.stats.roughness.map(|h| h / lambda),
                 })
             })
             .collect::<Result<_, _>>()?;
@@ -107,12 +112,12 @@ fn main() -> ExitCode {
         println!(
             "| frame | tets | inverted | worst volume (m³) | worst / largest | longest crack \
              edge (λ) | crack edges > 3λ | inverted after smoothing | moves backed off | \
-             vertices put back |"
+             vertices put back | crack zig-zag before → after smoothing (λ) |"
         );
-        println!("|---|---|---|---|---|---|---|---|---|---|");
+        println!("|---|---|---|---|---|---|---|---|---|---|---|");
         for (k, r) in rows.iter().enumerate() {
             println!(
-                "| {} | {} | {} | {:.2e} | {:.2} | {:.2} | {} | {} | {} | {} |",
+                "| {} | {} | {} | {:.2e} | {:.2} | {:.2} | {} | {} | {} | {} | {:.3} → {:.3} |",
                 k + 1,
                 r.tets,
                 r.inverted,
@@ -122,13 +127,16 @@ fn main() -> ExitCode {
                 r.over,
                 r.inverted_smoothed,
                 r.backed_off,
-                r.reverted
+                r.reverted,
+                r.zig_zag[0],
+                r.zig_zag[1]
             );
         }
         let total = |f: fn(&Row) -> usize| rows.iter().map(f).sum::<usize>();
         println!(
             "all frames: {} inverted tets (worst {:.2e} m³), longest crack edge {:.2}λ, {} crack \
-             edges > 3λ, {} inverted after smoothing, {} moves backed off, {} vertices put back",
+             edges > 3λ, {} inverted after smoothing, {} moves backed off, {} vertices put back; \
+             crack zig-zag at the last frame {:.3}λ, {:.3}λ after smoothing",
             total(|r| r.inverted),
             rows.iter().map(|r| r.worst).fold(f64::INFINITY, f64::min),
             rows.iter().map(|r| r.longest).fold(0.0, f64::max),
@@ -136,6 +144,8 @@ fn main() -> ExitCode {
             total(|r| r.inverted_smoothed),
             total(|r| r.backed_off),
             total(|r| r.reverted),
+            rows.last().map_or(0.0, |r| r.zig_zag[0]),
+            rows.last().map_or(0.0, |r| r.zig_zag[1]),
         );
         Ok(())
     };

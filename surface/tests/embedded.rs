@@ -175,6 +175,9 @@ fn smoothing_flattens_a_zig_zag_planar_cut() {
     assert!((a1 - 1.0).abs() <= 0.05, "area ratio {a1}");
     assert!(volume_error < 1e-3, "volume change {volume_error}");
     assert_smoothed_mesh_is_sound(&frame);
+    let [r0, r1] = surface(&frame, 20).stats.roughness.map(|h| h / LAMBDA);
+    println!("zig-zag (median height over the ring's plane) {r0:.3}λ → {r1:.3}λ");
+    assert!(r0 > 0.2 && r1 < 0.02, "zig-zag {r0}λ → {r1}λ");
 }
 
 #[test]

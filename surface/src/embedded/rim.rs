@@ -19,26 +19,15 @@ pub(super) fn rim_move(
     c: Constraint,
     x: [f64; 3],
     mean: [f64; 3],
-    ring: impl Iterator<Item = [f64; 3]>,
+    ring: impl Iterator<Item = [f64; 3]> + Clone,
 ) -> [f64; 3] {
-    let mut spread = [[0.0; 3]; 3];
-    let mut radius = 0.0f64;
-    for p in ring {
-        let d = sub(p, mean);
-        radius = radius.max(norm(d));
-        for (a, row) in spread.iter_mut().enumerate() {
-            for (b, e) in row.iter_mut().enumerate() {
-                *e += d[a] * d[b];
-            }
-        }
-    }
-    let eigen = to_matrix(spread).symmetric_eigen();
-    let mut order = [0, 1, 2];
-    order.sort_by(|&i, &j| eigen.eigenvalues[i].total_cmp(&eigen.eigenvalues[j]));
-    if eigen.eigenvalues[order[1]] <= 0.0 {
+    let radius = ring
+        .clone()
+        .map(|p| norm(sub(p, mean)))
+        .fold(0.0f64, f64::max);
+    let Some(n) = plane_normal(mean, ring) else {
         return [0.0; 3];
-    }
-    let n = from_vector(&eigen.eigenvectors.column(order[0]).into_owned());
+    };
     let d = c.project(n);
     let dd = dot(d, d);
     if dd <= 1e-12 {
@@ -61,6 +50,28 @@ pub(super) fn rim_move(
         m = m.map(|e| e / 2.0);
     }
     [0.0; 3]
+}
+
+/// The unit normal of the plane fitted through points around their centroid `mean`
+/// (the direction of their least spread), or `None` when they lie on a line.
+pub(super) fn plane_normal(
+    mean: [f64; 3],
+    points: impl Iterator<Item = [f64; 3]>,
+) -> Option<[f64; 3]> {
+    let mut spread = [[0.0; 3]; 3];
+    for p in points {
+        let d = sub(p, mean);
+        for (a, row) in spread.iter_mut().enumerate() {
+            for (b, e) in row.iter_mut().enumerate() {
+                *e += d[a] * d[b];
+            }
+        }
+    }
+    let eigen = to_matrix(spread).symmetric_eigen();
+    let mut order = [0, 1, 2];
+    order.sort_by(|&i, &j| eigen.eigenvalues[i].total_cmp(&eigen.eigenvalues[j]));
+    (eigen.eigenvalues[order[1]] > 0.0)
+        .then(|| from_vector(&eigen.eigenvectors.column(order[0]).into_owned()))
 }
 
 /// The original (not crack) triangles around each vertex: its own, and those around

@@ -39,6 +39,9 @@ pub struct EmbeddedReport {
     pub reverted: usize,
     /// Largest relative volume change of a smoothed fragment.
     pub volume_error: f64,
+    /// How far the last frame's crack surface zig-zags before and after smoothing
+    /// (m; [`SmoothingStats::roughness`]).
+    pub roughness: [f64; 2],
 }
 
 impl EmbeddedReport {
@@ -166,6 +169,7 @@ pub fn stage(
         extraction,
         triangles: final_surface.triangles.len(),
         crack_triangles: final_surface.crack.iter().filter(|&&c| c).count(),
+        roughness: final_surface.stats.roughness,
         ..report
     })
 }
