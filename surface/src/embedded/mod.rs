@@ -118,8 +118,8 @@ pub struct SmoothingStats {
     /// restored within [`MAX_VOLUME_CHANGE`].
     pub reverted: usize,
     /// How far the crack surface zig-zags, before and after smoothing (m): the median
-    /// distance of a smoothed vertex from the plane fitted through its ring
-    /// ([`roughness`]).
+    /// distance of a smoothed vertex from the plane fitted through its ring on the
+    /// crack surface (vertices with fewer than three neighbours there left out).
     pub roughness: [f64; 2],
 }
 
