@@ -162,7 +162,13 @@ impl MemoryEstimate {
         let plastic = scene.materials.values().any(|m| {
             (m.yield_psi0.is_some() || m.yield_stretch.is_some()) && m.plastic_limit > 0.0
         });
-        let bytes_per_bond = family::BYTES_PER_BOND + if plastic { 12 } else { 0 };
+        // e^p and the reverse index of a yielding material; e^c of a crushing one.
+        let crushing = scene
+            .materials
+            .values()
+            .any(|m| m.critical_compression.is_some());
+        let bytes_per_bond =
+            family::BYTES_PER_BOND + if plastic { 12 } else { 0 } + if crushing { 4 } else { 0 };
         let peak_per_bond = (bytes_per_bond + SETUP_BYTES_PER_BOND) as f64;
         let run = bonds * peak_per_bond + particles * BYTES_PER_PARTICLE as f64;
         let mesh = lattice * BYTES_PER_LATTICE_POINT + particles * BYTES_PER_PARTICLE as f64;

@@ -9,6 +9,8 @@
 
 use std::path::Path;
 
+mod common;
+
 use perifrac_sim::run;
 use perifrac_sim::scene::Scene;
 
@@ -72,6 +74,20 @@ fn no_wall_particle_leaves_faster_than_twice_the_ball() {
         tension_only > 2.0,
         "the unbounded case must show the excess: {tension_only:.2}×"
     );
+}
+
+/// The crushed bonds' e^c is state a checkpoint must carry: the demo at λ = 0.032 m,
+/// its first 1.2 ms (the crushing under the ball is at 0.2–0.4 ms), gives the same
+/// bytes with 1 and 2 threads and stopped after 0.4 ms and resumed.
+#[test]
+fn the_crushing_demo_threads_and_resumes_to_the_same_bytes() {
+    let text = demo(0.032, 0, false).replace("duration = 0.004 ", "duration = 0.0012 ");
+    assert!(
+        text.contains("duration = 0.0012 "),
+        "the demo's duration line"
+    );
+    let scene = Scene::parse(&text, Path::new("demo.toml"), Path::new(".")).expect("scene");
+    common::threads_and_resume(&scene, 3);
 }
 
 /// Measurement, not a check (`cargo test -p perifrac-sim --test debris -- --ignored

@@ -150,8 +150,9 @@ pub struct MaterialSpec {
     pub critical_stretch: Option<f64>,
     /// Critical compressive strain ε_c: a bond also breaks (crushes) when its strain
     /// (e − e^p)/|ξ| falls below −ε_c (not in Chen et al., whose bonds break only in
-    /// tension). Between 0 and 1; needs `critical_stretch`. Default: none (no
-    /// crushing).
+    /// tension); a crushed bond carries no tension but goes on resisting compression,
+    /// yielding at the strain ε_c (crushed glass). Between 0 and 1; needs
+    /// `critical_stretch`. Default: none (no crushing).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub critical_compression: Option<f64>,
     /// Anti-shatter parameter α of Chen Eq. 19. Default 0.

@@ -232,7 +232,8 @@ fn return_mapping<const F: bool, const A: bool>(
 /// both ends agree, reading φ of the previous step), or, for a material with a
 /// `critical_compression` ε_c, is compressed past the strain −(1 + αφ) ε_c
 /// (crushing: (e − e^p)/|ξ| < −ε_c, a strain, not Eq. 19's weighted stretch; see
-/// the comment in [`particle_force`]), and updates φ.
+/// the comment in [`particle_force`]), and updates φ. A crushed bond goes on pushing
+/// back in compression (see the module doc of [`super`]).
 ///
 /// Eq. 19 prints s^ω = (1 + αφ)(e − e^p)/δ, which makes a damaged particle's bonds
 /// break *sooner*: in the test `alpha_leaves_fewer_larger_fragments` that form gave
@@ -249,6 +250,7 @@ fn forces<const P: bool, const F: bool, const A: bool, const L: bool>(m: &mut Pd
         .collect();
     let mut force = std::mem::take(&mut m.force);
     let mut neighbours = std::mem::take(&mut m.bonds.neighbours);
+    let mut crushed = m.crushed.take();
     let mut damage = if F {
         m.particles.damage.clone()
     } else {
@@ -258,13 +260,19 @@ fn forces<const P: bool, const F: bool, const A: bool, const L: bool>(m: &mut Pd
         let m = &*m;
         let rows = rows_mut(&mut neighbours, &m.bonds.offsets);
         if F {
+            // e^c of each particle's bonds; empty rows when no material crushes.
+            let crushed_rows = match crushed.as_mut() {
+                Some(c) => rows_mut(c, &m.bonds.offsets),
+                None => std::iter::repeat_with(Default::default).take(n).collect(),
+            };
             rows.into_par_iter()
+                .zip(crushed_rows)
                 .zip(force.par_iter_mut())
                 .zip(damage.par_iter_mut())
                 .enumerate()
                 .with_min_len(64)
-                .map(|(i, ((row, fi), phi))| {
-                    let (f, broken, intact) = particle_force::<P, F, A, L>(m, &packed, i, row);
+                .map(|(i, (((row, cr), fi), phi))| {
+                    let (f, broken, intact) = particle_force::<P, F, A, L>(m, &packed, i, row, cr);
                     *fi = f;
                     if broken > 0 {
                         *phi = 1.0 - intact as f64 / m.reference.initial_bonds[i].max(1) as f64;
@@ -278,12 +286,13 @@ fn forces<const P: bool, const F: bool, const A: bool, const L: bool>(m: &mut Pd
                 .enumerate()
                 .with_min_len(64)
                 .for_each(|(i, (row, fi))| {
-                    *fi = particle_force::<P, F, A, L>(m, &packed, i, row).0
+                    *fi = particle_force::<P, F, A, L>(m, &packed, i, row, &mut []).0
                 });
             0
         }
     };
     m.bonds.neighbours = neighbours;
+    m.crushed = crushed;
     m.force = force;
     if F {
         m.particles.damage = damage;
@@ -292,13 +301,15 @@ fn forces<const P: bool, const F: bool, const A: bool, const L: bool>(m: &mut Pd
 }
 
 /// The force density on particle i, and (with fracture) how many of its bonds broke
-/// and how many stay intact.
+/// and how many stay intact; `crushed` holds e^c of i's bonds (empty when no
+/// material crushes) and is updated.
 #[inline(always)]
 fn particle_force<const P: bool, const F: bool, const A: bool, const L: bool>(
     m: &PdModel,
     packed: &[f64],
     i: usize,
     row: &mut [u32],
+    crushed: &mut [f32],
 ) -> ([f64; 3], usize, usize) {
     let y = &m.particles.position;
     let v = &m.reference.volume;
@@ -316,6 +327,25 @@ fn particle_force<const P: bool, const F: bool, const A: bool, const L: bool>(
     let (mut broken, mut intact) = (0, 0);
     for (slot, nb) in row.iter_mut().enumerate() {
         if F && *nb & BROKEN != 0 {
+            if let Some(ec) = crushed.get_mut(slot).filter(|ec| ec.is_finite()) {
+                let k = start + slot;
+                let j = (*nb & INDEX) as usize;
+                let d = [y[j][0] - yi[0], y[j][1] - yi[1], y[j][2] - yi[2]];
+                let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+                let r = bonds.rest_length[k];
+                let e = l - r;
+                // Crushed glass yields at the strain ε_c: e^c follows e down.
+                *ec = ec.min((e + c.critical_compression * r) as f32);
+                let elastic = e - f64::from(*ec);
+                if elastic < 0.0 && l > 0.0 {
+                    // ½ (A_ij + A_ji) with A = 4ω b p (e − e^c): compression only.
+                    let half_a = 2.0 * (coef.dev[k] as f64 + coef.dev_rev[k] as f64) * elastic;
+                    let s = half_a * v[j] / l;
+                    f[0] += s * d[0];
+                    f[1] += s * d[1];
+                    f[2] += s * d[2];
+                }
+            }
             continue;
         }
         let k = start + slot;
@@ -370,11 +400,14 @@ fn particle_force<const P: bool, const F: bool, const A: bool, const L: bool>(
             // demo's glass at ε_c = 0.01). Measured on the demo at seed 1 with the same
             // contact (docs/lattice.md): the weighted form threw a particle at 2.11×
             // the ball's speed, the strain 1.29×.
-            if s_i.max(s_j) > c.critical_stretch * omega_r
-                || s_i.min(s_j) < -c.critical_compression * r
-            {
+            let crush = s_i.min(s_j) < -c.critical_compression * r;
+            if s_i.max(s_j) > c.critical_stretch * omega_r || crush {
                 *nb |= BROKEN;
                 broken += 1;
+                // A crushed bond pushes back from here (module doc of `super`).
+                if crush && let Some(ec) = crushed.get_mut(slot) {
+                    *ec = (e + c.critical_compression * r) as f32;
+                }
             } else {
                 intact += 1;
             }
@@ -383,8 +416,8 @@ fn particle_force<const P: bool, const F: bool, const A: bool, const L: bool>(
     (f, broken, intact)
 }
 
-/// Σ_i V_i (c θ_i² + b Σ_j p_ij ω (e − e^p)² V_j), c = a'δV_H∞/3 = (κ − 5μ/3)/2.
-/// Uses the θ of the last force evaluation.
+/// Σ_i V_i (c θ_i² + b Σ_j p_ij ω (e − e^p)² V_j), c = a'δV_H∞/3 = (κ − 5μ/3)/2, with
+/// crushed bonds' min(e − e^c, 0) for e − e^p. Uses the θ of the last force evaluation.
 pub(super) fn strain_energy(m: &PdModel) -> f64 {
     let y = &m.particles.position;
     let v = &m.reference.volume;
@@ -397,15 +430,24 @@ pub(super) fn strain_energy(m: &PdModel) -> f64 {
         let mut dev = 0.0;
         for k in bonds.range(i) {
             let nb = bonds.neighbours[k];
-            if nb & BROKEN != 0 {
+            // e^c of a crushed bond, which stores energy only while compressed.
+            let crushed = m
+                .crushed
+                .as_ref()
+                .map_or(f64::INFINITY, |c| f64::from(c[k]));
+            if nb & BROKEN != 0 && !crushed.is_finite() {
                 continue;
             }
             let j = (nb & INDEX) as usize;
             let d = [y[j][0] - yi[0], y[j][1] - yi[1], y[j][2] - yi[2]];
             let r = bonds.rest_length[k];
             let e = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() - r;
-            let ep = m.plastic.as_ref().map_or(0.0, |p| p.extension[k]);
-            dev += m.coef.dev[k] as f64 * (e - ep) * (e - ep) * v[j];
+            let elastic = if nb & BROKEN != 0 {
+                (e - crushed).min(0.0)
+            } else {
+                e - m.plastic.as_ref().map_or(0.0, |p| p.extension[k])
+            };
+            dev += m.coef.dev[k] as f64 * elastic * elastic * v[j];
         }
         v[i] * (c * m.theta[i] * m.theta[i] + dev)
     })

@@ -21,6 +21,15 @@
 //!
 //! Plasticity (Eq. 13–16) and fracture (Eq. 18–19) are optional stages; a scene
 //! without them allocates no plastic state and runs kernels compiled without them.
+//!
+//! Crushing (ours, not in Chen et al.): a material with a `critical_compression` ε_c
+//! breaks a bond compressed past the strain −ε_c, and the crushed bond then acts as
+//! crushed glass does: it carries no tension, resists compression with the bond's
+//! deviatoric stiffness, and yields at the strain ε_c (perfectly plastic), so
+//! A = 4ω b p (e − e^c)  while e < e^c,  e^c = min(e^c, e + ε_c|ξ|),
+//! with e^c set to e + ε_c|ξ| when it crushes (the force goes on from where it was)
+//! and stored per bond ([`PdModel::crushed`]). Its energy, b p ω (e − e^c)² V_j
+//! while compressed, is in W_i.
 
 mod crack;
 mod kernel;
@@ -145,6 +154,10 @@ pub struct PdModel {
     pub omega: Option<Vec<f32>>,
     /// Plastic state, only when some material yields.
     pub plastic: Option<Plastic>,
+    /// e^c per directed bond: the extension below which a crushed bond pushes back
+    /// (infinite while the bond is intact or broken in tension; see the module doc),
+    /// only when some material crushes.
+    pub crushed: Option<Vec<f32>>,
     /// Per-body constants.
     pub bodies: Vec<BodyModel>,
     /// What the kernels do.
@@ -231,6 +244,10 @@ impl PdModel {
             reverse,
             yielded: vec![false; n],
         });
+        let crushed = bodies
+            .iter()
+            .any(|b| b.material.critical_compression.is_some())
+            .then(|| vec![f32::INFINITY; bonds.len()]);
         PdModel {
             particles: Particles {
                 position: reference_position.clone(),
@@ -247,6 +264,7 @@ impl PdModel {
             coef,
             omega,
             plastic,
+            crushed,
             bodies,
             features,
             theta: vec![0.0; n],
@@ -389,6 +407,9 @@ impl PdModel {
         }
         if self.plastic.is_some() {
             bytes += n * (8 + 4);
+        }
+        if self.crushed.is_some() {
+            bytes += n * 4;
         }
         bytes
     }

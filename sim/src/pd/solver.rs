@@ -180,8 +180,9 @@ impl Model for Peridynamics {
         })
     }
 
-    /// Positions, velocities, the bonds' broken bits and the plastic extensions;
-    /// damage and the `yielded` flags are derived from them on restore.
+    /// Positions, velocities, the bonds' broken bits, the plastic extensions and the
+    /// crushed bonds' e^c; damage and the `yielded` flags are derived from them on
+    /// restore.
     fn save(&self, out: &mut Encoder) {
         let m = &self.model;
         out.put_f64x3_slice(&m.particles.position);
@@ -189,6 +190,9 @@ impl Model for Peridynamics {
         out.put_u32_slice(&m.bonds.neighbours);
         if let Some(p) = &m.plastic {
             out.put_f64_slice(&p.extension);
+        }
+        if let Some(c) = &m.crushed {
+            out.put_f32_slice(c);
         }
         if let Some(mesh) = &self.embedded {
             out.put_u32_slice(&mesh.crack_faces());
@@ -212,6 +216,21 @@ impl Model for Peridynamics {
         m.bonds.neighbours = neighbours;
         if let Some(p) = &mut m.plastic {
             p.extension = input.take_finite_f64_slice("plastic extensions", p.extension.len())?;
+        }
+        if let Some(c) = &mut m.crushed {
+            let saved = input.take_f32_slice("crushed bonds", c.len())?;
+            // Finite (at most 0) only on a bond broken in compression; infinite otherwise.
+            if let Some(k) = saved.iter().zip(&m.bonds.neighbours).position(|(&e, &nb)| {
+                !(e == f32::INFINITY || (e.is_finite() && e <= 0.0 && nb & BROKEN != 0))
+            }) {
+                return Err(input
+                    .error(
+                        "crushed bonds",
+                        format!("bond {k} has e^c = {}, which no run writes", saved[k]),
+                    )
+                    .into());
+            }
+            *c = saved;
         }
         if let Some(mesh) = &mut self.embedded {
             let words = input.take_u32_slice("crack faces", mesh.crack_face_words())?;

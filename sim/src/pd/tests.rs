@@ -606,3 +606,37 @@ fn a_crushing_material_breaks_every_bond_compressed_past_its_strain_whatever_its
         );
     }
 }
+
+#[test]
+fn a_crushed_bond_pushes_back_in_compression_only_and_yields_at_its_strain() {
+    // Under F = (1 + ε)I every bond has the strain ε. Crushed at ε = −0.0101 (ε_c =
+    // 0.01), each bond starts from e^c = −0.0001|ξ|; its energy then follows
+    // (e − e^c)², at most that of an intact bond at the strain −ε_c, and is nil in
+    // tension. (ν = 1/4: no dilatational energy, so an intact block at ε = −0.01 has
+    // the same energy as the crushed one at an elastic strain of −0.01.)
+    let uniform =
+        |eps: f64| [0, 1, 2].map(|a| [0, 1, 2].map(|b| if a == b { 1.0 + eps } else { 0.0 }));
+    let energy_at = |m: &mut PdModel, eps: f64| {
+        deform(m, uniform(eps));
+        m.internal_forces();
+        m.strain_energy()
+    };
+    let spec = |compression| MaterialSpec {
+        critical_stretch: Some(1.0),
+        critical_compression: compression,
+        ..material(1e6, 0.25)
+    };
+    let build = |s: &MaterialSpec| block([0.1; 3], 0.02, 1.45, s, DilatationForm::Objective, true);
+    let w_c = energy_at(&mut build(&spec(None)), -0.01);
+    let mut m = build(&spec(Some(0.01)));
+    energy_at(&mut m, -0.0101);
+    assert!(m.bonds.neighbours.iter().all(|&nb| nb & BROKEN != 0));
+    let w = [-0.0101, -0.03, -0.02, -0.025, 0.01].map(|eps| energy_at(&mut m, eps) / w_c);
+    println!("crushed block's energy over an intact one's at −ε_c: {w:?}");
+    // Loaded to ε_c; yielding further (an elastic law would store 9×); unloaded to 0;
+    // reloaded by ε_c/2 (a quarter); in tension, nothing.
+    for (got, want) in w.iter().zip([1.0, 1.0, 0.0, 0.25, 0.0]) {
+        assert!((got - want).abs() < 1e-6, "{w:?}");
+    }
+    assert!(m.force.iter().all(|f| *f == [0.0; 3]), "a force in tension");
+}
