@@ -310,8 +310,8 @@ fn indices(doc: &serde_json::Value, bin: &[u8], a: u64) -> Vec<u32> {
 /// back by the reader above) and no crack triangle of the smoothed surface (the
 /// "crack" primitive of `surface/NNNN.glb`) has an edge over 3λ; on the shattered
 /// last frame the smoothing lowers the crack surfaces' zig-zag (the median height of a
-/// smoothed vertex over its ring's plane) below 0.6 of what it was (measured 0.278λ to
-/// 0.129λ; at λ = 0.016 m, 0.287λ to 0.080λ; without smoothing the ratio is 1).
+/// smoothed vertex over its ring's plane) below 0.6 of what it was (measured 0.308λ to
+/// 0.162λ; at λ = 0.016 m, 0.303λ to 0.109λ; without smoothing the ratio is 1).
 #[test]
 fn the_demo_split_mesh_has_no_inverted_tet_and_no_crack_needle() {
     let lambda = 0.024;
