@@ -326,26 +326,9 @@ fn particle_force<const P: bool, const F: bool, const A: bool, const L: bool>(
     let mut f = [0.0f64; 3];
     let (mut broken, mut intact) = (0, 0);
     for (slot, nb) in row.iter_mut().enumerate() {
-        if F && *nb & BROKEN != 0 {
-            if let Some(ec) = crushed.get_mut(slot).filter(|ec| ec.is_finite()) {
-                let k = start + slot;
-                let j = (*nb & INDEX) as usize;
-                let d = [y[j][0] - yi[0], y[j][1] - yi[1], y[j][2] - yi[2]];
-                let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-                let r = bonds.rest_length[k];
-                let e = l - r;
-                // Crushed glass yields at the strain ε_c: e^c follows e down.
-                *ec = ec.min((e + c.critical_compression * r) as f32);
-                let elastic = e - f64::from(*ec);
-                if elastic < 0.0 && l > 0.0 {
-                    // ½ (A_ij + A_ji) with A = 4ω b p (e − e^c): compression only.
-                    let half_a = 2.0 * (coef.dev[k] as f64 + coef.dev_rev[k] as f64) * elastic;
-                    let s = half_a * v[j] / l;
-                    f[0] += s * d[0];
-                    f[1] += s * d[1];
-                    f[2] += s * d[2];
-                }
-            }
+        // A bond broken in tension does nothing; a crushed one (finite e^c) pushes back.
+        let crushed_bond = F && *nb & BROKEN != 0;
+        if crushed_bond && !crushed.get(slot).is_some_and(|ec| ec.is_finite()) {
             continue;
         }
         let k = start + slot;
@@ -354,6 +337,21 @@ fn particle_force<const P: bool, const F: bool, const A: bool, const L: bool>(
         let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
         let r = bonds.rest_length[k];
         let e = l - r;
+        if crushed_bond {
+            // Crushed glass yields at the strain ε_c: e^c follows e down.
+            let ec = &mut crushed[slot];
+            *ec = ec.min((e + c.critical_compression * r) as f32);
+            let elastic = e - f64::from(*ec);
+            if elastic < 0.0 && l > 0.0 {
+                // ½ (A_ij + A_ji) with A = 4ω b p (e − e^c): compression only.
+                let half_a = 2.0 * (coef.dev[k] as f64 + coef.dev_rev[k] as f64) * elastic;
+                let s = half_a * v[j] / l;
+                f[0] += s * d[0];
+                f[1] += s * d[1];
+                f[2] += s * d[2];
+            }
+            continue;
+        }
         let (ep_ij, ep_ji) = match (&m.plastic, P) {
             (Some(p), true) => (
                 if p.yielded[i] { p.extension[k] } else { 0.0 },
