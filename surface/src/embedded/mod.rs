@@ -35,14 +35,16 @@
 //! h = ΔV / A (three Newton steps), under the same guard.
 
 mod guard;
+mod plane;
 mod rim;
 mod stage;
 
 use guard::Guard;
 use perifrac_cache::mesh::SurfaceMesh;
 use perifrac_cache::vtu::TetFrame;
-use perifrac_math::{TET_FACES, UnionFind, add, cross, dot, norm, signed_volume, sub};
-use rim::{constraints, plane_normal, rim_move};
+use perifrac_math::{TET_FACES, UnionFind, cross, dot, norm, signed_volume, sub};
+use plane::roughness;
+use rim::{constraints, rim_move};
 
 pub use stage::{EmbeddedReport, stage};
 
@@ -433,29 +435,6 @@ pub fn surface(frame: &TetFrame, passes: usize) -> EmbeddedSurface {
         fragment,
         stats,
     }
-}
-
-/// The median distance of the vertices of `movable` from the plane fitted through
-/// their rings on the crack surface (`rings`, at `x`; vertices whose ring has fewer
-/// than three others are left out): the height of the zig-zag a crack along tet faces
-/// makes, about 0.3λ before smoothing on the demo, 0 on a flat crack.
-fn roughness(x: &[[f64; 3]], movable: &[u32], rings: &[Vec<u32>]) -> f64 {
-    let mut heights: Vec<f64> = movable
-        .iter()
-        .zip(rings)
-        .filter(|(_, ring)| ring.len() >= 3)
-        .filter_map(|(&v, ring)| {
-            let points = ring.iter().map(|&w| x[w as usize]);
-            let mean = points
-                .clone()
-                .fold([0.0; 3], add)
-                .map(|c| c / ring.len() as f64);
-            let n = plane_normal(mean, points)?;
-            Some(dot(sub(x[v as usize], mean), n).abs())
-        })
-        .collect();
-    heights.sort_unstable_by(f64::total_cmp);
-    heights.get(heights.len() / 2).copied().unwrap_or(0.0)
 }
 
 /// Area vector of the crack faces at each movable vertex (a third of each face's

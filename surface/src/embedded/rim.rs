@@ -1,8 +1,9 @@
 //! How the rim vertices of a crack (where it meets the original surface) may move, and
 //! their smoothing move: see the module doc of [`super`].
 
-use perifrac_math::{add, cross, dot, from_vector, norm, sub, to_matrix};
+use perifrac_math::{add, cross, dot, norm, sub};
 
+use super::plane::plane_normal;
 use super::{Constraint, PLANE_COS, STEP, area_vector};
 
 /// The smoothing move of a rim vertex at `x` with constraint `c`, whose ring on the
@@ -50,28 +51,6 @@ pub(super) fn rim_move(
         m = m.map(|e| e / 2.0);
     }
     [0.0; 3]
-}
-
-/// The unit normal of the plane fitted through points around their centroid `mean`
-/// (the direction of their least spread), or `None` when they lie on a line.
-pub(super) fn plane_normal(
-    mean: [f64; 3],
-    points: impl Iterator<Item = [f64; 3]>,
-) -> Option<[f64; 3]> {
-    let mut spread = [[0.0; 3]; 3];
-    for p in points {
-        let d = sub(p, mean);
-        for (a, row) in spread.iter_mut().enumerate() {
-            for (b, e) in row.iter_mut().enumerate() {
-                *e += d[a] * d[b];
-            }
-        }
-    }
-    let eigen = to_matrix(spread).symmetric_eigen();
-    let mut order = [0, 1, 2];
-    order.sort_by(|&i, &j| eigen.eigenvalues[i].total_cmp(&eigen.eigenvalues[j]));
-    (eigen.eigenvalues[order[1]] > 0.0)
-        .then(|| from_vector(&eigen.eigenvectors.column(order[0]).into_owned()))
 }
 
 /// The original (not crack) triangles around each vertex: its own, and those around
