@@ -5,6 +5,7 @@
 use std::time::Instant;
 
 use perifrac_math::det_sum;
+use rayon::iter::Either;
 use rayon::prelude::*;
 
 use super::{PdModel, family_volume};
@@ -260,10 +261,11 @@ fn forces<const P: bool, const F: bool, const A: bool, const L: bool>(m: &mut Pd
         let m = &*m;
         let rows = rows_mut(&mut neighbours, &m.bonds.offsets);
         if F {
-            // e^c of each particle's bonds; empty rows when no material crushes.
+            // e^c of each particle's bonds; empty rows, not stored, when no material
+            // crushes.
             let crushed_rows = match crushed.as_mut() {
-                Some(c) => rows_mut(c, &m.bonds.offsets),
-                None => std::iter::repeat_with(Default::default).take(n).collect(),
+                Some(c) => Either::Left(rows_mut(c, &m.bonds.offsets).into_par_iter()),
+                None => Either::Right((0..n).into_par_iter().map(|_| Default::default())),
             };
             rows.into_par_iter()
                 .zip(crushed_rows)
@@ -428,22 +430,23 @@ pub(super) fn strain_energy(m: &PdModel) -> f64 {
         let mut dev = 0.0;
         for k in bonds.range(i) {
             let nb = bonds.neighbours[k];
-            // e^c of a crushed bond, which stores energy only while compressed.
-            let crushed = m
-                .crushed
-                .as_ref()
-                .map_or(f64::INFINITY, |c| f64::from(c[k]));
-            if nb & BROKEN != 0 && !crushed.is_finite() {
+            // e^c of a crushed bond, which stores energy only while compressed; a bond
+            // broken in tension stores none.
+            let crushed = (nb & BROKEN != 0).then(|| {
+                m.crushed
+                    .as_ref()
+                    .map_or(f64::INFINITY, |c| f64::from(c[k]))
+            });
+            if crushed.is_some_and(|ec| !ec.is_finite()) {
                 continue;
             }
             let j = (nb & INDEX) as usize;
             let d = [y[j][0] - yi[0], y[j][1] - yi[1], y[j][2] - yi[2]];
             let r = bonds.rest_length[k];
             let e = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() - r;
-            let elastic = if nb & BROKEN != 0 {
-                (e - crushed).min(0.0)
-            } else {
-                e - m.plastic.as_ref().map_or(0.0, |p| p.extension[k])
+            let elastic = match crushed {
+                Some(ec) => (e - ec).min(0.0),
+                None => e - m.plastic.as_ref().map_or(0.0, |p| p.extension[k]),
             };
             dev += m.coef.dev[k] as f64 * elastic * elastic * v[j];
         }
