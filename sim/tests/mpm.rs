@@ -130,8 +130,12 @@ fn bad_mpm_scene_input_names_the_key() {
 
 /// Throughput of MLS-MPM with fixed corotated elasticity: a 0.4 × 0.2 × 0.16 m block
 /// on a slip ground at the resolution `MPM_BENCH_RESOLUTION` (default 0.01 m: ≈10⁵
-/// particles; 0.0046 m: ≈10⁶) for `MPM_BENCH_STEPS` steps (default 20). A benchmark,
-/// not a check: run by `scripts/mpm-bench.sh` and `scripts/taichi-compare.sh`.
+/// particles; 0.0046 m: ≈10⁶) for `MPM_BENCH_STEPS` steps (default 20). Optional:
+/// `MPM_BENCH_MPM`, lines of the material's `[materials.m.mpm]` table (a plastic flow,
+/// another elasticity), and `MPM_BENCH_VELOCITY`, the block's initial downward speed
+/// (m/s, default 0; a block thrown at the ground flows at once). It prints the share of
+/// particles whose plastic strain grows in one more step. A benchmark, not a check: run
+/// by `scripts/mpm-bench.sh` and `scripts/taichi-compare.sh`.
 #[test]
 #[ignore = "benchmark: scripts/mpm-bench.sh"]
 fn throughput() {
@@ -143,13 +147,18 @@ fn throughput() {
     };
     let resolution = setting("MPM_BENCH_RESOLUTION", 0.01);
     let steps = setting("MPM_BENCH_STEPS", 20.0) as usize;
+    let speed = setting("MPM_BENCH_VELOCITY", 0.0);
+    let mpm = std::env::var("MPM_BENCH_MPM").unwrap_or_default();
     let text = format!(
         "[scene]\nduration = 1\nfps = 100\ngravity = [0, -9.81, 0]\n\
          [materials.m]\ndensity = 1000\nyoungs_modulus = 1e5\npoisson_ratio = 0.3\n\
+         [materials.m.mpm]\n{mpm}\n\
          [[body]]\nmodel = \"mpm\"\nmaterial = \"m\"\nresolution = {resolution}\n\
+         velocity = [0, {}, 0]\n\
          shape = {{ type = \"box\", center = [0, 0.1, 0], size = [0.4, 0.2, 0.16] }}\n\
          [[collider]]\ntype = \"ground\"\nfriction = 0\n\
-         [output]\ntets = false\nsurface = \"none\"\npreview = false\n"
+         [output]\ntets = false\nsurface = \"none\"\npreview = false\n",
+        -speed
     );
     let scene = Scene::parse(&text, Path::new("bench.toml"), Path::new(".")).expect("scene");
     let mut p = run::prepare(&scene).expect("prepares");
@@ -164,12 +173,20 @@ fn throughput() {
         p.world.step().expect("steps");
     }
     let wall = start.elapsed().as_secs_f64();
+    let times = p.world.stage_times();
+    // One more step, untimed, to see how many particles flow.
+    let before = p.world.particles().plastic;
+    p.world.step().expect("steps");
+    let after = p.world.particles().plastic;
+    let flowing = before.iter().zip(&after).filter(|(b, a)| a > b).count();
     println!(
-        "{n} particles, {steps} steps, {} threads: {:.4e} particle-steps/s",
+        "{n} particles, {steps} steps, {} threads: {:.4e} particle-steps/s \
+         ({:.1}% of the particles flow in the next step)",
         rayon::current_num_threads(),
-        (n * steps) as f64 / wall
+        (n * steps) as f64 / wall,
+        100.0 * flowing as f64 / n as f64
     );
-    for (stage, t) in p.world.stage_times() {
+    for (stage, t) in times {
         println!(
             "  {stage}: {:.1} ms/step ({:.0}%)",
             1e3 * t / steps as f64,
