@@ -32,6 +32,31 @@ fn a_shock_and_johnson_cook_run_resumes_to_the_same_bytes() {
     ));
 }
 
+/// The thermal Johnson–Cook term's temperatures go through the checkpoint and into the
+/// particle cache's `temperature` column, heated above room temperature by the impact.
+#[test]
+fn a_thermal_johnson_cook_run_resumes_to_the_same_bytes_and_caches_temperature() {
+    let text = SCENE.replace(
+        "elasticity = \"neo-hookean\"",
+        "plasticity = { type = \"johnson-cook\", yield_stress = 2e3, hardening = 1e4, exponent = 0.5, \
+         melting_temperature = 400, room_temperature = 300, thermal_exponent = 1, specific_heat = 1 }",
+    );
+    resumed_run_matches(&text);
+    let scene = Scene::parse(&text, Path::new("mpm.toml"), Path::new(".")).expect("scene");
+    let out = tempfile::tempdir().expect("temp dir");
+    run::run(&scene, out.path(), &RunOptions::default(), &mut |_| {}).expect("runs");
+    let last = scene.frame_count();
+    let frame = ParticleFrame::read(&out.path().join(format!("particles/{last:04}.ply")))
+        .expect("last frame");
+    let t = frame.extra("temperature").expect("a temperature column");
+    let (lo, hi) = t
+        .iter()
+        .fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), &x| {
+            (a.min(x), b.max(x))
+        });
+    assert!(lo >= 300.0 && hi > 300.5, "temperatures in [{lo}, {hi}] K");
+}
+
 fn resumed_run_matches(text: &str) {
     let scene = Scene::parse(text, Path::new("mpm.toml"), Path::new(".")).expect("scene");
     let frames = scene.frame_count() + 1;
@@ -113,6 +138,29 @@ fn bad_mpm_scene_input_names_the_key() {
             "elasticity = \"neo-hookean\"\nbulk_sound_speed = 100",
             "materials.m.mpm.bulk_sound_speed",
             "remove it",
+        ),
+        (
+            "plasticity = { type = \"johnson-cook\", yield_stress = 1e3, melting_temperature = 1356, \
+             room_temperature = 293 }",
+            "materials.m.mpm.plasticity.melting_temperature",
+            "add thermal_exponent or remove melting_temperature, room_temperature",
+        ),
+        (
+            "plasticity = { type = \"johnson-cook\", yield_stress = 1e3, taylor_quinney = 0.9 }",
+            "materials.m.mpm.plasticity.taylor_quinney",
+            "or remove taylor_quinney",
+        ),
+        (
+            "plasticity = { type = \"johnson-cook\", yield_stress = 1e3, melting_temperature = 200, \
+             room_temperature = 293, thermal_exponent = 1, specific_heat = 383 }",
+            "materials.m.mpm.plasticity.melting_temperature",
+            "above the room temperature",
+        ),
+        (
+            "plasticity = { type = \"johnson-cook\", yield_stress = 1e3, melting_temperature = 1356, \
+             room_temperature = 293, thermal_exponent = 1, specific_heat = 383, taylor_quinney = 1.5 }",
+            "materials.m.mpm.plasticity.taylor_quinney",
+            "[0, 1]",
         ),
     ] {
         let text = SCENE.replace("elasticity = \"neo-hookean\"", replacement);

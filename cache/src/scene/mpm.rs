@@ -77,7 +77,10 @@ pub enum MpmPlasticity {
     #[default]
     None,
     /// J2 flow with Johnson–Cook hardening by radial return (Lyu Eq. 7.5–7.8, App.
-    /// B): σ_y = (A + B (ε^p)ⁿ)(1 + C ln(ε̇^p/ε̇₀)).
+    /// B): σ_y = (A + B (ε^p)ⁿ)(1 + C ln(ε̇^p/ε̇₀)), times the thermal factor
+    /// (1 − T*^m), T* = (T − T_room)/(T_melt − T_room) of Johnson & Cook (1983) when
+    /// the four temperature keys are given (all or none), with the particle heated by
+    /// ΔT = β σ_y Δε^p/(ρ c).
     JohnsonCook {
         /// Yield stress A (Pa).
         yield_stress: f64,
@@ -93,6 +96,25 @@ pub enum MpmPlasticity {
         /// Reference equivalent plastic strain rate ε̇₀ (1/s). Default 1 (the thesis').
         #[serde(default = "default_reference_rate")]
         reference_rate: f64,
+        /// Melting temperature T_melt (K), where σ_y reaches 0. With
+        /// `room_temperature`, `thermal_exponent` and `specific_heat`, it turns on the
+        /// thermal term; without them the thesis' form (no temperature) is used.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        melting_temperature: Option<f64>,
+        /// Room temperature T_room (K): the particles' initial temperature, below which
+        /// the thermal factor is 1.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        room_temperature: Option<f64>,
+        /// Thermal softening exponent m of (1 − T*^m).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        thermal_exponent: Option<f64>,
+        /// Specific heat c (J/(kg K)) of the adiabatic heating.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        specific_heat: Option<f64>,
+        /// Taylor–Quinney fraction β of the plastic work turned into heat, in [0, 1].
+        /// Default 0.9 (with the thermal keys only).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        taylor_quinney: Option<f64>,
     },
     /// Snow (Stomakhin et al. 2013; Lyu §3.3.3): the singular values of the elastic
     /// deformation gradient clamped to [1 − θ_c, 1 + θ_s].

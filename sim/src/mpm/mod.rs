@@ -5,7 +5,8 @@
 //! of spacing Δx (the smallest `resolution` of the scene's bodies): see [`grid`] for
 //! the blocks and the deterministic scatter, [`constitutive`] for the energies (fixed
 //! corotated, Neo-Hookean, stable Neo-Hookean), [`plasticity`] for the plastic flows
-//! (J2 with Johnson–Cook hardening, snow, Drucker–Prager) and the shock model's
+//! (J2 with Johnson–Cook hardening and, when its temperature keys are given, its
+//! thermal term with adiabatic heating; snow, Drucker–Prager) and the shock model's
 //! Mie–Grüneisen pressure. Transfers are APIC with quadratic B-splines by default, a
 //! PIC/FLIP blend on request (`[mpm] transfer`); time stepping is explicit.
 //!
@@ -83,6 +84,11 @@ pub struct MpmParticles {
     /// Internal energy density change e_p − e⁰ (J/m³, Eq. 7.3): one entry a particle
     /// when any material uses the shock model, else empty.
     pub internal_energy: Vec<f64>,
+    /// Temperature T_p (K) of the thermal Johnson–Cook term: one entry a particle when
+    /// any material has it, else empty. It starts at the material's room temperature
+    /// (a particle of another material keeps the lowest room temperature of the
+    /// thermal ones) and rises by the adiabatic heating of [`plasticity::Thermal`].
+    pub temperature: Vec<f64>,
 }
 
 impl MpmParticles {
@@ -255,12 +261,36 @@ impl Mpm {
                             exponent,
                             rate_coefficient,
                             reference_rate,
+                            melting_temperature,
+                            room_temperature,
+                            thermal_exponent,
+                            specific_heat,
+                            taylor_quinney,
                         } => Plasticity::JohnsonCook(plasticity::JohnsonCook {
                             a: yield_stress,
                             b: hardening,
                             n: exponent,
                             c: rate_coefficient,
                             reference_rate,
+                            // The scene's checks make the four keys all or none.
+                            thermal: match (
+                                melting_temperature,
+                                room_temperature,
+                                thermal_exponent,
+                                specific_heat,
+                            ) {
+                                (Some(melt), Some(room), Some(m), Some(c)) => {
+                                    Some(plasticity::Thermal {
+                                        melting_temperature: melt,
+                                        room_temperature: room,
+                                        exponent: m,
+                                        specific_heat: c,
+                                        taylor_quinney: taylor_quinney
+                                            .unwrap_or(plasticity::TAYLOR_QUINNEY),
+                                    })
+                                }
+                                _ => None,
+                            },
                         }),
                         MpmPlasticity::Snow {
                             critical_compression,
@@ -278,6 +308,19 @@ impl Mpm {
             .collect();
         if materials.iter().any(|m| m.eos.is_some()) {
             particles.internal_energy = vec![0.0; particles.len()];
+        }
+        let room = |m: &MpmMaterial| match m.plasticity {
+            Plasticity::JohnsonCook(plasticity::JohnsonCook {
+                thermal: Some(t), ..
+            }) => Some(t.room_temperature),
+            _ => None,
+        };
+        if let Some(lowest) = materials.iter().filter_map(room).reduce(f64::min) {
+            particles.temperature = particles
+                .body
+                .iter()
+                .map(|&b| room(&materials[b as usize]).unwrap_or(lowest))
+                .collect();
         }
         let dx = scene
             .bodies
@@ -428,7 +471,9 @@ impl Mpm {
     }
 
     /// Projects each plastic particle's grown deformation gradient onto its material's
-    /// admissible set and accumulates ε^p ([`Plasticity::project`]).
+    /// admissible set and accumulates ε^p ([`Plasticity::project`]); a thermal
+    /// Johnson–Cook particle, returned at its temperature T of the step's start, is
+    /// heated by β σ_y(ε^p + Δε^p, ε̇, T) Δε^p/(ρ c) ([`plasticity::Thermal::heating`]).
     fn plasticity(&mut self) {
         if self
             .materials
@@ -440,24 +485,47 @@ impl Mpm {
         let p = &mut self.particles;
         let materials = &self.materials;
         let (body, affine) = (&p.body, &p.affine);
-        p.deformation
-            .par_iter_mut()
-            .zip(p.plastic.par_iter_mut())
-            .enumerate()
-            .with_min_len(256)
-            .for_each(|(i, (f, plastic))| {
-                let material = &materials[body[i] as usize];
-                if material.plasticity == Plasticity::None {
-                    return;
-                }
-                let input = FlowInput {
-                    mu: material.elastic.mu,
-                    lambda: material.elastic.lambda,
-                    rate: plasticity::equivalent_strain_rate(&affine[i]),
-                    plastic_strain: *plastic,
-                };
-                *plastic += material.plasticity.project(f, &input);
-            });
+        let kernel = |i: usize, f: &mut Mat3, plastic: &mut f64, temperature: Option<&mut f64>| {
+            let material = &materials[body[i] as usize];
+            if material.plasticity == Plasticity::None {
+                return;
+            }
+            let input = FlowInput {
+                mu: material.elastic.mu,
+                lambda: material.elastic.lambda,
+                rate: plasticity::equivalent_strain_rate(&affine[i]),
+                plastic_strain: *plastic,
+                temperature: temperature.as_deref().copied().unwrap_or(0.0),
+            };
+            let increment = material.plasticity.project(f, &input);
+            *plastic += increment;
+            if let Some(temperature) = temperature
+                && let Plasticity::JohnsonCook(hardening) = &material.plasticity
+                && let Some(thermal) = &hardening.thermal
+                && increment > 0.0
+            {
+                let stress = hardening
+                    .at_temperature(input.temperature)
+                    .yield_stress(*plastic, input.rate);
+                *temperature += thermal.heating(stress, increment, material.density);
+            }
+        };
+        if p.temperature.is_empty() {
+            p.deformation
+                .par_iter_mut()
+                .zip(p.plastic.par_iter_mut())
+                .enumerate()
+                .with_min_len(256)
+                .for_each(|(i, (f, plastic))| kernel(i, f, plastic, None));
+        } else {
+            p.deformation
+                .par_iter_mut()
+                .zip(p.plastic.par_iter_mut())
+                .zip(p.temperature.par_iter_mut())
+                .enumerate()
+                .with_min_len(256)
+                .for_each(|(i, ((f, plastic), t))| kernel(i, f, plastic, Some(t)));
+        }
     }
 
     /// Total linear momentum Σ m_p v_p (kg m/s), summed in particle order.
@@ -636,7 +704,15 @@ impl Model for Mpm {
                         .map(|&b| self.materials[b as usize].id() as f32)
                         .collect(),
                 ),
-            ],
+            ]
+            .into_iter()
+            .chain((!p.temperature.is_empty()).then(|| {
+                (
+                    "temperature".to_string(),
+                    p.temperature.iter().map(|&t| t as f32).collect(),
+                )
+            }))
+            .collect(),
         }
     }
 
@@ -648,6 +724,7 @@ impl Model for Mpm {
         out.put_f64_slice(&flatten(&p.affine));
         out.put_f64_slice(&p.plastic);
         out.put_f64_slice(&p.internal_energy);
+        out.put_f64_slice(&p.temperature);
     }
 
     fn restore(&mut self, input: &mut Decoder<'_>) -> Result<()> {
@@ -666,6 +743,12 @@ impl Model for Mpm {
         }
         let energies = p.internal_energy.len();
         p.internal_energy = input.take_finite_f64_slice("MPM internal energies", energies)?;
+        let temperatures = p.temperature.len();
+        p.temperature = input.take_finite_f64_slice("MPM temperatures", temperatures)?;
+        if let Some(i) = p.temperature.iter().position(|&t| t <= 0.0) {
+            let message = format!("particle {i} has a temperature at or below 0 K");
+            return Err(input.error("MPM temperatures", message).into());
+        }
         Ok(())
     }
 
@@ -704,6 +787,7 @@ fn at_rest(
         affine: vec![[[0.0; 3]; 3]; n],
         plastic: vec![0.0; n],
         internal_energy: Vec::new(),
+        temperature: Vec::new(),
     }
 }
 

@@ -15,10 +15,71 @@
 //!   tr(log Σ̂)/3) so that J is kept (J2 flow is isochoric, Lyu §7.3.1);
 //! - Drucker–Prager projects log Σ̂ onto the cone of friction angle φ (Klár et al.
 //!   2016, Eq. 27–28 with d = 3).
+//!
+//! **How F̂ is decomposed** ([`Stretch`]). Every projection maps the singular values
+//! Σ̂ to new ones Σ and keeps U and V, so F_E = U Σ Vᵀ = F̂ V Σ̂⁻¹ Σ Vᵀ needs only V
+//! and Σ̂: the eigenvectors and the square roots of the eigenvalues of C = F̂ᵀF̂, found
+//! by [`symmetric_eigen`] (Jacobi) at a fraction of the cost of nalgebra's SVD.
+//! Squaring F̂ squares its condition number, so an inverted or nearly degenerate F̂
+//! (det F̂ ≤ 0, or λ_min(C) < [`EIGEN_CONDITION_FLOOR`] λ_max(C)) takes the
+//! inversion-safe SVD ([`rotation_svd`]) as before. Before either, J2 and snow ask
+//! whether the particle can yield at all from invariants that cost a few
+//! multiplications ([`j2_surely_elastic`], the Gershgorin discs of C for snow), so a
+//! particle inside the yield surface is not decomposed. The test
+//! `fast_projections_match_the_svd_ones` holds every projection to its SVD form.
 
-use super::constitutive::{Mat3, RotationSvd, rotation_svd};
+use super::constitutive::{
+    Mat3, RotationSvd, determinant, gram, mul, rotation_svd, symmetric_eigen,
+};
 
-/// Johnson–Cook flow stress σ_y(ε^p, ε̇^p) = (A + B (ε^p)ⁿ)(1 + C ln(ε̇^p/ε̇₀)) (Eq. 7.7).
+/// The Taylor–Quinney fraction β when the scene does not give one (Johnson & Cook
+/// 1983 convert "90 to 100%" of the plastic work into heat; 0.9 is the usual choice).
+pub const TAYLOR_QUINNEY: f64 = 0.9;
+
+/// The thermal term of Johnson & Cook (1983, Eq. 1): σ_y is multiplied by 1 − T*^m,
+/// T* = (T − T_room)/(T_melt − T_room), and the plastic work heats the particle
+/// adiabatically (§2 of the paper: "the deformation is assumed adiabatic" at high
+/// rates): ΔT = β σ_y Δε^p/(ρ c), β the Taylor–Quinney fraction.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Thermal {
+    /// Melting temperature T_melt (K).
+    pub melting_temperature: f64,
+    /// Room temperature T_room (K), also the particles' initial temperature.
+    pub room_temperature: f64,
+    /// Thermal exponent m.
+    pub exponent: f64,
+    /// Specific heat c (J/(kg K)).
+    pub specific_heat: f64,
+    /// Taylor–Quinney fraction β of the plastic work turned into heat.
+    pub taylor_quinney: f64,
+}
+
+impl Thermal {
+    /// 1 − T*^m, clamped to 1 at and below room temperature (T* ≤ 0, as Johnson &
+    /// Cook's fit is defined above it) and to 0 from the melting point on.
+    pub fn softening(&self, temperature: f64) -> f64 {
+        let t = (temperature - self.room_temperature)
+            / (self.melting_temperature - self.room_temperature);
+        if t <= 0.0 {
+            1.0
+        } else if t >= 1.0 {
+            0.0
+        } else {
+            1.0 - t.powf(self.exponent)
+        }
+    }
+
+    /// The temperature rise β σ_y Δε^p/(ρ c) of a plastic increment `increment` at flow
+    /// stress `stress` (Pa) in a material of density `density` (kg/m³). The flow stress
+    /// and ε^p here are Kirchhoff (per reference volume), so ρ is the reference
+    /// density.
+    pub fn heating(&self, stress: f64, increment: f64, density: f64) -> f64 {
+        self.taylor_quinney * stress * increment / (density * self.specific_heat)
+    }
+}
+
+/// Johnson–Cook flow stress σ_y(ε^p, ε̇^p) = (A + B (ε^p)ⁿ)(1 + C ln(ε̇^p/ε̇₀)) (Eq. 7.7),
+/// times the thermal factor of [`Thermal`] when it has one (Johnson & Cook 1983).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct JohnsonCook {
     /// Yield stress A at the reference strain rate (Pa).
@@ -31,6 +92,8 @@ pub struct JohnsonCook {
     pub c: f64,
     /// Reference equivalent plastic strain rate ε̇₀ (1/s); 1 in the thesis.
     pub reference_rate: f64,
+    /// The thermal term, or `None` for the thesis' form.
+    pub thermal: Option<Thermal>,
 }
 
 /// The plastic strain at which the hardening modulus of an exponent n < 1 is taken
@@ -42,6 +105,22 @@ pub const RETURN_ITERATIONS: usize = 50;
 pub const RETURN_TOLERANCE: f64 = 1e-12;
 
 impl JohnsonCook {
+    /// The flow stress law at temperature `temperature` (K): A and B scaled by the
+    /// thermal factor 1 − T*^m (so [`JohnsonCook::yield_stress`] and
+    /// [`JohnsonCook::plastic_modulus`] of the result include it); itself without a
+    /// thermal term.
+    pub fn at_temperature(&self, temperature: f64) -> JohnsonCook {
+        let Some(thermal) = &self.thermal else {
+            return *self;
+        };
+        let factor = thermal.softening(temperature);
+        JohnsonCook {
+            a: self.a * factor,
+            b: self.b * factor,
+            ..*self
+        }
+    }
+
     /// The rate factor 1 + C ln(ε̇^p/ε̇₀), never below 1 (rates under the reference do
     /// not soften).
     fn rate_factor(&self, rate: f64) -> f64 {
@@ -119,7 +198,13 @@ pub fn radial_return(
             break;
         }
         let slope = 3.0 * mu + hardening.plastic_modulus(plastic_strain + increment, rate);
-        increment = (increment + f / slope).max(0.0);
+        let next = (increment + f / slope).max(0.0);
+        // A zero flow stress (at the melting point) has no relative tolerance: stop
+        // when Newton no longer moves.
+        if next == increment {
+            break;
+        }
+        increment = next;
     }
     let scale = (s - 3.0 * mu * increment) / s;
     Return {
@@ -209,6 +294,9 @@ pub struct FlowInput {
     pub rate: f64,
     /// The particle's equivalent plastic strain ε^p before this step.
     pub plastic_strain: f64,
+    /// The particle's temperature (K) before this step (read by the thermal
+    /// Johnson–Cook term only).
+    pub temperature: f64,
 }
 
 /// diag(d).
@@ -240,11 +328,40 @@ impl Plasticity {
     /// Projects the elastic deformation gradient `f` onto the material's admissible set
     /// and returns the increment of the plastic strain measure: Δε^p of the radial
     /// return (J2), ‖log Σ̂ − log Σ‖ (snow), δγ (Drucker–Prager); 0 when elastic.
+    /// A particle that cannot yield is recognized without a decomposition; otherwise
+    /// F̂ is decomposed once by [`Stretch::of`].
     pub fn project(&self, f: &mut Mat3, input: &FlowInput) -> f64 {
+        match *self {
+            Plasticity::None => return 0.0,
+            Plasticity::JohnsonCook(ref hardening) => {
+                let hardening = hardening.at_temperature(input.temperature);
+                let yield_stress = hardening.yield_stress(input.plastic_strain, input.rate);
+                if j2_surely_elastic(f, input.mu, yield_stress) {
+                    return 0.0;
+                }
+            }
+            Plasticity::Snow {
+                critical_compression,
+                critical_stretch,
+            } => {
+                let (lo, hi) = (1.0 - critical_compression, 1.0 + critical_stretch);
+                if determinant(f) > 0.0 && gershgorin_within(&gram(f), lo * lo, hi * hi) {
+                    return 0.0;
+                }
+            }
+            Plasticity::DruckerPrager { .. } => {}
+        }
+        let stretch = Stretch::of(f);
+        self.project_with(f, input, &stretch)
+    }
+
+    /// [`Plasticity::project`] with the decomposition `stretch` of `f` given (the
+    /// tests give it the SVD to compare with).
+    pub fn project_with(&self, f: &mut Mat3, input: &FlowInput, stretch: &Stretch) -> f64 {
+        let sigma = stretch.sigma();
         match *self {
             Plasticity::None => 0.0,
             Plasticity::JohnsonCook(ref hardening) => {
-                let RotationSvd { u, sigma, v } = rotation_svd(f);
                 let log = sigma.map(|s| s.max(SINGULAR_VALUE_FLOOR).ln());
                 let mean = (log[0] + log[1] + log[2]) / 3.0;
                 let trial = diagonal(log.map(|e| 2.0 * input.mu * (e - mean)));
@@ -252,7 +369,7 @@ impl Plasticity {
                     &trial,
                     input.mu,
                     input.plastic_strain,
-                    hardening,
+                    &hardening.at_temperature(input.temperature),
                     input.rate,
                 );
                 if r.plastic_increment == 0.0 {
@@ -260,20 +377,19 @@ impl Plasticity {
                 }
                 let returned =
                     [0, 1, 2].map(|a| (r.deviatoric[a][a] / (2.0 * input.mu) + mean).exp());
-                *f = compose(&u, returned, &v);
+                *f = stretch.rebuild(f, returned);
                 r.plastic_increment
             }
             Plasticity::Snow {
                 critical_compression,
                 critical_stretch,
             } => {
-                let RotationSvd { u, sigma, v } = rotation_svd(f);
                 let clamped =
                     sigma.map(|s| s.clamp(1.0 - critical_compression, 1.0 + critical_stretch));
                 if clamped == sigma {
                     return 0.0;
                 }
-                *f = compose(&u, clamped, &v);
+                *f = stretch.rebuild(f, clamped);
                 let change: f64 = (0..3)
                     .map(|a| {
                         let d = sigma[a].abs().max(SINGULAR_VALUE_FLOOR).ln() - clamped[a].ln();
@@ -283,25 +399,113 @@ impl Plasticity {
                 change.sqrt()
             }
             Plasticity::DruckerPrager { alpha } => {
-                let RotationSvd { u, sigma, v } = rotation_svd(f);
                 let log = sigma.map(|s| s.max(SINGULAR_VALUE_FLOOR).ln());
                 let trace = log[0] + log[1] + log[2];
                 let dev = log.map(|e| e - trace / 3.0);
                 let dev_norm = (dev[0] * dev[0] + dev[1] * dev[1] + dev[2] * dev[2]).sqrt();
-                if trace >= 0.0 || dev_norm == 0.0 {
-                    // Stretched (or purely dilated): no cohesion, the tip of the cone.
-                    *f = compose(&u, [1.0; 3], &v);
+                if trace >= 0.0 {
+                    // Stretched: no cohesion, the tip of the cone.
+                    *f = stretch.rebuild(f, [1.0; 3]);
                     return (log[0] * log[0] + log[1] * log[1] + log[2] * log[2]).sqrt();
                 }
+                // Compressed: a purely volumetric state (dev = 0) is inside the cone.
                 let gamma = dev_norm
                     + (3.0 * input.lambda + 2.0 * input.mu) / (2.0 * input.mu) * trace * alpha;
                 if gamma <= 0.0 {
                     return 0.0;
                 }
                 let projected = [0, 1, 2].map(|a| (log[a] - gamma * dev[a] / dev_norm).exp());
-                *f = compose(&u, projected, &v);
+                *f = stretch.rebuild(f, projected);
                 gamma
             }
         }
     }
+}
+
+/// The smallest ratio λ_min/λ_max of C = F̂ᵀF̂ (the squared inverse condition number
+/// of F̂) that [`Stretch::of`] decomposes by the eigen-solve: below it the singular
+/// values' relative error, about 10⁻¹⁵ λ_max/λ_min, could pass 10⁻⁹, and the SVD is
+/// taken.
+pub const EIGEN_CONDITION_FLOOR: f64 = 1e-6;
+
+/// The decomposition of F̂ that the projections share: what they need is Σ̂ and a way
+/// to rebuild U Σ Vᵀ for new singular values Σ.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Stretch {
+    /// From the eigen-solve of C = F̂ᵀF̂ = V Σ̂² Vᵀ (det F̂ > 0): U Σ Vᵀ = F̂ V Σ̂⁻¹ Σ Vᵀ.
+    Eigen {
+        /// Singular values Σ̂ = √λ(C), positive.
+        sigma: [f64; 3],
+        /// Right singular vectors V (the eigenvectors of C, as columns).
+        v: Mat3,
+    },
+    /// The inversion-safe SVD, for an inverted or nearly degenerate F̂.
+    Svd(RotationSvd),
+}
+
+impl Stretch {
+    /// The eigen-solve of F̂ᵀF̂ where F̂ is well conditioned and not inverted, else the
+    /// SVD.
+    pub fn of(f: &Mat3) -> Stretch {
+        if determinant(f) > 0.0 {
+            let (lambda, v) = symmetric_eigen(&gram(f));
+            let largest = lambda[0].max(lambda[1]).max(lambda[2]);
+            let smallest = lambda[0].min(lambda[1]).min(lambda[2]);
+            if smallest > EIGEN_CONDITION_FLOOR * largest {
+                return Stretch::Eigen {
+                    sigma: lambda.map(f64::sqrt),
+                    v,
+                };
+            }
+        }
+        Stretch::Svd(rotation_svd(f))
+    }
+
+    /// The singular values Σ̂ (the smallest negative when F̂ is inverted).
+    pub fn sigma(&self) -> [f64; 3] {
+        match self {
+            Stretch::Eigen { sigma, .. } => *sigma,
+            Stretch::Svd(svd) => svd.sigma,
+        }
+    }
+
+    /// U diag(`sigma`) Vᵀ of the decomposition of `f`.
+    pub fn rebuild(&self, f: &Mat3, sigma: [f64; 3]) -> Mat3 {
+        match self {
+            Stretch::Eigen { sigma: old, v } => {
+                let ratio = [0, 1, 2].map(|a| sigma[a] / old[a]);
+                mul(f, &compose(v, ratio, v))
+            }
+            Stretch::Svd(svd) => compose(&svd.u, sigma, &svd.v),
+        }
+    }
+}
+
+/// Whether the J2 trial state of `f` lies inside the yield surface σ_y for certain,
+/// from the invariants I_C = tr FᵀF and J = det F alone. With ν_a = σ̂_a²/J^{2/3} (so
+/// Π ν_a = 1), x_a = ln ν_a and δ = Σ ν_a − 3 = Σ (e^{x_a} − 1 − x_a) = I_C/J^{2/3} − 3,
+/// Taylor's remainder gives x² ≤ 2 (e^x − 1 − x) e^{max(−x, 0)}, and
+/// e^{−y} − 1 + y ≥ y²/3 for 0 ≤ y ≤ 1 bounds −x_a by √(3δ) when δ < 1/3. The trial
+/// deviatoric Hencky strain is x/2, so its equivalent stress s* = 2μ √(3/2) ‖x/2‖
+/// satisfies s*² ≤ 3μ² δ e^{√(3δ)}, and the particle is elastic if that is ≤ σ_y².
+/// The bound is tight at small strain (s*² → 3μ² δ).
+pub fn j2_surely_elastic(f: &Mat3, mu: f64, yield_stress: f64) -> bool {
+    let j = determinant(f);
+    if !(j > 0.0) {
+        return false;
+    }
+    let ic: f64 = f.iter().flatten().map(|x| x * x).sum();
+    let cbrt = j.cbrt();
+    let delta = (ic / (cbrt * cbrt) - 3.0).max(0.0);
+    delta < 1.0 / 3.0
+        && 3.0 * mu * mu * delta * (3.0 * delta).sqrt().exp() <= yield_stress * yield_stress
+}
+
+/// Whether every Gershgorin disc of the symmetric `c` lies in [lo, hi], so that its
+/// eigenvalues do.
+fn gershgorin_within(c: &Mat3, lo: f64, hi: f64) -> bool {
+    (0..3).all(|i| {
+        let radius = c[i][(i + 1) % 3].abs() + c[i][(i + 2) % 3].abs();
+        c[i][i] - radius >= lo && c[i][i] + radius <= hi
+    })
 }

@@ -358,6 +358,7 @@ fn hardening(n: f64) -> plasticity::JohnsonCook {
         n,
         c: 0.0,
         reference_rate: 1.0,
+        thermal: None,
     }
 }
 
@@ -418,6 +419,7 @@ fn johnson_cook_yield_stress_and_modulus_match_hand_worked_values() {
         n: 0.5,
         c: 0.1,
         reference_rate: 1.0,
+        thermal: None,
     };
     // (1e8 + 2e8 · √0.04)(1 + 0.1 ln 10) = 1.4e8 · 1.2302585093.
     let expected = 1.4e8 * (1.0 + 0.1 * 10f64.ln());
@@ -548,6 +550,7 @@ fn j2_projection_of_a_particle_lands_on_the_yield_surface_and_keeps_its_volume()
             lambda: elastic.lambda,
             rate: 1.0,
             plastic_strain: eps,
+            temperature: 0.0,
         };
         let increment = jc.project(&mut f, &input);
         assert!(increment > 0.0);
@@ -564,6 +567,158 @@ fn j2_projection_of_a_particle_lands_on_the_yield_surface_and_keeps_its_volume()
     }
 }
 
+/// Every projection through [`Plasticity::project`] (the invariant pre-checks, then the
+/// eigen-solve of F̂ᵀF̂ or, for an inverted or degenerate F̂, the SVD) equals the same
+/// projection on the exact SVD F was made of (and, more loosely, on nalgebra's), on
+/// random deformation gradients: small strains around
+/// the yield surface, two or three singular values equal to 1e-9 or exactly, condition
+/// numbers up to 400, and nearly degenerate or inverted ones (singular values down to
+/// 1e-7, negative).
+#[test]
+fn fast_projections_match_the_svd_ones() {
+    let mut state = 11u64;
+    let mut uniform = move || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let elastic = Elastic::from_young(MpmElasticity::FixedCorotated, 1e9, 0.3);
+    let materials = [
+        Plasticity::JohnsonCook(plasticity::JohnsonCook {
+            a: 2e6,
+            b: 2e6,
+            n: 0.5,
+            c: 0.1,
+            reference_rate: 1.0,
+            thermal: None,
+        }),
+        Plasticity::Snow {
+            critical_compression: 0.025,
+            critical_stretch: 0.0075,
+        },
+        Plasticity::drucker_prager(30.0),
+    ];
+    let (mut worst_exact, mut increment_exact) = (0.0f64, 0.0f64);
+    let (mut worst_svd, mut increment_svd) = (0.0f64, 0.0f64);
+    let (mut eigen, mut svds, mut unchanged) = (0, 0, [0; 3]);
+    for case in 0..30_000 {
+        let mut angle = || 6.3 * uniform();
+        let (a, b, c, d, e, f) = (angle(), angle(), angle(), angle(), angle(), angle());
+        let u = nalgebra::Rotation3::from_euler_angles(a, b, c).into_inner();
+        let v = nalgebra::Rotation3::from_euler_angles(d, e, f).into_inner();
+        let s = 1.0 + 0.02 * (uniform() - 0.5);
+        let sigma = match case % 6 {
+            0 => [0, 1, 2].map(|_| 1.0 + 0.02 * (uniform() - 0.5)),
+            1 => [
+                s,
+                s * (1.0 + 1e-9 * uniform()),
+                1.0 + 0.02 * (uniform() - 0.5),
+            ],
+            2 => [s; 3],
+            3 => [0, 1, 2].map(|_| 0.05 * 400f64.powf(uniform())),
+            4 => [1.0 + 0.3 * uniform(), 1.0, 1e-7 + 1e-3 * uniform()],
+            _ => [1.0 + 0.3 * uniform(), 1.0, -(0.01 + uniform())],
+        };
+        let m =
+            u * nalgebra::Matrix3::from_diagonal(&nalgebra::Vector3::from(sigma)) * v.transpose();
+        let f: Mat3 = [0, 1, 2].map(|i| [0, 1, 2].map(|j| m[(i, j)]));
+        let solved = matches!(
+            plasticity::Stretch::of(&f),
+            plasticity::Stretch::Eigen { .. }
+        );
+        if solved {
+            eigen += 1;
+        } else {
+            svds += 1;
+        }
+        let input = FlowInput {
+            mu: elastic.mu,
+            lambda: elastic.lambda,
+            rate: 10.0 * uniform(),
+            plastic_strain: 0.1 * uniform(),
+            temperature: 0.0,
+        };
+        // The exact SVD is the one F was made of, for the eigen-solve path; the SVD
+        // path (inverted or degenerate F) must be rotation_svd's exactly.
+        let svd = rotation_svd(&f);
+        let exact = if solved {
+            let to_mat =
+                |r: nalgebra::Matrix3<f64>| [0, 1, 2].map(|i| [0, 1, 2].map(|j| r[(i, j)]));
+            constitutive::RotationSvd {
+                u: to_mat(u),
+                sigma,
+                v: to_mat(v),
+            }
+        } else {
+            svd
+        };
+        let scale = f.iter().flatten().fold(0.0f64, |x, y| x.max(y.abs()));
+        for (k, material) in materials.iter().enumerate() {
+            let mut fast = f;
+            let increment = material.project(&mut fast, &input);
+            for (reference, worst_f, worst_increment) in [
+                (exact, &mut worst_exact, &mut increment_exact),
+                (svd, &mut worst_svd, &mut increment_svd),
+            ] {
+                let mut slow = f;
+                let expected =
+                    material.project_with(&mut slow, &input, &plasticity::Stretch::Svd(reference));
+                if expected == 0.0 && reference == svd {
+                    unchanged[k] += 1;
+                }
+                *worst_increment =
+                    worst_increment.max((increment - expected).abs() / expected.abs().max(1e-3));
+                for (row, row_slow) in fast.iter().zip(&slow) {
+                    for (x, y) in row.iter().zip(row_slow) {
+                        *worst_f = worst_f.max((x - y).abs() / scale);
+                    }
+                }
+            }
+        }
+    }
+    assert!(
+        worst_exact < 1e-12 && increment_exact < 1e-9,
+        "F differs from the exact SVD's projection by {worst_exact:e}, Δε^p by {increment_exact:e}"
+    );
+    // nalgebra's SVD itself errs by up to ~1e-8 when two singular values are close.
+    assert!(
+        worst_svd < 1e-7 && increment_svd < 1e-7,
+        "F differs from nalgebra's SVD's projection by {worst_svd:e}, Δε^p by {increment_svd:e}"
+    );
+    // Both paths and both outcomes were exercised.
+    assert!(
+        eigen > 15_000 && svds > 5_000,
+        "{eigen} eigen-solves, {svds} SVDs"
+    );
+    assert!(
+        unchanged.iter().all(|&n| n > 1_000 && n < 29_000),
+        "elastic cases per model: {unchanged:?}"
+    );
+}
+
+/// [`plasticity::j2_surely_elastic`] is a bound: never true for a yielding trial state,
+/// and tight at small strain (true from 1.02 times the equivalent stress of a simple shear up to γ = 0.01).
+#[test]
+fn the_j2_elastic_check_is_a_tight_bound() {
+    let mu = 1e9;
+    for gamma in [1e-4, 1e-3, 1e-2, 0.1, 0.5] {
+        // Simple shear F = I + γ e₁⊗e₂: its equivalent stress from the SVD.
+        let f: Mat3 = [[1.0, gamma, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        let (s, _) = hencky_equivalent_stress(&f, mu);
+        assert!(
+            !plasticity::j2_surely_elastic(&f, mu, 0.999999 * s),
+            "γ = {gamma}"
+        );
+        if gamma <= 1e-2 {
+            assert!(
+                plasticity::j2_surely_elastic(&f, mu, 1.01 * s),
+                "γ = {gamma}"
+            );
+        }
+    }
+}
+
 #[test]
 fn snow_clamps_singular_values_and_drucker_prager_lands_on_its_cone() {
     let snow = Plasticity::Snow {
@@ -575,6 +730,7 @@ fn snow_clamps_singular_values_and_drucker_prager_lands_on_its_cone() {
         lambda: 1e6,
         rate: 0.0,
         plastic_strain: 0.0,
+        temperature: 0.0,
     };
     let mut f: Mat3 = [[1.1, 0.0, 0.0], [0.0, 0.9, 0.0], [0.0, 0.0, 1.001]];
     let change = snow.project(&mut f, &input);
@@ -611,6 +767,113 @@ fn snow_clamps_singular_values_and_drucker_prager_lands_on_its_cone() {
             .iter()
             .all(|s| (s - 1.0).abs() < 1e-12)
     );
+}
+
+/// A thermal Johnson–Cook aluminium-like material whose heat softens it visibly
+/// (c = 100 J/(kg K), ten times below aluminium's, so 20% strain heats it ≈ 200 K).
+fn thermal_johnson_cook() -> plasticity::JohnsonCook {
+    plasticity::JohnsonCook {
+        a: 2e8,
+        b: 3e8,
+        n: 0.5,
+        c: 0.0,
+        reference_rate: 1.0,
+        thermal: Some(plasticity::Thermal {
+            melting_temperature: 900.0,
+            room_temperature: 300.0,
+            exponent: 1.0,
+            specific_heat: 100.0,
+            taylor_quinney: 0.9,
+        }),
+    }
+}
+
+/// Adiabatic heating (Johnson & Cook 1983): one particle compressed uniaxially and
+/// isochorically to 20% log strain in 2000 steps through `Mpm::plasticity` heats by
+/// the Taylor–Quinney fraction of its plastic work over ρc. The plastic work is
+/// measured independently of the return map: the deviatoric work ∫τ:dε of the
+/// prescribed strain path (trapezoid rule on the Hencky stresses before and after each
+/// step) less the elastic energy μ‖dev ε_E‖² left at the end.
+#[test]
+fn adiabatic_heating_of_a_uniaxial_compression_is_beta_times_the_plastic_work_over_rho_c() {
+    let (density, jc) = (2700.0, thermal_johnson_cook());
+    let material = MpmMaterial {
+        density,
+        elastic: Elastic::from_young(MpmElasticity::FixedCorotated, 70e9, 0.33),
+        eos: None,
+        plasticity: Plasticity::JohnsonCook(jc),
+    };
+    let mu = material.elastic.mu;
+    let mut particles = at_rest(vec![[0.0; 3]], vec![1.0], vec![density], vec![0]);
+    particles.temperature = vec![300.0];
+    let mut model = Mpm::new(particles, vec![material], 0.1);
+    let steps = 2000;
+    let d = -0.2 / steps as f64;
+    let step = [d, -0.5 * d, -0.5 * d];
+    let hencky = |f: &Mat3| {
+        let log = [0, 1, 2].map(|a| f[a][a].ln());
+        let mean = (log[0] + log[1] + log[2]) / 3.0;
+        log.map(|e| e - mean)
+    };
+    let mut work = 0.0;
+    for _ in 0..steps {
+        let before = hencky(&model.particles.deformation[0]);
+        let f = &mut model.particles.deformation[0];
+        for (a, e) in step.iter().enumerate() {
+            f[a][a] *= e.exp();
+        }
+        model.plasticity();
+        let after = hencky(&model.particles.deformation[0]);
+        work += (0..3)
+            .map(|a| 0.5 * 2.0 * mu * (before[a] + after[a]) * step[a])
+            .sum::<f64>();
+    }
+    let elastic = hencky(&model.particles.deformation[0]);
+    let stored = mu * elastic.iter().map(|e| e * e).sum::<f64>();
+    let heat = 0.9 * (work - stored) / (density * 100.0);
+    let rise = model.particles.temperature[0] - 300.0;
+    assert!(
+        (rise - heat).abs() < 2e-3 * heat,
+        "heated by {rise} K, β W_p/(ρc) = {heat} K"
+    );
+    // The heat softened it: the flow stress at the end is the thermal one.
+    let strain = model.particles.plastic[0];
+    let (s, _) = hencky_equivalent_stress(&model.particles.deformation[0], mu);
+    let softened = jc.at_temperature(300.0 + rise).yield_stress(strain, 0.0);
+    assert!(
+        rise > 100.0 && (s - softened).abs() < 1e-3 * softened,
+        "{s} vs {softened}"
+    );
+    assert!(softened < 0.85 * jc.yield_stress(strain, 0.0));
+}
+
+/// The thermal factor 1 − T*^m is 1 at room temperature and 0 at the melting point,
+/// where the return map takes away all the deviatoric stress.
+#[test]
+fn the_yield_stress_falls_to_zero_at_the_melting_point() {
+    let jc = thermal_johnson_cook();
+    let thermal = jc.thermal.expect("thermal");
+    assert_eq!(thermal.softening(300.0), 1.0);
+    assert_eq!(thermal.softening(250.0), 1.0);
+    assert!((thermal.softening(600.0) - 0.5).abs() < 1e-15);
+    assert_eq!(jc.at_temperature(900.0).yield_stress(0.3, 10.0), 0.0);
+    assert_eq!(jc.at_temperature(1000.0).yield_stress(0.3, 10.0), 0.0);
+    let mu = 26e9;
+    let mut f: Mat3 = [[1.0, 0.01, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    let j = determinant(&f);
+    let input = FlowInput {
+        mu,
+        lambda: 50e9,
+        rate: 0.0,
+        plastic_strain: 0.1,
+        temperature: 900.0,
+    };
+    let (trial, _) = hencky_equivalent_stress(&f, mu);
+    let increment = Plasticity::JohnsonCook(jc).project(&mut f, &input);
+    let (s, j_after) = hencky_equivalent_stress(&f, mu);
+    assert!(s < 1e-9 * trial, "{s} Pa left of {trial}");
+    assert!((increment - trial / (3.0 * mu)).abs() < 1e-12);
+    assert!((j_after - j).abs() < 1e-14);
 }
 
 /// Mean equivalent plastic strain of a Johnson–Cook ball dropped on the ground.

@@ -108,7 +108,75 @@ fn mpm_material(name: &str, spec: &MpmSpec) -> Check {
             exponent,
             rate_coefficient,
             reference_rate,
+            melting_temperature,
+            room_temperature,
+            thermal_exponent,
+            specific_heat,
+            taylor_quinney,
         } => {
+            let thermal = [
+                ("melting_temperature", melting_temperature),
+                ("room_temperature", room_temperature),
+                ("thermal_exponent", thermal_exponent),
+                ("specific_heat", specific_heat),
+            ];
+            let given: Vec<&str> = thermal
+                .iter()
+                .filter(|(_, v)| v.is_some())
+                .map(|(k, _)| *k)
+                .collect();
+            if let Some((missing, _)) = thermal.iter().find(|(_, v)| v.is_none())
+                && let Some(first) = given.first()
+            {
+                return Err(issue(
+                    &plastic(first),
+                    format!(
+                        "the thermal Johnson–Cook term needs melting_temperature, room_temperature, \
+                         thermal_exponent and specific_heat together: add {missing} or remove {}",
+                        given.join(", ")
+                    ),
+                ));
+            }
+            if given.is_empty() && taylor_quinney.is_some() {
+                return Err(issue(
+                    &plastic("taylor_quinney"),
+                    "the Taylor–Quinney fraction heats the thermal Johnson–Cook term only: add \
+                     melting_temperature, room_temperature, thermal_exponent and specific_heat, \
+                     or remove taylor_quinney",
+                ));
+            }
+            if let (Some(melt), Some(room), Some(m), Some(c)) = (
+                melting_temperature,
+                room_temperature,
+                thermal_exponent,
+                specific_heat,
+            ) {
+                positive(
+                    &plastic("room_temperature"),
+                    room,
+                    "the room temperature (K)",
+                )?;
+                if !(melt.is_finite() && melt > room) {
+                    return Err(issue(
+                        &plastic("melting_temperature"),
+                        format!(
+                            "the melting temperature must be finite and above the room temperature \
+                             ({room} K), in K, got {melt}"
+                        ),
+                    ));
+                }
+                positive(&plastic("thermal_exponent"), m, "the thermal exponent m")?;
+                positive(&plastic("specific_heat"), c, "the specific heat (J/(kg K))")?;
+                let beta = taylor_quinney.unwrap_or(0.9);
+                if !(0.0..=1.0).contains(&beta) {
+                    return Err(issue(
+                        &plastic("taylor_quinney"),
+                        format!(
+                            "the Taylor–Quinney fraction of plastic work turned into heat must lie in [0, 1], got {beta}"
+                        ),
+                    ));
+                }
+            }
             positive(
                 &plastic("yield_stress"),
                 yield_stress,
