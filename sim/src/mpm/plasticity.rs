@@ -491,7 +491,7 @@ impl Stretch {
 /// The bound is tight at small strain (s*² → 3μ² δ).
 pub fn j2_surely_elastic(f: &Mat3, mu: f64, yield_stress: f64) -> bool {
     let j = determinant(f);
-    if !(j > 0.0) {
+    if j.is_nan() || j <= 0.0 {
         return false;
     }
     let ic: f64 = f.iter().flatten().map(|x| x * x).sum();
