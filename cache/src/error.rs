@@ -28,6 +28,16 @@ pub enum CacheError {
         /// the OS's words appear once).
         error: std::io::Error,
     },
+    /// A file to be read is not there: a scene file given on the command line, or a
+    /// file of the cache (its manifest, a frame) that a stage reads. Bad input (exit
+    /// code 2).
+    #[error("{path}: no such file{hint}")]
+    Missing {
+        /// The file.
+        path: PathBuf,
+        /// `; ` and the fix, or empty.
+        hint: &'static str,
+    },
     /// Writing a cache file failed: names the file (never its temporary name), the
     /// OS's reason once, and what to do about it.
     #[error("could not write {path}: {error}{hint}")]
@@ -60,12 +70,15 @@ pub enum CacheError {
 }
 
 impl CacheError {
-    /// An I/O error with the path it concerns.
+    /// An I/O error with the path it concerns ([`CacheError::Missing`] when the file
+    /// is not there).
     pub fn io(path: impl Into<PathBuf>, error: std::io::Error) -> Self {
-        CacheError::Io {
-            path: path.into(),
-            error,
+        let path = path.into();
+        if error.kind() == std::io::ErrorKind::NotFound {
+            let hint = missing_hint(&path);
+            return CacheError::Missing { path, hint };
         }
+        CacheError::Io { path, error }
     }
 
     /// A malformed file.
@@ -90,13 +103,49 @@ impl CacheError {
     pub fn is_bad_input(&self) -> bool {
         matches!(
             self,
-            CacheError::Scene { .. } | CacheError::Format { .. } | CacheError::Checkpoint { .. }
+            CacheError::Scene { .. }
+                | CacheError::Format { .. }
+                | CacheError::Checkpoint { .. }
+                | CacheError::Missing { .. }
         )
     }
 
     /// Whether the error is a write that failed for lack of space.
     pub fn is_disk_full(&self) -> bool {
         matches!(self, CacheError::Write { error, .. } if is_disk_full(error))
+    }
+}
+
+/// The fix for a missing file: a cache file (the manifest, the resolved scene, a file
+/// in one of the cache's folders) means an incomplete cache; a scene file, a wrong path.
+fn missing_hint(path: &std::path::Path) -> &'static str {
+    let name = path
+        .file_name()
+        .and_then(|n| n.to_str())
+        .unwrap_or_default();
+    let folder = path
+        .parent()
+        .and_then(|p| p.file_name())
+        .and_then(|n| n.to_str())
+        .unwrap_or_default();
+    let cache_folders = [
+        "particles",
+        "tets",
+        "surface",
+        "vdb",
+        "colliders",
+        "checkpoint",
+    ];
+    let in_cache = name == "manifest.json"
+        || cache_folders.contains(&folder)
+        || path.with_file_name("manifest.json").is_file();
+    if in_cache {
+        "; the cache is incomplete or not a perifrac cache: give the output folder of a \
+         `perifrac run`, or run the scene again into it with --force"
+    } else if name.ends_with(".toml") {
+        "; give the path of a scene file (assets/scenes/ holds examples)"
+    } else {
+        ""
     }
 }
 

@@ -10,6 +10,7 @@ use crate::checkpoint::Checkpoint;
 use crate::layout::Layout;
 use crate::manifest::{FileRecord, Manifest, Status, frame_of};
 use crate::ply::ParticleFrame;
+use crate::scene::Scene;
 
 /// Something wrong with a cache.
 #[derive(Debug, Clone, PartialEq)]
@@ -50,6 +51,16 @@ pub enum Problem {
         /// The file.
         path: PathBuf,
     },
+    /// The manifest contradicts itself or the frames: collider centres or rotations
+    /// for another number of frames or colliders, a particle count the frames do not
+    /// have. The stages would draw or write the wrong thing, so `render` and `surface`
+    /// refuse such a cache (exit code 2) where they only warn about damaged frames.
+    Inconsistent {
+        /// The manifest, or the frame file that disagrees with it.
+        path: PathBuf,
+        /// What disagrees.
+        message: String,
+    },
 }
 
 impl std::fmt::Display for Problem {
@@ -71,6 +82,12 @@ impl std::fmt::Display for Problem {
                 "{}: a frame the manifest does not list (from another run?)",
                 path.display()
             ),
+            Problem::Inconsistent { path, message } => write!(
+                f,
+                "{}: {message}: the manifest does not describe this cache (edited, or from \
+                 another run); run the scene again with --force",
+                path.display()
+            ),
         }
     }
 }
@@ -87,6 +104,14 @@ pub struct Report {
 }
 
 impl Report {
+    /// Whether the manifest contradicts itself or the frames
+    /// ([`Problem::Inconsistent`]).
+    pub fn is_inconsistent(&self) -> bool {
+        self.problems
+            .iter()
+            .any(|p| matches!(p, Problem::Inconsistent { .. }))
+    }
+
     /// Whether nothing is damaged or missing.
     pub fn is_clean(&self) -> bool {
         self.problems.is_empty()
@@ -114,16 +139,18 @@ pub fn verify(layout: &Layout) -> Report {
             report.problems.push(Problem::Manifest { message });
             // Without a manifest, still look at the frames that are there.
             for frame in layout.particle_frames() {
-                check_particles(&layout.particles(frame), None, &mut report);
+                check_particles(&layout.particles(frame), None, None, &mut report);
             }
             return report;
         }
     };
     let frames = manifest.frames();
+    check_colliders(layout, &manifest, &mut report);
+    let count = Some(manifest.particles);
     for (name, record) in &manifest.files {
         let path = layout.root.join(name);
         if name.starts_with("particles/") {
-            check_particles(&path, Some(record), &mut report);
+            check_particles(&path, Some(record), count, &mut report);
         } else if let Some(bytes) = read(&path, &mut report) {
             check_record(&path, &bytes, record, &mut report);
         }
@@ -135,7 +162,7 @@ pub fn verify(layout: &Layout) -> Report {
         for frame in 1..=frames {
             let path = layout.particles(frame);
             if path.exists() {
-                check_particles(&path, None, &mut report);
+                check_particles(&path, None, count, &mut report);
             }
         }
     } else {
@@ -233,9 +260,69 @@ fn check_record(path: &Path, bytes: &[u8], record: &FileRecord, report: &mut Rep
     false
 }
 
+/// The manifest's collider poses against its frames and the scene's colliders: a row
+/// of `collider_centers` (and of `collider_rotations`, when there are any) a frame, an
+/// entry a collider; its body counts against its particle count.
+fn check_colliders(layout: &Layout, manifest: &Manifest, report: &mut Report) {
+    let path = layout.manifest();
+    let frames = manifest.frames();
+    let colliders = Scene::load_cached(&layout.scene())
+        .ok()
+        .map(|scene| scene.colliders.len());
+    let mut inconsistent = |message: String| {
+        report.problems.push(Problem::Inconsistent {
+            path: path.clone(),
+            message,
+        })
+    };
+    let tables = [
+        (
+            "collider_centers",
+            manifest
+                .collider_centers
+                .iter()
+                .map(Vec::len)
+                .collect::<Vec<_>>(),
+        ),
+        (
+            "collider_rotations",
+            manifest.collider_rotations.iter().map(Vec::len).collect(),
+        ),
+    ];
+    for (name, rows) in tables {
+        let expected = colliders.unwrap_or(0) > 0 && name == "collider_centers";
+        if rows.len() != frames && (expected || !rows.is_empty()) {
+            inconsistent(format!(
+                "{name} has {} rows for its {frames} frames",
+                rows.len()
+            ));
+        } else if let Some(colliders) = colliders
+            && let Some(k) = rows.iter().position(|&n| n != colliders)
+        {
+            inconsistent(format!(
+                "{name} has {} entries at frame {} for the scene's {colliders} colliders",
+                rows[k],
+                k + 1
+            ));
+        }
+    }
+    let in_bodies: usize = manifest.bodies.iter().map(|b| b.particles).sum();
+    if !manifest.bodies.is_empty() && in_bodies != manifest.particles {
+        inconsistent(format!(
+            "particles = {} but its bodies hold {in_bodies}",
+            manifest.particles
+        ));
+    }
+}
+
 /// A particle frame: against its record if there is one, then decoded for
-/// non-finite positions.
-fn check_particles(path: &Path, record: Option<&FileRecord>, report: &mut Report) {
+/// non-finite positions and, with `count`, its particle count.
+fn check_particles(
+    path: &Path,
+    record: Option<&FileRecord>,
+    count: Option<usize>,
+    report: &mut Report,
+) {
     let Some(bytes) = read(path, report) else {
         return;
     };
@@ -246,6 +333,15 @@ fn check_particles(path: &Path, record: Option<&FileRecord>, report: &mut Report
     }
     match ParticleFrame::from_bytes(&bytes) {
         Ok(frame) => {
+            if let Some(count) = count.filter(|&n| n != frame.position.len()) {
+                report.problems.push(Problem::Inconsistent {
+                    path: path.to_path_buf(),
+                    message: format!(
+                        "{} particles, where manifest.json says particles = {count}",
+                        frame.position.len()
+                    ),
+                });
+            }
             if let Some(particle) = frame
                 .position
                 .iter()
@@ -290,6 +386,7 @@ mod tests {
         layout.create().expect("create");
         let mut manifest = Manifest {
             status: Status::Complete,
+            particles: 1,
             ..Manifest::default()
         };
         for k in 1..=3 {

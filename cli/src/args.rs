@@ -265,7 +265,8 @@ pub struct RunArgs {
     /// Output directory (default: `out/<scene name>`).
     #[arg(short, long)]
     pub out: Option<PathBuf>,
-    /// Stop after this many frames.
+    /// Simulate this many frames after the initial one, then stop (--resume continues):
+    /// frame 0001 is the scene at t = 0, so N + 1 frame files.
     #[arg(long)]
     pub frames: Option<String>,
     /// Worker threads (default: all cores).

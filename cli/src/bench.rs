@@ -11,7 +11,8 @@ use perifrac_sim::run;
 use perifrac_sim::world::World;
 
 use crate::args::BenchCommand;
-use crate::commands::{Failure, check_memory, set_threads};
+use crate::commands::{Failure, set_threads};
+use crate::memory::check_memory;
 
 /// Runs a benchmark.
 pub fn run(which: BenchCommand, quiet: bool) -> Result<(), Failure> {

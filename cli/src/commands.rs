@@ -5,14 +5,16 @@ use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressStyle};
 use perifrac_cache::manifest::Manifest;
-use perifrac_cache::scene::{Scene, SurfaceMethod};
+use perifrac_cache::scene::{ModelKind, Scene, SurfaceMethod};
 use perifrac_cache::{CacheError, Layout};
 use perifrac_sim::SimError;
 use perifrac_sim::family;
-use perifrac_sim::geometry::discretize::discretize;
+use perifrac_sim::geometry::discretize::{Discretization, discretize};
 use perifrac_sim::memory::{
-    MemoryEstimate, SETUP_BYTES_PER_BOND, estimate_before_meshing, estimate_memory,
+    BYTES_PER_PARTICLE, MemoryEstimate, SETUP_BYTES_PER_BOND, estimate_before_meshing,
+    estimate_memory,
 };
+use perifrac_sim::mpm::PARTICLES_PER_CELL_AXIS;
 use perifrac_sim::run::{self, Plan, Progress, RunOptions};
 
 use crate::args::RunConfig;
@@ -88,23 +90,6 @@ pub fn set_threads(threads: Option<usize>) -> Result<(), Failure> {
             .map_err(|e| Failure::input(anyhow::anyhow!("--threads {n}: {e}")))?;
     }
     Ok(())
-}
-
-/// Memory the system can still give (MemAvailable of /proc/meminfo), if known: the
-/// CLI refuses a scene whose estimate is above it.
-pub fn available_memory() -> Option<u64> {
-    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb * 1024)
-}
-
-/// Refuses an estimate above the available memory.
-pub fn check_memory(estimate: &perifrac_sim::memory::MemoryEstimate) -> Result<(), Failure> {
-    match available_memory() {
-        Some(limit) => Ok(estimate.refuse_above(limit)?),
-        None => Ok(()),
-    }
 }
 
 /// `out/<scene name>`, refused (exit 2) when the name is not a single folder name.
@@ -382,7 +367,7 @@ pub fn simulate(
         });
     }
     let options = RunOptions {
-        memory_limit: available_memory(),
+        memory_limit: crate::memory::memory_limit(),
         ..options.clone()
     };
     let watcher = Watcher::start(options.stop.clone(), out.to_path_buf())
@@ -455,7 +440,7 @@ pub fn simulate(
 pub fn check(path: &Path) -> Result<(), Failure> {
     let scene = Scene::load(path)?;
     let before = estimate_before_meshing(&scene)?;
-    check_memory(&before)?;
+    crate::memory::check_memory(&before)?;
     let disc = discretize(&scene)?;
     let delta: Vec<f64> = disc
         .body
@@ -465,6 +450,9 @@ pub fn check(path: &Path) -> Result<(), Failure> {
     let estimate = estimate_memory(&scene, &disc);
     println!("scene {}: {}", scene.scene.name, path.display());
     for (b, spec) in scene.bodies.iter().enumerate() {
+        if spec.model == ModelKind::Mpm {
+            continue; // Seeded by the model, not meshed: see `check_mpm`.
+        }
         let q = &disc.quality[b];
         let fit = disc.conformity[b].map_or(String::new(), |c| {
             format!(
@@ -484,7 +472,10 @@ pub fn check(path: &Path) -> Result<(), Failure> {
     if run::uses_fem(&scene) {
         return check_fem(&scene, disc);
     }
-    check_memory(&estimate)?;
+    crate::memory::check_memory(&estimate)?;
+    if scene.bodies.iter().any(|b| b.model == ModelKind::Mpm) {
+        return check_mpm(&scene, disc, &before);
+    }
     let bonds = family::count_bonds(&disc.position, &disc.body, &delta)?;
     let particles = disc.position.len();
     let memory = MemoryEstimate::new(&scene, particles as f64, bonds as f64, 0.0).bytes;
@@ -510,6 +501,43 @@ pub fn check(path: &Path) -> Result<(), Failure> {
     let (stable, dt) = (prepared.stable_dt, prepared.world.dt);
     prepared.world.reset_times();
     print_cost(&scene, stable, dt, prepared.steps_per_frame, || {
+        prepared.world.step()
+    })?;
+    print_contact(&prepared.world);
+    Ok(())
+}
+
+/// `perifrac check` of a scene with MPM bodies: the model seeds their particles
+/// ([`PARTICLES_PER_CELL_AXIS`]³ a cell), so they are counted once it has, with the
+/// memory they need.
+fn check_mpm(scene: &Scene, disc: Discretization, before: &MemoryEstimate) -> Result<(), Failure> {
+    let mut prepared = run::prepare_discretized(scene, disc)?;
+    let owners = &prepared.discretization.body;
+    for (b, spec) in scene.bodies.iter().enumerate() {
+        let n = owners.iter().filter(|&&owner| owner as usize == b).count();
+        println!(
+            "  body {}: {n} MPM particles ({}³ a grid cell of {:.4} m)",
+            spec.name, PARTICLES_PER_CELL_AXIS, spec.resolution
+        );
+    }
+    let particles = owners.len();
+    let bonds = prepared.world.bonds();
+    let estimate = MemoryEstimate::new(scene, particles as f64, bonds as f64, 0.0);
+    crate::memory::check_memory(&estimate)?;
+    println!("  particles: {particles}");
+    println!(
+        "  memory:    {:.1} MiB for the particles ({} bytes each; the MPM grid not counted)",
+        estimate.bytes / (1 << 20) as f64,
+        BYTES_PER_PARTICLE
+    );
+    println!(
+        "             {:.1} MiB as estimated before seeding ({:.0} particles)",
+        before.bytes / (1 << 20) as f64,
+        before.particles
+    );
+    let (stable, dt) = (prepared.stable_dt, prepared.world.dt);
+    prepared.world.reset_times();
+    print_cost(scene, stable, dt, prepared.steps_per_frame, || {
         prepared.world.step()
     })?;
     print_contact(&prepared.world);

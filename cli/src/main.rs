@@ -4,6 +4,7 @@
 //! |---|---|
 //! | [`args`] | the clap arguments ([`args::Cli`], [`args::Command`]) and their validated configs ([`args::RunConfig`], [`args::SurfaceConfig`], …) |
 //! | [`commands`] | `run`, `demo`, `check`; [`commands::Failure`] and its exit code |
+//! | [`memory`] | the memory a run may use (available, `ulimit -v`, cgroup limits) |
 //! | [`signals`] | SIGINT/SIGTERM/SIGHUP during a run: a clean stop with a checkpoint |
 //! | [`verify`] | `perifrac verify`, and the warnings `render` and `surface` print first |
 //! | `surface`, [`render`], `export` | the surface and render stages and the USD export as commands |
@@ -22,6 +23,7 @@ mod bench;
 mod bench_render;
 mod commands;
 mod export;
+mod memory;
 mod plot;
 mod render;
 mod signals;

@@ -114,7 +114,7 @@ pub fn command(config: &RenderConfig, quiet: bool) -> Result<(), Failure> {
             workers: workers(config.threads),
             azimuth: config.azimuth.to_radians(),
         };
-        crate::verify::warn(&config.out);
+        crate::verify::warn(&config.out)?;
         previews(&config.out, &options, quiet).map_err(|e| {
             let code = match &e {
                 RenderError::Input { .. } | RenderError::Size(_) => EXIT_INPUT,

@@ -37,7 +37,7 @@ impl From<SurfaceError> for Failure {
 /// resolved scene (`OUT/scene.toml`).
 pub fn command(config: &SurfaceConfig, quiet: bool) -> Result<(), Failure> {
     set_threads(config.threads)?;
-    crate::verify::warn(&config.out);
+    crate::verify::warn(&config.out)?;
     let scene = Scene::load_cached(&Layout::new(&config.out).scene())?;
     match config.method {
         SurfaceMethodArg::Vdb => stage(&config.out, &scene.output, quiet),

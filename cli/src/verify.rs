@@ -6,7 +6,7 @@ use std::path::Path;
 
 use perifrac_cache::Layout;
 use perifrac_cache::manifest::Status;
-use perifrac_cache::verify::{Report, verify};
+use perifrac_cache::verify::{Problem, Report, verify};
 
 use crate::commands::{EXIT_FAILED, EXIT_INPUT, Failure};
 use crate::signals::EXIT_INTERRUPTED;
@@ -74,9 +74,20 @@ pub fn command(out: &Path) -> Result<(), Failure> {
 }
 
 /// Prints what `perifrac verify` would flag in the cache at `out`, as warnings, before
-/// a stage reads it; returns the report.
-pub fn warn(out: &Path) -> Report {
+/// a stage reads it, and returns the report; a manifest that contradicts itself or the
+/// frames ([`Report::is_inconsistent`]) is refused instead (exit code 2): the stage
+/// would draw colliders or particles where they were not.
+pub fn warn(out: &Path) -> Result<Report, Failure> {
     let report = verify(&Layout::new(out));
+    if report.is_inconsistent() {
+        let problems: Vec<String> = report
+            .problems
+            .iter()
+            .filter(|p| matches!(p, Problem::Inconsistent { .. }))
+            .map(|p| p.to_string())
+            .collect();
+        return Err(Failure::input(anyhow::anyhow!("{}", problems.join("\n"))));
+    }
     for problem in &report.problems {
         eprintln!("warning: {problem}");
     }
@@ -87,5 +98,5 @@ pub fn warn(out: &Path) -> Report {
             out.display()
         );
     }
-    report
+    Ok(report)
 }

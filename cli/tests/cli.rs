@@ -152,8 +152,9 @@ fn bad_scenes_exit_with_2_and_name_file_line_and_key() {
         "{err}"
     );
     assert!(!dir.path().join("o").exists(), "the run must not start");
+    // A missing scene file is bad input too (it was exit 1 until issue 34).
     let result = perifrac(&["check", &dir.path().join("missing.toml").to_string_lossy()]);
-    assert_eq!(result.status.code(), Some(1));
+    assert_eq!(result.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&result.stderr).contains("missing.toml"));
 }
 

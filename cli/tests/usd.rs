@@ -1,9 +1,11 @@
-//! `cache.usd` end to end: `perifrac run` on a small scene (a block with a pre-broken
-//! crack pulled apart, a sphere collider flying past, the embedded surface), then
-//! `perifrac surface --method vdb` and `perifrac export usd` on the same cache; after
-//! each, `scripts/dcc-check.sh` opens the cache with Pixar's usd-core (validator, every
-//! time sample against the PLY and glTF files, tets.pvd through meshio) and with Blender
-//! (PyPI bpy: USD and glTF import). A second scene drops a block on a moving, turning
+//! `cache.usd` end to end: `perifrac run` on a small scene like the demo's (a block
+//! with a pre-broken crack pulled apart, a ground, a sphere collider flying past, the
+//! embedded surface), then `perifrac surface --method vdb` and `perifrac export usd` on
+//! the same cache; after each, `scripts/dcc-check.sh` opens the cache with Pixar's
+//! usd-core (validator, every time sample against the PLY and glTF files, tets.pvd
+//! through meshio) and with Blender (PyPI bpy: USD and glTF import, and a Workbench
+//! render of the last frame, which crashed Blender while the writer compressed the
+//! ground quad's four indices). A second scene drops a block on a moving, turning
 //! table that is a mesh collider: its geometry (`colliders/mesh_1.ply`) must be in
 //! `cache.usd` and `surface/animated.glb`, posed as the manifest says, with the block
 //! resting on its top. The Python side skips, loudly, only where pip has no wheel for
@@ -36,6 +38,10 @@ region = { type = "box", center = [0.0, 0.0, 0.0], size = [1.0, 1.0, 1.0] }
 [[body.anchor]]
 region = { type = "box", center = [0.0, 0.05, 0.0], size = [0.2, 0.03, 0.2] }
 velocity = [0.0, 1.0, 0.0]
+
+[[collider]]
+type = "ground"
+height = -0.2
 
 [[collider]]
 type = "sphere"

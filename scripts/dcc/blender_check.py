@@ -8,6 +8,8 @@ and checks what they would see:
   surface/NNNN.glb within 1e-6 m; the point cloud carries `damage` and `fragment` and its
   points at frame N match particles/NNNN.ply; points, meshes, volumes and colliders are in
   one coordinate system (the y-up cache turned z-up by one rotation, as glTF imports are).
+  Frame N renders in Workbench (64x48) to an image that is not empty.
+  Every collider is an object named after it (`ground`, `sphere_N`...; `shape` before).
   Each mesh collider (colliders/mesh_N.ply) is a mesh object with the PLY's vertices, posed
   at frames 1 and N as manifest.json says; with --rests-on-colliders, the lowest particle of
   frame N lies on its top (within -0.1 and 1 particle spacing).
@@ -20,6 +22,7 @@ usage: python blender_check.py OUT [--rests-on-colliders]
 
 import json
 import sys
+import tempfile
 import tomllib
 from pathlib import Path
 
@@ -103,6 +106,43 @@ def worst_unordered(a, b):
     return max(one_way(a, b), one_way(b, a))
 
 
+def render(scene, frame):
+    """Renders frame `frame` of the imported stage with Workbench (64x48, a camera aimed
+    at the scene's objects) and checks the image shows something: rendering is where
+    Blender reads every mesh's topology (a ground quad whose faceVertexIndices read
+    back as [8, 0, 90112, 65536] imported, then crashed the render)."""
+    from mathutils import Vector
+
+    scene.frame_set(frame)
+    meshes = [o for o in scene.objects if o.type == "MESH"]
+    corners = [o.matrix_world @ Vector(c) for o in meshes if o.name == "Surface"
+               for c in o.bound_box] or [Vector((0, 0, 0))]
+    centre = sum(corners, Vector()) / len(corners)
+    size = max(max((c - centre).length for c in corners), 0.05)
+    camera = bpy.data.objects.new("check_camera", bpy.data.cameras.new("check_camera"))
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    camera.location = centre + Vector((1.0, -1.5, 0.8)).normalized() * size * 4
+    camera.rotation_euler = (centre - camera.location).to_track_quat("-Z", "Y").to_euler()
+    scene.render.engine = "BLENDER_WORKBENCH"
+    scene.render.resolution_x, scene.render.resolution_y = 64, 48
+    scene.render.resolution_percentage = 100
+    scene.render.film_transparent = True
+    with tempfile.TemporaryDirectory() as folder:
+        scene.render.filepath = str(Path(folder) / "frame.png")
+        bpy.ops.render.render(write_still=True)
+        image = bpy.data.images.load(scene.render.filepath)
+        pixels = np.array(image.pixels[:]).reshape(-1, 4)
+        bpy.data.images.remove(image)
+    covered = float((pixels[:, 3] > 0).mean())
+    spread = float(pixels[pixels[:, 3] > 0, :3].std()) if covered else 0.0
+    check(covered > 0.05 and spread > 0.01,
+          f"frame {frame}: the Workbench render is empty ({covered:.0%} of the pixels drawn, "
+          f"colour spread {spread:.3f})")
+    print(f"blender usd: frame {frame} renders in Workbench (64x48: {covered:.0%} of the pixels "
+          f"drawn, colour spread {spread:.3f})")
+
+
 def main(out):
     out = Path(out)
     scene_toml = tomllib.loads((out / "scene.toml").read_text())
@@ -164,17 +204,27 @@ def main(out):
                 check(err <= TOLERANCE, f"frame {frame}: {name} off by {err} m from the .glb")
         print(f"blender usd: frame {frame} points within {TOLERANCE} m of the PLY, meshes of the .glb, "
               f"point attributes {sorted(names - {'position'})}")
-    # Mesh colliders: Blender 5.0 makes each collider's Xform and its `shape` child one
-    # object named `shape`, so the collider is found by its vertices: the one mesh
-    # object with the PLY's vertices posed as the manifest says at frame 1, then N.
+    # Colliders: Blender 5.0 makes each collider's Xform and its child one object, named
+    # after the child, which carries the collider's name: `ground` (the only ground
+    # plane), else the kind and the scene index.
+    kinds = [c["type"] for c in scene_toml.get("collider", [])]
+    expected = [("ground" if kind == "ground" and kinds.count("ground") == 1 else f"{kind}_{i}")
+                for i, kind in enumerate(kinds)]
+    missing = [name for name in expected if name not in objects]
+    check(not missing, f"no Blender objects named {missing} (objects: {sorted(objects)})")
+    if expected:
+        print(f"blender usd: the colliders are objects named {expected}")
+    # Mesh colliders are also found by their vertices: the one mesh object with the
+    # PLY's vertices posed as the manifest says at frame 1, then N, must be mesh_N.
     for index in mesh_colliders:
         count = len(read_collider(out / "colliders" / f"mesh_{index}.ply")[0])
         scene.frame_set(1)
         expected = y_up_to_blender(posed_collider(out, manifest, index, 1))
         found = [o for o in scene.objects if o.type == "MESH" and o.name != "Surface"
                  and worst(evaluated_vertices(o), expected) <= TOLERANCE]
-        check(len(found) == 1, f"mesh_{index}: objects {[o.name for o in found]} (of "
-              f"{sorted(o.name for o in scene.objects)}) with its {count} vertices posed at frame 1")
+        check([o.name for o in found] == [f"mesh_{index}"], f"mesh_{index}: objects "
+              f"{[o.name for o in found]} (of {sorted(o.name for o in scene.objects)}) with its "
+              f"{count} vertices posed at frame 1")
         scene.frame_set(frames)
         got = evaluated_vertices(found[0])
         err = worst(got, y_up_to_blender(posed_collider(out, manifest, index, frames)))
@@ -202,6 +252,7 @@ def main(out):
         check(path.endswith(".vdb"), f"volume {vol.name} file {path}")
         print(f"blender usd: volume {vol.name} reads {path} (sequence: {vol.data.is_sequence})")
     print(f"blender usd: {len(scene.objects)} objects in one coordinate system")
+    render(scene, frames)
 
     animated = out / "surface" / "animated.glb"
     if animated.exists():

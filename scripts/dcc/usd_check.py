@@ -277,8 +277,8 @@ def main(out):
                 continue
             index = int(child.GetName()[len("mesh_"):])
             positions, triangles, _ = read_collider(out / "colliders" / f"mesh_{index}.ply")
-            shape = UsdGeom.Mesh(stage.GetPrimAtPath(child.GetPath().AppendChild("shape")))
-            check(shape, f"{child.GetName()} has no Mesh child 'shape'")
+            shape = UsdGeom.Mesh(stage.GetPrimAtPath(child.GetPath().AppendChild(child.GetName())))
+            check(shape, f"{child.GetName()} has no Mesh child {child.GetName()}")
             points = np.array(shape.GetPointsAttr().Get(), "f4")
             check(points.shape == positions.shape and np.array_equal(points, positions),
                   f"{child.GetName()}: {len(points)} points, colliders/mesh_{index}.ply has {len(positions)}")

@@ -182,20 +182,33 @@ impl MemoryEstimate {
     }
 }
 
+/// A ceiling on the memory a run may use and where it comes from: the machine's
+/// available memory, the process's address-space limit, its cgroup's limit (the
+/// caller finds them; the CLI takes the lowest).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MemoryLimit {
+    /// Bytes.
+    pub bytes: u64,
+    /// What the bytes are, completing "… but N GiB …" (`are available (MemAvailable
+    /// in /proc/meminfo)`, `is this process's limit (ulimit -v)`).
+    pub source: String,
+}
+
 impl MemoryEstimate {
-    /// Refuses a run that needs more than `limit` bytes (the caller's policy: the CLI
-    /// passes the memory the machine has available).
-    pub fn refuse_above(&self, limit: u64) -> Result<()> {
-        if self.bytes > limit as f64 {
+    /// Refuses a run that needs more than `limit` (the caller's policy: the CLI passes
+    /// the lowest of the memory the machine has available and the process's limits).
+    pub fn refuse_above(&self, limit: &MemoryLimit) -> Result<()> {
+        if self.bytes > limit.bytes as f64 {
             let gib = |b: f64| b / (1u64 << 30) as f64;
             return Err(SimError::Refused(format!(
-                "the run needs about {:.1} GiB ({} particles, {:.3e} bonds of {} bytes) but {:.1} GiB are \
-                 available: use a coarser resolution or a smaller horizon",
+                "the run needs about {:.1} GiB ({} particles, {:.3e} bonds of {} bytes) but {:.1} GiB \
+                 {}: use a coarser resolution or a smaller horizon",
                 gib(self.bytes),
                 self.particles,
                 self.bonds,
                 self.bytes_per_bond,
-                gib(limit as f64)
+                gib(limit.bytes as f64),
+                limit.source
             )));
         }
         Ok(())

@@ -225,3 +225,13 @@ impl Layer {
         Ok(out.into_inner())
     }
 }
+
+/// Every array type the crate writer can produce, at every length 0..=40, as a default
+/// and as a time sample, read back by Pixar's usd-core equal to what was written.
+/// Regression: openusd 0.6 compressed integer arrays from 4 elements on, and usd-core
+/// (like every Pixar reader) reads arrays under 16 elements as raw elements, so a
+/// ground quad's `faceVertexIndices` came back as `[8, 0, 90112, 65536]` and Blender
+/// crashed rendering it (vendor/openusd/PERIFRAC-PATCH.md).
+#[cfg(test)]
+#[path = "layer_arrays_test.rs"]
+mod arrays_test;

@@ -17,7 +17,7 @@
 //! | `Surface` | `Mesh` with time-sampled topology, `normals`, primvar `damage`; `GeomSubset`s `surface` and `crack` (family `materialBind`) | `surface/NNNN.glb` (embedded method) |
 //! | `Fragments/fragment_N` | one `Mesh` a fragment, `visibility` time-sampled where a frame lacks it | `surface/NNNN.glb` (vdb method) |
 //! | `Volume` | `Volume` with `OpenVDBAsset` fields `surface` and `v`, `filePath` time-sampled | `vdb/NNNN.vdb` |
-//! | `Colliders/sphere_N`, `box_N`, `ground_N`, `mesh_N` | `Xform` with time-sampled `xformOp:translate` (and `xformOp:orient` where the manifest has rotations), a `Sphere`, `Cube`, ground `Mesh` or the mesh collider's `Mesh` child | `scene.toml`, `manifest.json`, `colliders/mesh_N.ply` |
+//! | `Colliders/ground` (`ground_N` when there are several), `sphere_N`, `box_N`, `mesh_N` (N: the scene index) | `Xform` with time-sampled `xformOp:translate` (and `xformOp:orient` where the manifest has rotations), a `Sphere`, `Cube`, ground `Mesh` or the mesh collider's `Mesh` child of the same name | `scene.toml`, `manifest.json`, `colliders/mesh_N.ply` |
 //! | `Looks/surface`, `Looks/crack` | `Material` with a `UsdPreviewSurface` | the glTF materials' colours |
 //!
 //! Velocities: `velocities` are in metres per second of *playback* (the simulation
@@ -708,12 +708,7 @@ fn colliders(
                 ((k + 1) as f64, Value::Vec3d(gf::vec3d(c[0], c[1], c[2])))
             })
             .collect();
-        let name = match collider {
-            ColliderSpec::Ground { .. } => format!("ground_{i}"),
-            ColliderSpec::Sphere { .. } => format!("sphere_{i}"),
-            ColliderSpec::Box { .. } => format!("box_{i}"),
-            ColliderSpec::Mesh { .. } => format!("mesh_{i}"),
-        };
+        let name = collider_name(&scene.colliders, i);
         let xform = stage.def(&group, &name, "Xform")?;
         stage.animated(&xform, "xformOp:translate", "double3", translate, vec![])?;
         // The manifest's rotations (written when the scene has a mesh collider): a
@@ -744,7 +739,7 @@ fn colliders(
         )?;
         match collider {
             ColliderSpec::Sphere { radius, .. } => {
-                let shape = stage.def(&xform, "shape", "Sphere")?;
+                let shape = stage.def(&xform, &name, "Sphere")?;
                 stage.attribute(
                     &shape,
                     "radius",
@@ -764,7 +759,7 @@ fn colliders(
                 )?;
             }
             ColliderSpec::Box { size, .. } => {
-                let shape = stage.def(&xform, "shape", "Cube")?;
+                let shape = stage.def(&xform, &name, "Cube")?;
                 stage.attribute(&shape, "size", "double", false, Value::Double(1.0), vec![])?;
                 stage.attribute(
                     &shape,
@@ -799,6 +794,7 @@ fn colliders(
                 polygon_mesh(
                     stage,
                     &xform,
+                    &name,
                     &collider.mesh.positions,
                     vec![3; triangles.len()],
                     triangles.iter().flatten().map(|&v| v as i32).collect(),
@@ -808,23 +804,47 @@ fn colliders(
                 // A square 20 m on a side at the plane's height (the plane is infinite).
                 let h = 10.0f32;
                 let corners = [[-h, 0.0, -h], [-h, 0.0, h], [h, 0.0, h], [h, 0.0, -h]];
-                polygon_mesh(stage, &xform, &corners, vec![4], vec![0, 1, 2, 3])?;
+                polygon_mesh(stage, &xform, &name, &corners, vec![4], vec![0, 1, 2, 3])?;
             }
         }
     }
     Ok(scene.colliders.len())
 }
 
-/// The `Mesh` child `shape` of a collider's `Xform`: polygons of `counts` corners
+/// The name of collider `index` of `colliders`, its `Xform` prim's and its shape's:
+/// `ground` for a scene's only ground plane, else the kind and the scene index
+/// (`sphere_1`, `box_2`, `ground_0`, `mesh_3`, as `colliders/mesh_3.ply`). The shape
+/// child carries the name too, because importers that fold an `Xform` with a single
+/// child into one object (Blender) name the object after the child.
+fn collider_name(colliders: &[ColliderSpec], index: usize) -> String {
+    match &colliders[index] {
+        ColliderSpec::Ground { .. } => {
+            let grounds = colliders
+                .iter()
+                .filter(|c| matches!(c, ColliderSpec::Ground { .. }))
+                .count();
+            match grounds {
+                1 => "ground".to_string(),
+                _ => format!("ground_{index}"),
+            }
+        }
+        ColliderSpec::Sphere { .. } => format!("sphere_{index}"),
+        ColliderSpec::Box { .. } => format!("box_{index}"),
+        ColliderSpec::Mesh { .. } => format!("mesh_{index}"),
+    }
+}
+
+/// The `Mesh` child `name` of a collider's `Xform`: polygons of `counts` corners
 /// (`indices` into `positions`) in the collider's frame (the `Xform` poses them).
 fn polygon_mesh(
     stage: &mut Layer,
     xform: &str,
+    name: &str,
     positions: &[[f32; 3]],
     counts: Vec<i32>,
     indices: Vec<i32>,
 ) -> Result<(), String> {
-    let shape = stage.def(xform, "shape", "Mesh")?;
+    let shape = stage.def(xform, name, "Mesh")?;
     let values = [
         ("points", "point3f[]", vec3f(positions)),
         ("faceVertexCounts", "int[]", Value::IntVec(counts)),

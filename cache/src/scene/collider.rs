@@ -169,11 +169,11 @@ pub struct KeyframeSpec {
     /// Time in s.
     pub time: f64,
     /// Translation in m. Default 0.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "super::exact::array")]
     pub translation: [f64; 3],
     /// Rotation about the pivot in degrees about x, then y, then z (fixed axes; R = Rz
     /// Ry Rx), as for mesh placement. Default 0.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "super::exact::array")]
     pub rotation: [f64; 3],
 }
 

@@ -6,6 +6,7 @@
 //! is written next to the cache by [`Scene::to_toml`].
 
 mod collider;
+mod exact;
 mod locate;
 mod membrane;
 mod mpm;
@@ -76,7 +77,7 @@ pub struct Settings {
     #[serde(default = "default_fps")]
     pub fps: f64,
     /// Gravity acceleration in m/s². Default `[0, -9.81, 0]`.
-    #[serde(default = "default_gravity")]
+    #[serde(default = "default_gravity", deserialize_with = "exact::array")]
     pub gravity: [f64; 3],
     /// Seed for anything random (jitter); the same seed gives the same bytes. Default 0.
     #[serde(default)]
@@ -159,7 +160,11 @@ pub struct MaterialSpec {
     #[serde(default)]
     pub alpha: f64,
     /// Anisotropy matrix G of Chen Eq. 17 (rows). Default: none (isotropic).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "exact::option_matrix"
+    )]
     pub anisotropy: Option<[[f64; 3]; 3]>,
     /// Air damping rate in 1/s: v ← (1 − rate·Δt) v each step (Chen §6, λa = rate·Δt).
     /// Default 0.
@@ -237,10 +242,10 @@ pub struct BodySpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub membrane: Option<MembraneSpec>,
     /// Initial velocity in m/s. Default 0.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exact::array")]
     pub velocity: [f64; 3],
     /// Initial angular velocity in rad/s about the body's centroid. Default 0.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exact::array")]
     pub angular_velocity: [f64; 3],
     /// Regions held at prescribed motion (`[[body.anchor]]`).
     #[serde(default, rename = "anchor")]
@@ -306,13 +311,17 @@ pub struct AnchorSpec {
     /// The region (a shape; particles with signed distance ≤ 0 are held).
     pub region: ShapeSpec,
     /// Linear velocity in m/s. Default 0 (fixed).
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exact::array")]
     pub velocity: [f64; 3],
     /// Angular velocity in rad/s about `center`. Default 0.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exact::array")]
     pub angular_velocity: [f64; 3],
     /// Centre of rotation. Default: the region's particles' centroid.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "exact::option_array"
+    )]
     pub center: Option<[f64; 3]>,
     /// Time in s after which the anchor releases. Default: never.
     #[serde(default = "default_inf")]
@@ -336,8 +345,10 @@ pub struct AnchorSpec {
 #[serde(deny_unknown_fields)]
 pub struct ClampSpec {
     /// A point of the plane (m).
+    #[serde(deserialize_with = "exact::array")]
     pub point: [f64; 3],
     /// The plane's normal, into the free body (any non-zero length).
+    #[serde(deserialize_with = "exact::array")]
     pub normal: [f64; 3],
 }
 
@@ -347,8 +358,10 @@ pub struct ClampSpec {
 #[serde(deny_unknown_fields)]
 pub struct CrackSpec {
     /// A point on the crack plane.
+    #[serde(deserialize_with = "exact::array")]
     pub point: [f64; 3],
     /// The crack plane's normal.
+    #[serde(deserialize_with = "exact::array")]
     pub normal: [f64; 3],
     /// Where on the plane the crack is.
     pub region: ShapeSpec,

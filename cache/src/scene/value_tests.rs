@@ -146,3 +146,47 @@ fn bad_clamps_are_refused_with_their_key_and_fix() {
     let unknown = clamp.replace("normal = [1, 0, 0]", "normal = [1, 0, 0], depth = 1");
     assert!(error(&unknown).3.contains("depth"));
 }
+
+/// Regression (issue 34): `gravity` with 4 or 2,000,001 components was read as its
+/// first three (serde's `[f64; 3]` stops after three and toml drops the rest); every
+/// fixed-size array of a plain table is now read with its length checked.
+#[test]
+fn arrays_of_the_wrong_length_are_refused() {
+    let four = GOOD.replace("name = \"t\"", "gravity = [0.0, -9.81, 0.0, 5.0]");
+    let (line, _, key, message) = error(&four);
+    assert_eq!((line, key.as_str()), (2, "scene.gravity"), "{message}");
+    assert!(
+        message.contains("invalid length 4") && message.contains("3 elements"),
+        "{message}"
+    );
+    let huge = GOOD.replace(
+        "name = \"t\"",
+        &format!("gravity = [{}]", vec!["0.0"; 2_000_001].join(",")),
+    );
+    let (_, _, key, message) = error(&huge);
+    assert!(
+        key == "scene.gravity" && message.contains("invalid length 2000001"),
+        "{message}"
+    );
+    let crack = format!(
+        "{GOOD}[[body.crack]]\npoint = [0, 0, 0, 1]\nnormal = [0, 1, 0]\n\
+         region = {{ type = \"sphere\", center = [0, 0, 0], radius = 0.2 }}\n"
+    );
+    let (_, _, key, message) = error(&crack);
+    assert!(
+        key == "body.crack.point" && message.contains("invalid length 4"),
+        "{key}: {message}"
+    );
+    let anisotropy = GOOD.replace(
+        "poisson_ratio = 0.3",
+        "poisson_ratio = 0.3\nanisotropy = [[1, 0, 0], [0, 1, 0], [0, 0]]",
+    );
+    let (_, _, key, message) = error(&anisotropy);
+    assert!(
+        key == "materials.m.anisotropy" && message.contains("invalid length 2"),
+        "{key}: {message}"
+    );
+    let three = GOOD.replace("name = \"t\"", "gravity = [0.0, -1.0, 0.0]");
+    let scene = Scene::parse(&three, Path::new("ok.toml"), Path::new(".")).expect("3 components");
+    assert_eq!(scene.scene.gravity, [0.0, -1.0, 0.0]);
+}

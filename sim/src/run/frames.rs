@@ -229,8 +229,8 @@ impl<'a> Frames<'a> {
             (None, true) => (
                 Status::Interrupted,
                 format!(
-                    "stopped after frame {frame} as asked (--frames {frames}); --resume \
-                     continues"
+                    "stopped as asked (--frames {frames}: {frames} frames after the initial \
+                     one, files 0001 to {frame:04}); --resume continues"
                 ),
             ),
         };

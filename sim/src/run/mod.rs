@@ -17,7 +17,7 @@ use crate::cache::manifest::Manifest;
 use crate::cache::{Layout, write_atomic};
 use crate::error::{Result, SimError};
 use crate::geometry::discretize::discretize;
-use crate::memory::{estimate_before_meshing, estimate_memory};
+use crate::memory::{MemoryLimit, estimate_before_meshing, estimate_memory};
 use crate::scene::Scene;
 
 /// Options of a run.
@@ -30,7 +30,7 @@ pub struct RunOptions {
     /// Refuse a scene whose estimated peak memory is above this many bytes: before
     /// meshing ([`crate::memory::estimate_before_meshing`]), and again from the
     /// meshes before any bond is built ([`crate::memory::estimate_memory`]).
-    pub memory_limit: Option<u64>,
+    pub memory_limit: Option<MemoryLimit>,
     /// Asked from outside to stop (the CLI asks on SIGINT, SIGTERM, SIGHUP): the run
     /// finishes the step it is on (or the frame it is writing), writes a checkpoint
     /// there, marks the manifest interrupted and returns [`SimError::Interrupted`].
@@ -91,7 +91,7 @@ pub fn run(
     progress: &mut dyn FnMut(Progress),
 ) -> Result<Manifest> {
     let start = Instant::now();
-    if let Some(limit) = options.memory_limit {
+    if let Some(limit) = &options.memory_limit {
         estimate_before_meshing(scene)?.refuse_above(limit)?;
     }
     let layout = Layout::new(out);
@@ -102,7 +102,7 @@ pub fn run(
     }
     layout.create()?;
     let disc = discretize(scene)?;
-    if let Some(limit) = options.memory_limit {
+    if let Some(limit) = &options.memory_limit {
         estimate_memory(scene, &disc).refuse_above(limit)?;
     }
     let t_disc = start.elapsed().as_secs_f64();

@@ -34,6 +34,7 @@
 //! vertices along their normals' part within their face) by a common offset
 //! h = ΔV / A (three Newton steps), under the same guard.
 
+mod animated;
 mod guard;
 mod plane;
 mod rim;

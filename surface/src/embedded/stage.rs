@@ -1,6 +1,7 @@
 //! The `embedded` surface stage over a whole cache: every frame's split tet mesh
 //! (`tets/NNNN.vtu`) becomes `surface/NNNN.glb`, and the frames together
-//! `surface/animated.glb` (the last frame's topology, one morph target a frame);
+//! `surface/animated.glb` (the last frame's topology, one morph target a frame, crack
+//! faces folded to a point of the surface until they open: `animated`);
 //! the extraction time goes into the manifest (`timings.surface`).
 
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -14,6 +15,7 @@ use perifrac_cache::scene::{EmbeddedSpec, Scene};
 use perifrac_cache::vtu::TetFrame;
 use rayon::prelude::*;
 
+use super::animated::{FrameView, animate, view};
 use super::{EmbeddedSurface, RenderMesh, SmoothingStats, surface};
 use crate::error::{Result, SurfaceError};
 use crate::write_encoded as write;
@@ -53,23 +55,6 @@ impl EmbeddedReport {
         self.volume_error = self.volume_error.max(s.volume_error);
         self
     }
-}
-
-/// Positions, in a frame, of the vertices of the final topology: a copy that does
-/// not exist yet sits where the vertex it will be split from is (`parent` from the
-/// last frame; a frame's vertices are a prefix of the last frame's).
-fn follow(final_mesh: &RenderMesh, parent: &[i32], points: &[[f64; 3]]) -> Vec<[f32; 3]> {
-    final_mesh
-        .vertex
-        .iter()
-        .map(|&v| {
-            let mut v = v as usize;
-            while v >= points.len() && parent[v] >= 0 {
-                v = parent[v] as usize;
-            }
-            points[v].map(|c| c as f32)
-        })
-        .collect()
 }
 
 /// Normals of the mesh vertices at positions given per mesh vertex.
@@ -120,7 +105,7 @@ pub fn stage(
     final_mesh.mesh.name = manifest.scene.clone();
     let mut extraction = t.elapsed().as_secs_f64();
     let done = AtomicUsize::new(0);
-    let per_frame: Vec<(Vec<[f32; 3]>, f64, SmoothingStats)> = (1..=frames)
+    let per_frame: Vec<(FrameView, f64, SmoothingStats)> = (1..=frames)
         .into_par_iter()
         .map(|frame| -> Result<_> {
             let tets = if frame == frames {
@@ -139,20 +124,19 @@ pub fn stage(
                 encoder.fractured(&mesh.mesh),
             )?;
             progress(done.fetch_add(1, Ordering::Relaxed) + 1, frames);
-            Ok((
-                follow(&final_mesh, &last.parent, &surf.points),
-                seconds,
-                surf.stats,
-            ))
+            Ok((view(&final_mesh, &last.parent, &surf), seconds, surf.stats))
         })
         .collect::<Result<_>>()?;
     extraction += per_frame.iter().map(|f| f.1).sum::<f64>();
     let times: Vec<f32> = manifest.frame_times.iter().map(|&t| t as f32).collect();
-    let positions: Vec<Vec<[f32; 3]>> = per_frame.iter().map(|f| f.0.clone()).collect();
+    let report = per_frame
+        .iter()
+        .fold(EmbeddedReport::default(), |r, f| r.add(&f.2));
+    let views: Vec<FrameView> = per_frame.into_iter().map(|f| f.0).collect();
+    let (mut base, positions) = animate(&final_mesh, &views);
     let base_points: Vec<[f64; 3]> = positions[0].iter().map(|p| p.map(f64::from)).collect();
-    let mut base = final_mesh.clone();
     base.mesh.positions = positions[0].clone();
-    base.mesh.normals = normals_at(&final_mesh, &base_points);
+    base.mesh.normals = normals_at(&base, &base_points);
     write(
         &layout.animated_surface(),
         "surface/animated.glb".into(),
@@ -160,9 +144,6 @@ pub fn stage(
     )?;
     manifest.timings.surface = extraction;
     manifest.write(&layout.manifest())?;
-    let report = per_frame
-        .iter()
-        .fold(EmbeddedReport::default(), |r, f| r.add(&f.2));
     Ok(EmbeddedReport {
         frames,
         seconds: start.elapsed().as_secs_f64(),

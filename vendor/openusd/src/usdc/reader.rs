@@ -578,7 +578,9 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         Ok(ints)
     }
 
-    const MIN_COMPRESSED_ARRAY_SIZE: usize = 4;
+    /// Pixar's `MinCompressedArraySize` (`pxr/usd/sdf/crateFile.cpp`): shorter
+    /// arrays are stored raw even when their compressed bit is set.
+    const MIN_COMPRESSED_ARRAY_SIZE: usize = 16;
 
     // Implements various logic and compatibility checks to figure out the array length and whether it's compressed.
     fn unpack_array_len(&mut self, value: ValueRep, kind: ArrayKind) -> Result<(usize, bool)> {

@@ -1126,10 +1126,12 @@ fn rep_heap_compressed(ty: Type, offset: u64) -> ValueRep {
     ValueRep(ty_bits | array_bit | compressed_bit | (offset & ((1 << 48) - 1)))
 }
 
-/// Minimum element count at which an integer array is compressed. Matches
-/// `CrateFile::MIN_COMPRESSED_ARRAY_SIZE` on the reader side — below this, the
-/// reader forces the uncompressed path regardless of the compressed bit.
-const MIN_COMPRESSED_ARRAY_SIZE: usize = 4;
+/// Minimum element count at which an integer array is compressed: Pixar's
+/// `MinCompressedArraySize` (16) in `pxr/usd/sdf/crateFile.cpp`, whose
+/// `_ReadPossiblyCompressedArray` reads an array shorter than this as raw
+/// elements whatever its compressed bit says. (0.6.0 used 4 here, so usd-core
+/// read the LZ4 bytes of every 4-15 element int array as the elements.)
+const MIN_COMPRESSED_ARRAY_SIZE: usize = 16;
 
 fn compute_jump(has_child: bool, has_sibling: bool, sibling_offset: i32) -> i32 {
     match (has_child, has_sibling) {
