@@ -171,7 +171,7 @@ pub enum ColorByArg {
     Fragment,
     /// Plastic strain.
     Plastic,
-    /// Temperature (scenes with heat diffusion).
+    /// Temperature (scenes with heat diffusion, or MPM with thermal Johnson–Cook).
     Temperature,
     /// A membrane's diffused quantity θ (sheet surfaces, else particles).
     Quantity,

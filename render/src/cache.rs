@@ -355,7 +355,8 @@ fn temperature<'a>(p: &'a ParticleFrame, path: &Path) -> Result<&'a [f32], Rende
     p.extra("temperature").ok_or_else(|| RenderError::Input {
         path: path.to_path_buf(),
         message: "the particles have no 'temperature' property (only scenes with heat \
-                  diffusion write it); use --color-by damage, fragment or plastic"
+                  diffusion or a thermal Johnson–Cook MPM material write it); use \
+                  --color-by damage, fragment or plastic"
             .into(),
     })
 }
