@@ -160,6 +160,22 @@ impl Layout {
         self.preview_dir().join(format!("turntable_{view:03}.png"))
     }
 
+    /// `preview/movie.png`, the preview frames as an animated PNG at the playback rate.
+    pub fn movie(&self) -> PathBuf {
+        self.preview_dir().join("movie.png")
+    }
+
+    /// `preview/movie.mp4`, the preview frames as an H.264 MP4 (written when ffmpeg is
+    /// on the machine).
+    pub fn movie_mp4(&self) -> PathBuf {
+        self.preview_dir().join("movie.mp4")
+    }
+
+    /// `preview/turntable.png`, the turntable views as an animated PNG.
+    pub fn turntable_movie(&self) -> PathBuf {
+        self.preview_dir().join("turntable.png")
+    }
+
     /// `preview/contact_sheet.png`.
     pub fn contact_sheet(&self) -> PathBuf {
         self.preview_dir().join("contact_sheet.png")

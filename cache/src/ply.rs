@@ -4,8 +4,11 @@
 //! Particle frames (`particles/NNNN.ply`) have the standard properties
 //! `x y z vx vy vz damage plastic material fragment` ([`PROPERTIES`]), which Blender's
 //! PLY importer turns into point attributes and Houdini reads as point attributes,
-//! followed by the extra columns a model adds (e.g. `temperature`). Debris points
-//! (`surface/NNNN_debris.ply`) are written with [`encode_points`] too.
+//! followed by the extra columns a model adds: every model writes [`VOLUME`] (each
+//! particle's volume in m³, so readers draw it at its own size), some more (e.g.
+//! `temperature`). Caches written before the volume column existed lack it; readers
+//! fall back to the body's resolution λ ([`ParticleFrame::volume`] is `None`). Debris
+//! points (`surface/NNNN_debris.ply`) are written with [`encode_points`] too.
 
 use std::path::Path;
 
@@ -15,6 +18,10 @@ use crate::error::{CacheError, Result};
 pub const PROPERTIES: [&str; 10] = [
     "x", "y", "z", "vx", "vy", "vz", "damage", "plastic", "material", "fragment",
 ];
+
+/// The extra column every model writes: each particle's volume (m³). A particle's
+/// size (spacing) is its cube root.
+pub const VOLUME: &str = "volume";
 
 /// The names of the position and velocity columns every point file starts with.
 pub const VECTOR_PROPERTIES: [&str; 6] = ["x", "y", "z", "vx", "vy", "vz"];
@@ -208,6 +215,25 @@ impl ParticleFrame {
             .map(|(_, v)| v.as_slice())
     }
 
+    /// Each particle's volume (m³), the [`VOLUME`] column, if the frame has it with
+    /// one value a particle (caches written before it existed do not).
+    pub fn volume(&self) -> Option<&[f32]> {
+        self.extra(VOLUME).filter(|v| v.len() == self.len())
+    }
+
+    /// Each particle's size (m): the cube root of its volume where the frame has the
+    /// [`VOLUME`] column and the value is positive and finite, else `fallback(i)`
+    /// (for old caches, the body's resolution λ).
+    pub fn sizes(&self, fallback: impl Fn(usize) -> f32) -> Vec<f32> {
+        let volume = self.volume();
+        (0..self.len())
+            .map(|i| match volume.map(|v| v[i]) {
+                Some(v) if v.is_finite() && v > 0.0 => v.cbrt(),
+                _ => fallback(i),
+            })
+            .collect()
+    }
+
     /// Encodes the frame as PLY bytes.
     pub fn to_bytes(&self) -> Vec<u8> {
         let standard: [&[f32]; 4] = [&self.damage, &self.plastic, &self.material, &self.fragment];
@@ -365,6 +391,23 @@ mod tests {
         let back = ParticleFrame::from_bytes(&bytes).unwrap();
         assert_eq!(back.extra("temperature"), Some(&[300.0, 350.0][..]));
         assert_eq!(back, f);
+    }
+
+    #[test]
+    fn sizes_come_from_the_volume_column_or_the_fallback() {
+        let mut f = two_particles();
+        // An old cache: no volume column, every size from the fallback.
+        assert_eq!(f.volume(), None);
+        assert_eq!(f.sizes(|i| 0.5 + i as f32), [0.5, 1.5]);
+        f.extra = vec![(VOLUME.into(), vec![8e-6, 0.0])];
+        let back = ParticleFrame::from_bytes(&f.to_bytes()).unwrap();
+        assert_eq!(back.volume(), Some(&[8e-6, 0.0][..]));
+        // The cube root of 8e-6 m³ is 0.02 m; a zero volume falls back.
+        let sizes = back.sizes(|_| 7.0);
+        assert!(
+            (sizes[0] - 0.02).abs() < 1e-7 && sizes[1] == 7.0,
+            "{sizes:?}"
+        );
     }
 
     #[test]

@@ -165,6 +165,9 @@ pub enum BenchCommand {
 /// What the particles (and meshes, for damage) are coloured by.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum ColorByArg {
+    /// Each body in its material's colour (`color` in the scene, else a default
+    /// palette), crack faces apart (the default).
+    Material,
     /// Damage, blue intact → red broken (Chen et al. 2018, Fig. 6).
     Damage,
     /// Fragment id.
@@ -192,15 +195,26 @@ pub struct RenderArgs {
     /// Image size, WIDTHxHEIGHT.
     #[arg(long, default_value = "960x540")]
     pub size: String,
-    /// Colouring (default: meshes by material, crack faces apart; particles by damage).
+    /// Colouring (default: material, crack faces apart).
     #[arg(long, value_enum)]
     pub color_by: Option<ColorByArg>,
     /// Worker threads, each with its own GL context (default: all cores).
     #[arg(long)]
     pub threads: Option<String>,
     /// Camera azimuth in degrees about the vertical axis (0 looks from +z, 90 from +x).
-    #[arg(long, default_value = "35", allow_hyphen_values = true)]
-    pub azimuth: String,
+    /// Default: 35° off the projectile's path on the side it comes from (its impact
+    /// face in view), else 35.
+    #[arg(long, allow_hyphen_values = true)]
+    pub azimuth: Option<String>,
+    /// Also write the frames as a movie at the playback rate: `preview/movie.png`
+    /// (animated PNG), `preview/movie.mp4` when ffmpeg is installed, and
+    /// `preview/turntable.png` with `--turntable`.
+    #[arg(long)]
+    pub movie: bool,
+    /// Draw the frame number, simulation time and playback time in the bottom-left
+    /// corner of each frame (for reviews).
+    #[arg(long)]
+    pub overlay: bool,
 }
 
 /// A validated `perifrac render`.
@@ -218,8 +232,12 @@ pub struct RenderConfig {
     pub color_by: Option<ColorByArg>,
     /// Worker threads.
     pub threads: Option<usize>,
-    /// Camera azimuth (degrees).
-    pub azimuth: f32,
+    /// Camera azimuth (degrees), if given.
+    pub azimuth: Option<f32>,
+    /// Also write the movies.
+    pub movie: bool,
+    /// Draw the review overlay.
+    pub overlay: bool,
 }
 
 /// Parses `WIDTHxHEIGHT` (each 1–8192).
@@ -248,10 +266,16 @@ impl TryFrom<RenderArgs> for RenderConfig {
             threads: positive("--threads", a.threads.as_deref())?,
             azimuth: a
                 .azimuth
-                .parse::<f32>()
-                .ok()
-                .filter(|v| v.is_finite())
-                .ok_or_else(|| format!("--azimuth takes degrees, e.g. 35; got '{}'", a.azimuth))?,
+                .as_deref()
+                .map(|text| {
+                    text.parse::<f32>()
+                        .ok()
+                        .filter(|v| v.is_finite())
+                        .ok_or_else(|| format!("--azimuth takes degrees, e.g. 35; got '{text}'"))
+                })
+                .transpose()?,
+            movie: a.movie,
+            overlay: a.overlay,
             out: a.out,
         })
     }
@@ -495,8 +519,24 @@ mod tests {
         assert_eq!(q.color_by, Some(ColorByArg::Quantity));
         let d = parse(&["perifrac", "render", "o"]).unwrap();
         assert_eq!(
-            (d.turntable, d.frame, d.size, d.color_by),
-            (0, None, (960, 540), None)
+            (d.turntable, d.frame, d.size, d.color_by, d.movie),
+            (0, None, (960, 540), None, false)
+        );
+        let m = parse(&[
+            "perifrac",
+            "render",
+            "o",
+            "--movie",
+            "--color-by",
+            "material",
+        ])
+        .unwrap();
+        assert_eq!((m.movie, m.color_by), (true, Some(ColorByArg::Material)));
+        assert!(
+            !m.overlay
+                && parse(&["perifrac", "render", "o", "--overlay"])
+                    .unwrap()
+                    .overlay
         );
         for bad in ["0x10", "10", "axb", "9000x10"] {
             assert!(
@@ -516,7 +556,11 @@ mod tests {
             parse(&["perifrac", "render", "o", "--azimuth", "-90"])
                 .unwrap()
                 .azimuth,
-            -90.0
+            Some(-90.0)
+        );
+        assert_eq!(
+            d.azimuth, None,
+            "the azimuth follows the projectile unless given"
         );
         assert!(
             parse(&["perifrac", "render", "o", "--azimuth", "left"])

@@ -46,7 +46,7 @@ fn color_by(arg: Option<crate::args::ColorByArg>) -> perifrac_render::cache::Col
     use crate::args::ColorByArg;
     use perifrac_render::cache::ColorBy;
     match arg {
-        None => ColorBy::Auto,
+        None | Some(ColorByArg::Material) => ColorBy::Material,
         Some(ColorByArg::Damage) => ColorBy::Damage,
         Some(ColorByArg::Fragment) => ColorBy::Fragment,
         Some(ColorByArg::Plastic) => ColorBy::Plastic,
@@ -74,6 +74,12 @@ pub fn previews(
     layout.record_outputs(&[layout.preview_dir()])?;
     for w in &report.warnings {
         eprintln!("warning: {w}");
+    }
+    if report.mp4_skipped && !quiet {
+        eprintln!(
+            "note: movie written as {} (animated PNG); no ffmpeg on the PATH, so no MP4",
+            layout.movie().display()
+        );
     }
     if !quiet {
         let n = report.images.max(1) as f64;
@@ -112,7 +118,9 @@ pub fn command(config: &RenderConfig, quiet: bool) -> Result<(), Failure> {
             frame: config.frame,
             turntable: config.turntable,
             workers: workers(config.threads),
-            azimuth: config.azimuth.to_radians(),
+            azimuth: config.azimuth.map(f32::to_radians),
+            movie: config.movie,
+            overlay: config.overlay,
         };
         crate::verify::warn(&config.out)?;
         previews(&config.out, &options, quiet).map_err(|e| {
@@ -150,6 +158,7 @@ pub fn stage(out: &Path, threads: Option<usize>, quiet: bool) -> Option<f64> {
     {
         let options = perifrac_render::preview::PreviewOptions {
             workers: workers(threads),
+            movie: true,
             ..Default::default()
         };
         match previews(out, &options, quiet) {

@@ -16,15 +16,17 @@ use perifrac_cache::scene::{ColliderSpec, Scene};
 use rayon::prelude::*;
 
 use crate::RenderError;
-use crate::camera::Bounds;
+use crate::camera::{AZIMUTH, Bounds};
 use crate::geometry::{self, FrameGeometry, Shading};
+use crate::paint;
 
 /// What the particles (and, for damage, the meshes) are coloured by.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum ColorBy {
-    /// Meshes by material (surface and crack faces apart), particles by damage.
+    /// Each body in its material's colour (the scene's `color`, or the default
+    /// palette), on meshes and particles alike; crack faces apart (ochre).
     #[default]
-    Auto,
+    Material,
     /// Damage φ, blue intact → red broken (Chen et al. 2018, Fig. 6).
     Damage,
     /// Fragment id (particles).
@@ -73,8 +75,15 @@ pub struct Cache {
     /// The mesh colliders' geometry and poses, in scene order.
     meshes: Vec<MovingCollider>,
     ground: Option<f32>,
-    /// Particle radius of each body (half its resolution λ).
+    /// Frames a second of playback (`[output] playback_fps`).
+    playback_fps: f64,
+    /// Particle radius of each body (half its resolution λ), for caches without the
+    /// volume column.
     radii: Vec<f32>,
+    /// The camera's azimuth when none is asked for (radians).
+    azimuth: f32,
+    /// Display colour of each body (linear).
+    colors: Vec<[f32; 3]>,
     fps: f64,
 }
 
@@ -116,10 +125,17 @@ impl Cache {
                 .iter()
                 .map(|b| 0.5 * b.resolution as f32)
                 .collect(),
+            colors: scene
+                .body_colors()
+                .into_iter()
+                .map(geometry::linear)
+                .collect(),
+            azimuth: view_azimuth(&scene),
             colliders: scene.colliders,
             meshes,
             ground,
             fps: scene.scene.fps,
+            playback_fps: scene.output.playback_fps,
         })
     }
 
@@ -127,8 +143,29 @@ impl Cache {
     pub fn uses_surface(&self, frame: usize, color_by: ColorBy) -> bool {
         matches!(
             color_by,
-            ColorBy::Auto | ColorBy::Damage | ColorBy::Quantity
+            ColorBy::Material | ColorBy::Damage | ColorBy::Quantity
         ) && self.layout.surface(frame).is_file()
+    }
+
+    /// The camera's azimuth when none is asked for (radians): [`crate::camera::AZIMUTH`]
+    /// off the path of the projectile, on the side it comes from, so its impact face
+    /// and the projectile itself are in view; [`crate::camera::AZIMUTH`] when nothing
+    /// moves horizontally.
+    pub fn view_azimuth(&self) -> f32 {
+        self.azimuth
+    }
+
+    /// The simulation time of `frame` (s): the manifest's, else (frame − 1)/fps.
+    pub fn frame_time(&self, frame: usize) -> f64 {
+        self.manifest
+            .as_ref()
+            .and_then(|m| m.frame_times.get(frame.wrapping_sub(1)).copied())
+            .unwrap_or(frame.saturating_sub(1) as f64 / self.fps)
+    }
+
+    /// Frames a second of playback (`[output] playback_fps`), the movies' rate.
+    pub fn playback_fps(&self) -> f64 {
+        self.playback_fps
     }
 
     /// The ground height, if the scene has a ground collider.
@@ -143,11 +180,7 @@ impl Cache {
             .manifest
             .as_ref()
             .and_then(|m| m.collider_centers.get(frame - 1));
-        let time = self
-            .manifest
-            .as_ref()
-            .and_then(|m| m.frame_times.get(frame - 1).copied())
-            .unwrap_or((frame - 1) as f64 / self.fps);
+        let time = self.frame_time(frame);
         self.colliders
             .iter()
             .enumerate()
@@ -186,6 +219,38 @@ impl Cache {
         }
     }
 
+    /// The display colour (linear) of body `material` (the PLY's column), the first
+    /// body's for a value that names none.
+    fn body_color(&self, material: f32) -> [f32; 3] {
+        let first = self
+            .colors
+            .first()
+            .copied()
+            .unwrap_or_else(geometry::surface_color);
+        if material.is_finite() && material >= 0.0 {
+            self.colors.get(material as usize).copied().unwrap_or(first)
+        } else {
+            first
+        }
+    }
+
+    /// Paints the original surface of the meshes in `g` by material: one colour when
+    /// every body has the same, else each vertex in the colour of the body of the
+    /// nearest particle of `frame` (read from its PLY, when there is one).
+    fn paint_by_material(&self, frame: usize, g: &mut FrameGeometry) -> Result<(), RenderError> {
+        let alike = self.colors.windows(2).all(|w| w[0] == w[1]);
+        let path = self.layout.particles(frame);
+        if alike || !path.is_file() {
+            paint::paint_surfaces(&mut g.mesh_vertices, &self.colors, None);
+            return Ok(());
+        }
+        let p = ParticleFrame::read(&path)?;
+        let spacing = 2.0 * self.radii.iter().copied().fold(0.0, f32::max);
+        let nearest = paint::NearestBody::new(&p.position, &p.material, spacing);
+        paint::paint_surfaces(&mut g.mesh_vertices, &self.colors, Some(&nearest));
+        Ok(())
+    }
+
     fn radius(&self, material: f32) -> f32 {
         let fallback = self.radii.first().copied().unwrap_or(0.005);
         if material.is_finite() && material >= 0.0 {
@@ -211,11 +276,15 @@ impl Cache {
         };
         if self.uses_surface(frame, color_by) {
             read_glb(&self.layout.surface(frame), color_by, ranges, &mut g)?;
+            if color_by == ColorBy::Material {
+                self.paint_by_material(frame, &mut g)?;
+            }
         } else if self.layout.particles(frame).is_file() {
             let path = self.layout.particles(frame);
             let p = ParticleFrame::read(&path)?;
             let colors: Vec<[f32; 3]> = match color_by {
-                ColorBy::Auto | ColorBy::Damage => p
+                ColorBy::Material => p.material.iter().map(|&m| self.body_color(m)).collect(),
+                ColorBy::Damage => p
                     .damage
                     .iter()
                     .map(|&d| geometry::damage_color(d))
@@ -245,25 +314,34 @@ impl Cache {
                     .map(|&v| geometry::quantity_color(v, ranges.quantity))
                     .collect(),
             };
+            // Each particle at its own size (half the cube root of its volume); half λ
+            // for caches written before the volume column.
+            let sizes = p.sizes(|i| 2.0 * self.radius(p.material[i]));
             g.points.reserve(p.len() * geometry::POINT_STRIDE);
-            for ((&position, &material), color) in p.position.iter().zip(&p.material).zip(colors) {
-                g.push_point(position, self.radius(material), color);
+            for ((&position, size), color) in p.position.iter().zip(sizes).zip(colors) {
+                g.push_point(position, 0.5 * size, color);
             }
         }
         self.push_colliders(frame, &mut g);
         Ok(g)
     }
 
-    /// Bounds of every frame (particles trimmed of the farthest 0.2 % on each side of
-    /// each axis, so a few far-flung fragments do not shrink the subject), colliders
-    /// included, and the sequence's value ranges for `color_by`.
+    /// The bounds the camera frames and the sequence's value ranges for `color_by`.
+    ///
+    /// The bounds are robust, to frame the action and not the far debris: the particles
+    /// of every frame (or the surface's vertices where a frame has no particles), up
+    /// to [`SAMPLES_PER_FRAME`] of each, evenly strided, pooled over the whole shot,
+    /// without the [`FRAMING_TAIL`] farthest on each side of each axis (the 1st to the
+    /// 99th percentile, a 98 % range), grown by half a particle; the colliders (the
+    /// projectile) of every frame are added whole.
     pub fn sequence_bounds(&self, color_by: ColorBy) -> Result<(Bounds, Ranges), RenderError> {
         // Every frame's result is kept and the first error in frame order reported, so
         // the message does not depend on which thread failed first.
-        let per_frame: Vec<Result<(Bounds, Ranges), RenderError>> = self
+        type FrameBounds = (Bounds, Vec<[f32; 3]>, Ranges);
+        let per_frame: Vec<Result<FrameBounds, RenderError>> = self
             .frames
             .par_iter()
-            .map(|&frame| -> Result<(Bounds, Ranges), RenderError> {
+            .map(|&frame| -> Result<FrameBounds, RenderError> {
                 let mut ranges = Ranges {
                     plastic_max: 0.0,
                     temperature: (f32::INFINITY, f32::NEG_INFINITY),
@@ -271,16 +349,25 @@ impl Cache {
                 };
                 let mut g = FrameGeometry::default();
                 self.push_colliders(frame, &mut g);
-                let mut bounds = g.bounds();
+                let colliders = g.bounds();
+                let mut samples = Vec::new();
                 if self.uses_surface(frame, color_by) {
                     let mut s = FrameGeometry::default();
                     ranges.quantity =
                         read_glb(&self.layout.surface(frame), color_by, &ranges, &mut s)?;
-                    bounds = bounds.union(&s.bounds());
-                } else if self.layout.particles(frame).is_file() {
+                    if !self.layout.particles(frame).is_file() {
+                        let vertices: Vec<[f32; 3]> = s
+                            .mesh_vertices
+                            .chunks_exact(geometry::MESH_STRIDE)
+                            .map(|v| [v[0], v[1], v[2]])
+                            .collect();
+                        samples = strided(&vertices);
+                    }
+                }
+                if self.layout.particles(frame).is_file() {
                     let path = self.layout.particles(frame);
                     let p = ParticleFrame::read(&path)?;
-                    bounds = bounds.union(&trimmed_bounds(&p.position, self.radius(0.0)));
+                    samples = strided(&p.position);
                     ranges.plastic_max = p
                         .plastic
                         .iter()
@@ -295,27 +382,30 @@ impl Cache {
                             }
                         }
                     }
-                    if color_by == ColorBy::Quantity {
+                    if color_by == ColorBy::Quantity && !self.uses_surface(frame, color_by) {
                         ranges.quantity = widen(NO_RANGE, quantity(&p, &path)?);
                     }
                 }
-                Ok((bounds, ranges))
+                Ok((colliders, samples, ranges))
             })
             .collect();
-        let per_frame: Vec<(Bounds, Ranges)> = per_frame.into_iter().collect::<Result<_, _>>()?;
+        let per_frame: Vec<FrameBounds> = per_frame.into_iter().collect::<Result<_, _>>()?;
         let mut bounds = Bounds::EMPTY;
+        let mut samples = Vec::new();
         let mut ranges = Ranges {
             plastic_max: 0.0,
             temperature: (f32::INFINITY, f32::NEG_INFINITY),
             quantity: NO_RANGE,
         };
-        for (b, r) in per_frame {
+        for (b, s, r) in per_frame {
             bounds = bounds.union(&b);
+            samples.extend(s);
             ranges.plastic_max = ranges.plastic_max.max(r.plastic_max);
             ranges.temperature.0 = ranges.temperature.0.min(r.temperature.0);
             ranges.temperature.1 = ranges.temperature.1.max(r.temperature.1);
             ranges.quantity = widen(ranges.quantity, &r.quantity);
         }
+        let bounds = bounds.union(&percentile_bounds(&samples, FRAMING_TAIL, self.radius(0.0)));
         if !ranges.temperature.0.is_finite() {
             ranges.temperature = (0.0, 1.0);
         }
@@ -326,9 +416,52 @@ impl Cache {
     }
 }
 
-/// Bounds of `points` without the 0.2 % farthest on each side of each axis, grown by
-/// `radius`.
-pub fn trimmed_bounds(points: &[[f32; 3]], radius: f32) -> Bounds {
+/// See [`Cache::view_azimuth`]: the projectile is the sphere or box collider or the body
+/// with the fastest horizontal start velocity.
+fn view_azimuth(scene: &Scene) -> f32 {
+    let colliders = scene.colliders.iter().filter_map(|c| match c {
+        ColliderSpec::Sphere { velocity, .. } | ColliderSpec::Box { velocity, .. } => {
+            Some(*velocity)
+        }
+        ColliderSpec::Ground { .. } | ColliderSpec::Mesh { .. } => None,
+    });
+    let bodies = scene.bodies.iter().map(|b| b.velocity);
+    let fastest = colliders
+        .chain(bodies)
+        .map(|v| [v[0], v[2]])
+        .filter(|h| h.iter().all(|x| x.is_finite()))
+        .fold(None, |best: Option<[f64; 2]>, h| {
+            let speed = h[0].hypot(h[1]);
+            match best {
+                Some(b) if b[0].hypot(b[1]) >= speed => Some(b),
+                _ if speed > 0.0 => Some(h),
+                _ => best,
+            }
+        });
+    match fastest {
+        // The eye on the side the projectile comes from: towards −v.
+        Some([vx, vz]) => (-vx).atan2(-vz) as f32 + AZIMUTH,
+        None => AZIMUTH,
+    }
+}
+
+/// Points of one frame that the framing looks at, at most (a stride through the
+/// particles keeps the pooled sample of a long shot small).
+pub const SAMPLES_PER_FRAME: usize = 4096;
+
+/// The fraction of the pooled sample the framing leaves out on each side of each axis:
+/// 1 %, so the bounds span the 1st to the 99th percentile.
+pub const FRAMING_TAIL: f32 = 0.01;
+
+/// At most [`SAMPLES_PER_FRAME`] of `points`, evenly strided from the first.
+fn strided(points: &[[f32; 3]]) -> Vec<[f32; 3]> {
+    let stride = points.len().div_ceil(SAMPLES_PER_FRAME).max(1);
+    points.iter().step_by(stride).copied().collect()
+}
+
+/// Bounds of the finite `points` without the fraction `tail` of them on each side of
+/// each axis, grown by `radius`.
+pub fn percentile_bounds(points: &[[f32; 3]], tail: f32, radius: f32) -> Bounds {
     let finite: Vec<[f32; 3]> = points
         .iter()
         .copied()
@@ -337,7 +470,7 @@ pub fn trimmed_bounds(points: &[[f32; 3]], radius: f32) -> Bounds {
     if finite.is_empty() {
         return Bounds::EMPTY;
     }
-    let cut = finite.len() / 500;
+    let cut = ((finite.len() as f32 * tail) as usize).min((finite.len() - 1) / 2);
     let mut b = Bounds::EMPTY;
     for k in 0..3 {
         let mut values: Vec<f32> = finite.iter().map(|p| p[k]).collect();
@@ -556,12 +689,25 @@ mod tests {
     use super::*;
 
     #[test]
-    fn trimmed_bounds_ignore_a_few_outliers() {
+    fn percentile_bounds_leave_out_far_debris() {
+        // 1000 points on [0, 1) and 8 debris points far out: the 98 % range is the
+        // body's, to within its outer 1 %.
         let mut pts: Vec<[f32; 3]> = (0..1000).map(|i| [i as f32 / 1000.0, 0.0, 0.0]).collect();
-        pts.push([1e6, 0.0, 0.0]);
+        pts.extend((0..8).map(|i| [10.0 + i as f32, 0.0, 0.0]));
         pts.push([f32::NAN, 0.0, 0.0]);
-        let b = trimmed_bounds(&pts, 0.0);
-        assert!(b.max[0] < 1.0 && b.min[0] >= 0.0, "{b:?}");
+        let b = percentile_bounds(&pts, FRAMING_TAIL, 0.0);
+        assert!(
+            b.max[0] < 1.0 && b.max[0] > 0.95 && b.min[0] >= 0.0,
+            "{b:?}"
+        );
+        // With 3 % of the points far out, the bounds reach them.
+        pts.extend((0..20).map(|i| [20.0 + i as f32, 0.0, 0.0]));
+        let b = percentile_bounds(&pts, FRAMING_TAIL, 0.5);
+        assert!(b.max[0] > 20.5, "{b:?}");
+        assert_eq!(
+            percentile_bounds(&[[1.0, 2.0, 3.0]], FRAMING_TAIL, 0.0).min,
+            [1.0, 2.0, 3.0]
+        );
     }
 
     #[test]
@@ -640,7 +786,7 @@ mod tests {
         mesh.write(&layout.collider_mesh(0)).unwrap();
         let cache = Cache::open(dir.path()).unwrap();
         let g = cache
-            .geometry(1, ColorBy::Auto, &Ranges::default())
+            .geometry(1, ColorBy::Material, &Ranges::default())
             .unwrap();
         let corners: Vec<[f32; 3]> = g
             .mesh_vertices
@@ -655,6 +801,48 @@ mod tests {
         assert!(
             (0..3).all(|k| (moved[k] - [1.0, 2.0, 2.0][k]).abs() < 1e-6),
             "{moved:?}"
+        );
+    }
+
+    #[test]
+    fn particles_are_drawn_at_their_own_size() {
+        let dir = tempfile::tempdir().unwrap();
+        let layout = Layout::new(dir.path());
+        layout.create().unwrap();
+        let scene = "[scene]\nname = \"t\"\n\n[materials.m]\ndensity = 1000.0\n\
+                     bulk_modulus = 1e5\nshear_modulus = 1e5\n\n[[body]]\nmaterial = \"m\"\n\
+                     resolution = 0.02\nshape = { type = \"box\", center = [0, 0.4, 0], \
+                     size = [0.1, 0.1, 0.1] }\n";
+        std::fs::write(layout.scene(), scene).unwrap();
+        let mut frame = ParticleFrame {
+            frame: 1,
+            position: vec![[0.0, 0.4, 0.0], [0.05, 0.4, 0.0]],
+            velocity: vec![[0.0; 3]; 2],
+            damage: vec![0.0; 2],
+            plastic: vec![0.0; 2],
+            material: vec![0.0; 2],
+            fragment: vec![0.0; 2],
+            ..ParticleFrame::default()
+        };
+        let radii = |frame: &ParticleFrame| {
+            frame.write(&layout.particles(1)).unwrap();
+            let cache = Cache::open(dir.path()).unwrap();
+            let g = cache
+                .geometry(1, ColorBy::Material, &Ranges::default())
+                .unwrap();
+            g.points
+                .chunks_exact(geometry::POINT_STRIDE)
+                .map(|p| p[3])
+                .collect::<Vec<f32>>()
+        };
+        // An old cache without volumes: half the body's λ.
+        assert_eq!(radii(&frame), [0.01, 0.01]);
+        // Half the cube root of each volume: 1e-6 m³ → 5 mm, 8e-6 m³ → 10 mm.
+        frame.extra = vec![("volume".into(), vec![1e-6, 8e-6])];
+        let r = radii(&frame);
+        assert!(
+            (r[0] - 0.005).abs() < 1e-7 && (r[1] - 0.01).abs() < 1e-7,
+            "{r:?}"
         );
     }
 

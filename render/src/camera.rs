@@ -108,14 +108,53 @@ impl Camera {
         }
     }
 
+    /// Frames `bounds` from `azimuth` at [`ELEVATION`] as tightly as the box allows:
+    /// the camera looks at the box's centre from the nearest distance at which all
+    /// eight corners project inside [`FIT_FILL`] of the image's half-width and
+    /// half-height. A box fills the image where [`Camera::framing`]'s bounding sphere
+    /// leaves it small in the middle.
+    pub fn fit(bounds: &Bounds, aspect: f32, azimuth: f32) -> Camera {
+        if bounds.is_empty() {
+            return Camera::framing(bounds, aspect, azimuth);
+        }
+        let distance = fit_distance(bounds, aspect, view_direction(azimuth));
+        Camera::at_distance(bounds, aspect, azimuth, distance)
+    }
+
+    /// The camera looking at the centre of `bounds` from `azimuth` at [`ELEVATION`],
+    /// `distance` away.
+    fn at_distance(bounds: &Bounds, aspect: f32, azimuth: f32, distance: f32) -> Camera {
+        let (center, radius) = (bounds.center(), bounds.radius().max(1e-3));
+        Camera {
+            eye: add(center, scale(view_direction(azimuth), distance)),
+            target: center,
+            fov_y: FOV_Y,
+            aspect,
+            near: (distance - 2.0 * radius).max(distance * 0.02),
+            far: distance + 60.0 * radius,
+        }
+    }
+
     /// `views` cameras around the vertical axis through the bounds' centre, the first
-    /// at `azimuth`.
+    /// at `azimuth`, all at one distance: the largest that [`Camera::fit`] needs over
+    /// the views, so the subject keeps its size as it turns.
     pub fn turntable(bounds: &Bounds, aspect: f32, azimuth: f32, views: usize) -> Vec<Camera> {
-        (0..views)
-            .map(|i| {
-                let a = azimuth + std::f32::consts::TAU * i as f32 / views as f32;
-                Camera::framing(bounds, aspect, a)
-            })
+        let azimuths: Vec<f32> = (0..views)
+            .map(|i| azimuth + std::f32::consts::TAU * i as f32 / views as f32)
+            .collect();
+        if bounds.is_empty() {
+            return azimuths
+                .into_iter()
+                .map(|a| Camera::framing(bounds, aspect, a))
+                .collect();
+        }
+        let distance = azimuths
+            .iter()
+            .map(|&a| fit_distance(bounds, aspect, view_direction(a)))
+            .fold(0.0, f32::max);
+        azimuths
+            .into_iter()
+            .map(|a| Camera::at_distance(bounds, aspect, a, distance))
             .collect()
     }
 
@@ -171,6 +210,55 @@ impl Camera {
             rim: dir(0.3, 0.6, -1.0),
         }
     }
+}
+
+/// The fraction of the image's half-width and half-height that [`Camera::fit`] lets
+/// the framed box reach: a margin of 8 % on each side.
+pub const FIT_FILL: f32 = 0.92;
+
+/// Unit vector from the target towards the eye at `azimuth` and [`ELEVATION`].
+fn view_direction(azimuth: f32) -> [f32; 3] {
+    [
+        ELEVATION.cos() * azimuth.sin(),
+        ELEVATION.sin(),
+        ELEVATION.cos() * azimuth.cos(),
+    ]
+}
+
+/// The smallest distance from the centre of `bounds` along `back` (unit, towards the
+/// eye) at which every corner of the box projects within [`FIT_FILL`] of the image:
+/// a corner at (x, y, z) in the camera's right, up and backward axes about the centre
+/// is in view when |x| ≤ FIT_FILL · tan(fov_x / 2) · (D − z), and likewise for y.
+fn fit_distance(bounds: &Bounds, aspect: f32, back: [f32; 3]) -> f32 {
+    let right = normalize(cross([0.0, 1.0, 0.0], back));
+    let up = cross(back, right);
+    let tan_y = FIT_FILL * (0.5 * FOV_Y).tan();
+    let tan_x = aspect * tan_y;
+    let center = bounds.center();
+    let mut distance = 1e-3f32;
+    for i in 0..8 {
+        let corner = [
+            if i & 1 == 0 {
+                bounds.min[0]
+            } else {
+                bounds.max[0]
+            },
+            if i & 2 == 0 {
+                bounds.min[1]
+            } else {
+                bounds.max[1]
+            },
+            if i & 4 == 0 {
+                bounds.min[2]
+            } else {
+                bounds.max[2]
+            },
+        ];
+        let d = sub(corner, center);
+        let (x, y, z) = (dot(d, right), dot(d, up), dot(d, back));
+        distance = distance.max(z + x.abs() / tan_x).max(z + y.abs() / tan_y);
+    }
+    distance
 }
 
 /// Directions towards the three studio lights (unit, world space).
@@ -259,6 +347,57 @@ mod tests {
                 assert!((c[0] / c[3]).abs() < 1e-5 && (c[1] / c[3]).abs() < 1e-5);
             }
         }
+    }
+
+    #[test]
+    fn fit_keeps_the_box_in_view_and_fills_it() {
+        let b = bounds();
+        for aspect in [0.5, 4.0 / 3.0, 16.0 / 9.0, 3.0] {
+            for cam in Camera::turntable(&b, aspect, AZIMUTH, 5)
+                .into_iter()
+                .chain([Camera::fit(&b, aspect, AZIMUTH)])
+            {
+                let vp = cam.view_projection();
+                // Every corner in view; the largest |x| or |y| reaches FIT_FILL.
+                let mut largest = 0.0f32;
+                for i in 0..8 {
+                    let p = [
+                        if i & 1 == 0 { b.min[0] } else { b.max[0] },
+                        if i & 2 == 0 { b.min[1] } else { b.max[1] },
+                        if i & 4 == 0 { b.min[2] } else { b.max[2] },
+                    ];
+                    let c = transform(&vp, p);
+                    for k in 0..3 {
+                        assert!((c[k] / c[3]).abs() < 1.0, "{aspect} {p:?} {c:?}");
+                    }
+                    largest = largest.max((c[0] / c[3]).abs()).max((c[1] / c[3]).abs());
+                }
+                // Turntable views share the distance the widest view needs.
+                assert!(
+                    largest > 0.5,
+                    "{aspect}: the box reaches {largest} of the image"
+                );
+            }
+            // Closer than the bounding sphere's framing.
+            let fit = Camera::fit(&b, aspect, AZIMUTH);
+            let sphere = Camera::framing(&b, aspect, AZIMUTH);
+            assert!(norm(sub(fit.eye, fit.target)) < norm(sub(sphere.eye, sphere.target)));
+        }
+        // The single view reaches FIT_FILL exactly on its limiting side.
+        let cam = Camera::fit(&b, 16.0 / 9.0, AZIMUTH);
+        let vp = cam.view_projection();
+        let reach = (0..8)
+            .map(|i| {
+                let p = [
+                    if i & 1 == 0 { b.min[0] } else { b.max[0] },
+                    if i & 2 == 0 { b.min[1] } else { b.max[1] },
+                    if i & 4 == 0 { b.min[2] } else { b.max[2] },
+                ];
+                let c = transform(&vp, p);
+                (c[0] / c[3]).abs().max((c[1] / c[3]).abs())
+            })
+            .fold(0.0f32, f32::max);
+        assert!((reach - FIT_FILL).abs() < 1e-3, "{reach}");
     }
 
     #[test]

@@ -281,7 +281,8 @@ pub fn srgb_to_linear(c: f32) -> f32 {
     }
 }
 
-fn linear(rgb: [f32; 3]) -> [f32; 3] {
+/// An sRGB colour (components in [0, 1]) as the linear values the shaders take.
+pub fn linear(rgb: [f32; 3]) -> [f32; 3] {
     rgb.map(srgb_to_linear)
 }
 

@@ -9,6 +9,8 @@
 //! | [`camera`] | [`camera::Camera`], [`camera::Bounds`], [`camera::Lights`]: automatic framing, turntables, the studio lights |
 //! | `gl` (feature `gl`) | the offscreen OpenGL renderer on Mesa (EGL surfaceless, or OSMesa) |
 //! | `preview` (feature `gl`) | `PreviewOptions`: `preview/NNNN.png`, turntables, the contact sheet |
+//! | [`movie`] | [`movie::write_apng`], [`movie::write_mp4`]: the previews as an animated PNG and (with ffmpeg) an H.264 MP4 |
+//! | [`paint`] | [`paint::paint_surfaces`], [`paint::NearestBody`]: colour by material, meshes painted by the nearest particle's body |
 //! | [`sheet`] | PNG writing, contact sheets, a built-in bitmap font for frame numbers |
 //!
 //! [`RenderError`] is the crate's one error type.
@@ -20,6 +22,8 @@ pub mod geometry;
 #[cfg(feature = "gl")]
 pub mod gl;
 pub mod gltf;
+pub mod movie;
+pub mod paint;
 #[cfg(feature = "gl")]
 pub mod preview;
 pub mod sheet;

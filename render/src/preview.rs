@@ -1,8 +1,10 @@
 //! Preview images of an output directory: `preview/NNNN.png` for every frame (one fixed
 //! camera framed on the bounds of all frames; a frame rendered alone goes to
 //! `preview/frame_NNNN.png`, never over the sequence's), `preview/turntable_NNN.png` (N views of
-//! one frame around the vertical axis) and `preview/contact_sheet.png`. Frames render
-//! in parallel, each worker thread with its own GL context reused for all its frames.
+//! one frame around the vertical axis), `preview/contact_sheet.png` and, when asked,
+//! the movies (`preview/movie.png`, `movie.mp4`, `turntable.png`; [`crate::movie`]).
+//! Frames render in parallel, each worker thread with its own GL context reused for
+//! all its frames.
 
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
@@ -13,9 +15,9 @@ use image::RgbImage;
 
 use crate::RenderError;
 use crate::cache::{Cache, ColorBy, Ranges};
-use crate::camera::{AZIMUTH, Bounds, Camera};
+use crate::camera::{Bounds, Camera};
 use crate::gl::{Backend, PassTimes, Renderer, View};
-use crate::sheet;
+use crate::{movie, sheet};
 
 /// What to render.
 #[derive(Debug, Clone, PartialEq)]
@@ -33,8 +35,16 @@ pub struct PreviewOptions {
     /// Worker threads (each with its own GL context).
     pub workers: usize,
     /// Camera azimuth (radians about +y; 0 looks from +z), of the frames and of the
-    /// first turntable view.
-    pub azimuth: f32,
+    /// first turntable view; `None`: [`Cache::view_azimuth`] (from the side the
+    /// projectile comes from).
+    pub azimuth: Option<f32>,
+    /// Also write the sequence (and the turntable) as movies at the playback rate:
+    /// `preview/movie.png` (animated PNG), `preview/movie.mp4` when ffmpeg is on the
+    /// `PATH`, `preview/turntable.png`.
+    pub movie: bool,
+    /// Draw the frame number, the simulation time and the playback time in the
+    /// bottom-left corner of the sequence's frames (for reviews).
+    pub overlay: bool,
 }
 
 impl Default for PreviewOptions {
@@ -42,11 +52,13 @@ impl Default for PreviewOptions {
         PreviewOptions {
             width: 960,
             height: 540,
-            color_by: ColorBy::Auto,
+            color_by: ColorBy::Material,
             frame: None,
             turntable: 0,
             workers: 1,
-            azimuth: AZIMUTH,
+            azimuth: None,
+            movie: false,
+            overlay: false,
         }
     }
 }
@@ -68,6 +80,8 @@ pub struct PreviewReport {
     pub seconds: f64,
     /// Things the user should know (empty frames).
     pub warnings: Vec<String>,
+    /// A movie was asked for but no MP4 written: no ffmpeg on the `PATH`.
+    pub mp4_skipped: bool,
 }
 
 /// One image to make: which frame, from where, into which file.
@@ -76,6 +90,8 @@ struct Job {
     camera: Camera,
     path: PathBuf,
     thumbnail: bool,
+    /// The review overlay's text, if asked for.
+    overlay: Option<String>,
 }
 
 /// Renders the previews of the output directory `out`; `progress(done, total)` is
@@ -99,9 +115,10 @@ pub fn render_cache(
             ),
         });
     }
-    let (bounds, ranges) = cache.sequence_bounds(options.color_by)?;
+    let (view, ranges) = sequence_view(&cache, options)?;
+    let (camera, bounds, ground) = (view.camera, view.bounds, view.ground);
     let aspect = options.width as f32 / options.height as f32;
-    let camera = Camera::framing(&bounds, aspect, options.azimuth);
+    let azimuth = options.azimuth.unwrap_or_else(|| cache.view_azimuth());
     let layout = &cache.layout;
     let dir = layout.preview_dir();
     std::fs::create_dir_all(&dir).map_err(|e| RenderError::io(&dir, e))?;
@@ -119,12 +136,19 @@ pub fn render_cache(
                 None => layout.preview(frame),
             },
             thumbnail: options.frame.is_none(),
+            overlay: options.overlay.then(|| {
+                sheet::overlay_text(
+                    frame,
+                    cache.frame_time(frame),
+                    frame.saturating_sub(1) as f64 / cache.playback_fps(),
+                )
+            }),
         })
         .collect();
     let turntable_frame = options
         .frame
         .unwrap_or(cache.frames[cache.frames.len() - 1]);
-    for (i, camera) in Camera::turntable(&bounds, aspect, options.azimuth, options.turntable)
+    for (i, camera) in Camera::turntable(&bounds, aspect, azimuth, options.turntable)
         .into_iter()
         .enumerate()
     {
@@ -133,13 +157,9 @@ pub fn render_cache(
             camera,
             path: layout.turntable(i + 1),
             thumbnail: false,
+            overlay: None,
         });
     }
-    let ground = cache.ground().unwrap_or(if bounds.is_empty() {
-        0.0
-    } else {
-        bounds.min[1]
-    });
     let mut report = run_jobs(&cache, &jobs, options, &ranges, &bounds, ground, progress)?;
     if options.frame.is_none() && report.thumbnails.len() > 1 {
         report.thumbnails.sort_by_key(|(frame, _)| *frame);
@@ -147,8 +167,84 @@ pub fn render_cache(
         sheet::write_png(&path, &sheet::contact_sheet(&report.thumbnails))?;
         report.preview.files.push(path);
     }
+    if options.movie {
+        write_movies(&cache, options, &jobs, &mut report.preview)?;
+    } else {
+        // Frames rendered again without a movie: a movie of the frames they replaced
+        // would no longer match them.
+        let mut stale = Vec::new();
+        if options.frame.is_none() {
+            stale.extend([layout.movie(), layout.movie_mp4()]);
+        }
+        if options.turntable > 0 {
+            stale.push(layout.turntable_movie());
+        }
+        for path in stale {
+            match std::fs::remove_file(&path) {
+                Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                    return Err(RenderError::io(&path, e));
+                }
+                _ => {}
+            }
+        }
+    }
     report.preview.seconds = start.elapsed().as_secs_f64();
     Ok(report.preview)
+}
+
+/// The movies of the rendered `jobs`: the sequence's frames (unless one frame was
+/// asked for) and the turntable's views, each as an animated PNG at the playback rate;
+/// the sequence also as an MP4 when ffmpeg is there.
+fn write_movies(
+    cache: &Cache,
+    options: &PreviewOptions,
+    jobs: &[Job],
+    report: &mut PreviewReport,
+) -> Result<(), RenderError> {
+    let fps = cache.playback_fps();
+    let layout = &cache.layout;
+    let (sequence, turntable) = jobs.split_at(jobs.len() - options.turntable);
+    if options.frame.is_none() && !sequence.is_empty() {
+        let frames: Vec<PathBuf> = sequence.iter().map(|j| j.path.clone()).collect();
+        movie::write_apng(&layout.movie(), &frames, fps)?;
+        report.files.push(layout.movie());
+        if movie::ffmpeg_available() {
+            movie::write_mp4(&layout.movie_mp4(), &frames, fps)?;
+            report.files.push(layout.movie_mp4());
+        } else {
+            report.mp4_skipped = true;
+        }
+    }
+    if !turntable.is_empty() {
+        let views: Vec<PathBuf> = turntable.iter().map(|j| j.path.clone()).collect();
+        movie::write_apng(&layout.turntable_movie(), &views, fps)?;
+        report.files.push(layout.turntable_movie());
+    }
+    Ok(())
+}
+
+/// The one view of a sequence's frames ([`Camera::fit`] on the robust bounds of
+/// [`Cache::sequence_bounds`], from `options.azimuth` or [`Cache::view_azimuth`]) and
+/// the sequence's value ranges for `options.color_by`.
+pub fn sequence_view(
+    cache: &Cache,
+    options: &PreviewOptions,
+) -> Result<(View, Ranges), RenderError> {
+    let (bounds, ranges) = cache.sequence_bounds(options.color_by)?;
+    let aspect = options.width as f32 / options.height as f32;
+    let azimuth = options.azimuth.unwrap_or_else(|| cache.view_azimuth());
+    let ground = cache.ground().unwrap_or(if bounds.is_empty() {
+        0.0
+    } else {
+        bounds.min[1]
+    });
+    let view = View {
+        camera: Camera::fit(&bounds, aspect, azimuth),
+        bounds,
+        ground,
+        key_strength: 1.0,
+    };
+    Ok((view, ranges))
 }
 
 struct Collected {
@@ -192,7 +288,10 @@ fn run_jobs(
                 ground,
                 key_strength: 1.0,
             };
-            let rendered = renderer.render(&geometry, &view).map_err(|e| (i, e))?;
+            let mut rendered = renderer.render(&geometry, &view).map_err(|e| (i, e))?;
+            if let Some(text) = &job.overlay {
+                sheet::draw_overlay(&mut rendered.image, text);
+            }
             let t = Instant::now();
             sheet::write_png(&job.path, &rendered.image).map_err(|e| (i, e))?;
             let encode = t.elapsed().as_secs_f64();

@@ -40,16 +40,41 @@ const DIGITS: [[u8; 7]; 10] = [
     [0x0E, 0x11, 0x11, 0x0F, 0x01, 0x02, 0x0C],
 ];
 
+/// 5×7 glyphs of the other characters the overlays need (the letters of `FRAME`,
+/// `SIM`, `MS`, `PLAY`, and the decimal point).
+const OTHERS: [(char, [u8; 7]); 11] = [
+    ('A', [0x0E, 0x11, 0x11, 0x1F, 0x11, 0x11, 0x11]),
+    ('E', [0x1F, 0x10, 0x10, 0x1E, 0x10, 0x10, 0x1F]),
+    ('F', [0x1F, 0x10, 0x10, 0x1E, 0x10, 0x10, 0x10]),
+    ('I', [0x0E, 0x04, 0x04, 0x04, 0x04, 0x04, 0x0E]),
+    ('L', [0x10, 0x10, 0x10, 0x10, 0x10, 0x10, 0x1F]),
+    ('M', [0x11, 0x1B, 0x15, 0x15, 0x11, 0x11, 0x11]),
+    ('P', [0x1E, 0x11, 0x11, 0x1E, 0x10, 0x10, 0x10]),
+    ('R', [0x1E, 0x11, 0x11, 0x1E, 0x14, 0x12, 0x11]),
+    ('S', [0x0F, 0x10, 0x10, 0x0E, 0x01, 0x01, 0x1E]),
+    ('Y', [0x11, 0x11, 0x0A, 0x04, 0x04, 0x04, 0x04]),
+    ('.', [0x00, 0x00, 0x00, 0x00, 0x00, 0x0C, 0x0C]),
+];
+
+/// The glyph of `ch`, if the font has it.
+fn glyph(ch: char) -> Option<[u8; 7]> {
+    match ch.to_digit(10) {
+        Some(d) => Some(DIGITS[d as usize]),
+        None => OTHERS.iter().find(|(c, _)| *c == ch).map(|(_, g)| *g),
+    }
+}
+
 /// Width in pixels of `text` drawn at `scale`.
 pub fn text_width(text: &str, scale: u32) -> u32 {
     (text.chars().count() as u32 * 6).saturating_sub(1) * scale
 }
 
-/// Draws the digits of `text` (other characters leave a gap) with the top-left corner
+/// Draws the digits, the decimal points and the letters of `FRAME`, `SIM`, `MS` and
+/// `PLAY` in `text` (other characters leave a gap) with the top-left corner
 /// at (`x`, `y`), each font pixel `scale`² image pixels; clipped to the image.
 pub fn draw_text(image: &mut RgbImage, x: u32, y: u32, text: &str, scale: u32, color: [u8; 3]) {
     for (i, ch) in text.chars().enumerate() {
-        let Some(glyph) = ch.to_digit(10).map(|d| DIGITS[d as usize]) else {
+        let Some(glyph) = glyph(ch) else {
             continue;
         };
         let left = x + i as u32 * 6 * scale;
@@ -69,6 +94,39 @@ pub fn draw_text(image: &mut RgbImage, x: u32, y: u32, text: &str, scale: u32, c
             }
         }
     }
+}
+
+/// The review overlay of a frame (`--overlay`): its number, its simulation time and
+/// its playback time, e.g. `FRAME 12  SIM 1.467 MS  PLAY 0.458 S`. Simulation times
+/// under a second are in milliseconds.
+pub fn overlay_text(frame: usize, sim_time: f64, playback_time: f64) -> String {
+    let sim = if sim_time.abs() < 1.0 {
+        format!("{:.3} MS", 1e3 * sim_time)
+    } else {
+        format!("{sim_time:.3} S")
+    };
+    format!("FRAME {frame}  SIM {sim}  PLAY {playback_time:.3} S")
+}
+
+/// Draws `text` in the image's bottom-left corner on a dark band, at a size that
+/// reads at the image's height (a font pixel per 270 image rows, at least one).
+pub fn draw_overlay(image: &mut RgbImage, text: &str) {
+    let scale = (image.height() / 270).max(1);
+    let (w, h) = (text_width(text, scale) + 4 * scale, 11 * scale);
+    let y0 = image.height().saturating_sub(h);
+    for y in y0..image.height() {
+        for x in 0..w.min(image.width()) {
+            image.put_pixel(x, y, Rgb([20, 20, 22]));
+        }
+    }
+    draw_text(
+        image,
+        2 * scale,
+        y0 + 2 * scale,
+        text,
+        scale,
+        [255, 255, 255],
+    );
 }
 
 /// A grid of `frames` (number, thumbnail), left to right and top to bottom, each
@@ -126,6 +184,30 @@ mod tests {
             assert!(lit.iter().any(|&b| b));
             assert!(seen.insert(lit), "digit {d} looks like another");
         }
+    }
+
+    #[test]
+    fn overlay_characters_are_drawn_and_distinct() {
+        let text = overlay_text(12, 0.0014666, 0.4583);
+        assert_eq!(text, "FRAME 12  SIM 1.467 MS  PLAY 0.458 S");
+        assert_eq!(
+            overlay_text(3, 2.5, 2.0),
+            "FRAME 3  SIM 2.500 S  PLAY 2.000 S"
+        );
+        let mut seen = std::collections::BTreeSet::new();
+        for ch in "0123456789AEFILMPRSY.".chars() {
+            let mut img = RgbImage::new(5, 7);
+            draw_text(&mut img, 0, 0, &ch.to_string(), 1, [255, 255, 255]);
+            let lit: Vec<bool> = img.pixels().map(|p| p[0] > 0).collect();
+            assert!(lit.iter().any(|&b| b), "{ch} draws nothing");
+            assert!(seen.insert(lit), "{ch} looks like another");
+        }
+        // The band sits in the bottom-left corner and the top row is untouched.
+        let mut img = RgbImage::from_pixel(400, 100, Rgb([200, 200, 200]));
+        draw_overlay(&mut img, &text);
+        assert_eq!(img.get_pixel(0, 99).0, [20, 20, 22]);
+        assert_eq!(img.get_pixel(0, 0).0, [200, 200, 200]);
+        assert!((89..100).any(|y| (0..200).any(|x| img.get_pixel(x, y).0 == [255; 3])));
     }
 
     #[test]

@@ -202,6 +202,11 @@ def main(out):
                   f"frame {k}: {name} differs")
         check(len(points.GetIdsAttr().Get(k)) == len(pos) and len(points.GetWidthsAttr().Get(k)) == len(pos),
               f"frame {k}: ids / widths are not one a point")
+        if "volume" in ply:
+            # Each particle drawn at its own size, the cube root of its volume.
+            widths = np.array(points.GetWidthsAttr().Get(k), "f8")
+            check(np.allclose(widths, np.cbrt(ply["volume"].astype("f8")), rtol=1e-6, atol=0),
+                  f"frame {k}: widths are not the cube roots of the particles' volumes")
         standard = {"x", "y", "z", "vx", "vy", "vz", "damage", "plastic", "material", "fragment"}
         for name in set(ply) - standard:
             check(np.array_equal(np.array(pv.GetPrimvar(name).Get(k), "f4"), ply[name]),

@@ -161,6 +161,7 @@ mod tests {
             laplacian_damping: 0.0,
             membrane: None,
             mpm: None,
+            color: None,
         }
     }
 

@@ -63,7 +63,8 @@ pub struct ParticleColumns {
     /// Fragment id, numbered from 0 within the model.
     pub fragment: Vec<u32>,
     /// Further columns the model adds (name, one value a particle), written after the
-    /// standard ones.
+    /// standard ones. Every model that has particles adds
+    /// [`crate::cache::ply::VOLUME`], each particle's volume (m³), first.
     pub extra: Vec<(String, Vec<f32>)>,
 }
 

@@ -308,7 +308,9 @@ fn particle_samples(
         };
         widths.get(body).or(widths.first()).copied().unwrap_or(0.01)
     };
-    let widths: Vec<f32> = frame.material.iter().map(|&m| width(m)).collect();
+    // Each particle's own size, the cube root of its volume; λ for caches written
+    // before the volume column.
+    let widths = frame.sizes(|i| width(frame.material[i]));
     let largest = widths.iter().copied().fold(0.0f32, f32::max);
     let ints = |v: &[f32]| Value::IntVec(v.iter().map(|&x| x as i32).collect());
     let values = vec![
@@ -897,7 +899,10 @@ mod tests {
                 plastic: vec![0.0, 0.0],
                 material: vec![0.0, 0.0],
                 fragment: vec![0.0, 1.0],
-                extra: vec![("quantity".into(), vec![1.0, 2.0])],
+                extra: vec![
+                    ("volume".into(), vec![1e-6, 0.0]),
+                    ("quantity".into(), vec![1.0, 2.0]),
+                ],
             }
             .write(&layout.particles(frame))
             .unwrap();
@@ -933,6 +938,16 @@ mod tests {
             panic!("velocities are not time-sampled");
         };
         assert_eq!(samples[0].1, vec3f(&[[0.0, 3.0 * 0.03, 0.0], [0.0; 3]]));
+        // Widths: the cube root of the volume (1e-6 m³ → 0.01 m), not the body's λ
+        // (0.02 m), which the particle without a volume falls back to.
+        let widths = openusd::sdf::Path::new("/World/Particles.widths").unwrap();
+        let Value::TimeSamples(samples) = field(&widths, "timeSamples").into_owned() else {
+            panic!("widths are not time-sampled");
+        };
+        let Value::FloatVec(w) = &samples[0].1 else {
+            panic!("widths are not floats: {:?}", samples[0].1);
+        };
+        assert!((w[0] - 0.01).abs() < 1e-7 && w[1] == 0.02, "{w:?}");
         let quantity = openusd::sdf::Path::new("/World/Particles.primvars:quantity").unwrap();
         assert!(data.has_spec(&quantity), "the extra column is a primvar");
         let sphere =

@@ -7,6 +7,7 @@
 
 mod collider;
 mod exact;
+mod color;
 mod locate;
 mod membrane;
 mod mpm;
@@ -15,6 +16,7 @@ mod shape;
 mod validate;
 
 pub use collider::{ColliderSpec, ContactSpec, KeyframeSpec};
+pub use color::{ColorSpec, PALETTE};
 pub use membrane::{
     MembraneFormulation, MembraneLaw, MembraneMaterialSpec, MembraneSpec, ScatterSpec, SourceSpec,
 };
@@ -182,6 +184,10 @@ pub struct MaterialSpec {
     /// `model = "mpm"`. Default: fixed corotated elasticity.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mpm: Option<MpmSpec>,
+    /// Display colour in previews: `"#RRGGBB"` or an sRGB triple `[r, g, b]` in [0, 1].
+    /// Default: a colour of [`PALETTE`] (see [`Scene::body_colors`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub color: Option<ColorSpec>,
 }
 
 /// The simulation model of a body.
@@ -539,6 +545,29 @@ impl Scene {
     /// Seconds between output frames.
     pub fn frame_time(&self) -> f64 {
         1.0 / self.scene.fps
+    }
+
+    /// The display colour (sRGB, in [0, 1]) of each body, in body order: its material's
+    /// `color`, else the [`PALETTE`] colour of the material's place in the materials
+    /// table, so bodies of different materials differ and bodies of one material match.
+    /// A colour that does not parse (refused by validation) takes the palette's.
+    pub fn body_colors(&self) -> Vec<[f32; 3]> {
+        self.bodies
+            .iter()
+            .map(|b| {
+                let index = self
+                    .materials
+                    .keys()
+                    .position(|name| *name == b.material)
+                    .unwrap_or(0);
+                let palette = PALETTE[index % PALETTE.len()];
+                self.materials
+                    .get(&b.material)
+                    .and_then(|m| m.color.as_ref())
+                    .and_then(|c| c.srgb().ok())
+                    .unwrap_or(palette)
+            })
+            .collect()
     }
 
     /// Number of output frames after the initial one.

@@ -190,3 +190,42 @@ fn arrays_of_the_wrong_length_are_refused() {
     let scene = Scene::parse(&three, Path::new("ok.toml"), Path::new(".")).expect("3 components");
     assert_eq!(scene.scene.gravity, [0.0, -1.0, 0.0]);
 }
+
+#[test]
+fn material_colours_parse_default_to_the_palette_and_bad_ones_are_placed() {
+    let two = format!(
+        "{GOOD}[materials.steel]\ndensity = 7800.0\nyoungs_modulus = 2e11\npoisson_ratio = 0.3\n\
+         [[body]]\nmaterial = \"steel\"\nresolution = 0.1\n\
+         shape = {{ type = \"box\", center = [2, 0, 0], size = [1, 1, 1] }}\n"
+    );
+    let scene = Scene::parse(&two, Path::new("ok.toml"), Path::new(".")).expect("two bodies");
+    let colors = scene.body_colors();
+    assert_eq!(colors, [super::PALETTE[0], super::PALETTE[1]]);
+    let named = two.replace("density = 7800.0", "density = 7800.0\ncolor = \"#336699\"");
+    let named = named.replace(
+        "density = 1000.0",
+        "density = 1000.0\ncolor = [1.0, 0.5, 0.0]",
+    );
+    let scene = Scene::parse(&named, Path::new("ok.toml"), Path::new(".")).expect("colours");
+    assert_eq!(
+        scene.body_colors(),
+        [
+            [1.0, 0.5, 0.0],
+            [
+                0x33 as f32 / 255.0,
+                0x66 as f32 / 255.0,
+                0x99 as f32 / 255.0
+            ]
+        ]
+    );
+    // The resolved scene keeps the colours.
+    let again = Scene::parse(&scene.to_toml(), Path::new("r.toml"), Path::new("."));
+    assert_eq!(
+        again.expect("round trip").body_colors(),
+        scene.body_colors()
+    );
+    let bad = GOOD.replace("density = 1000.0", "density = 1000.0\ncolor = \"orange\"");
+    let (line, _, key, message) = error(&bad);
+    assert_eq!((line, key.as_str()), (5, "materials.m.color"), "{message}");
+    assert!(message.contains("#RRGGBB"), "{message}");
+}

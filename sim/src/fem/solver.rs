@@ -8,6 +8,7 @@ use rayon::prelude::*;
 
 use super::FemModel;
 use crate::cache::checkpoint::{Decoder, Encoder};
+use crate::cache::ply::VOLUME;
 use crate::error::Result;
 use crate::model::{ContactPoints, Model, ParticleColumns, Points, PointsMut};
 
@@ -161,7 +162,14 @@ impl Model for Fem {
             plastic: vec![0.0; body.len()],
             body,
             fragment,
-            extra: Vec::new(),
+            // A barycentre stands for its tet: the tet's rest volume.
+            extra: vec![(
+                VOLUME.into(),
+                m.particle_tet
+                    .iter()
+                    .map(|&e| m.volume[e as usize] as f32)
+                    .collect(),
+            )],
         }
     }
 

@@ -25,6 +25,7 @@ fn material() -> Material {
         laplacian_damping: 0.0,
         membrane: None,
         mpm: None,
+        color: None,
     })
 }
 

@@ -15,6 +15,7 @@ use rayon::prelude::*;
 
 use super::MembraneModel;
 use crate::cache::checkpoint::{Decoder, Encoder};
+use crate::cache::ply::VOLUME;
 use crate::cache::sheet::SheetFrame;
 use crate::error::Result;
 use crate::model::{Model, ParticleColumns, Points, PointsMut};
@@ -136,10 +137,14 @@ impl Model for Membrane {
             plastic: vec![0.0; m.len()],
             body: m.body.clone(),
             fragment: m.fragments(),
-            extra: vec![(
-                "quantity".into(),
-                m.quantity.iter().map(|&q| q as f32).collect(),
-            )],
+            extra: vec![
+                // The particle volume V_i = A_i h.
+                (VOLUME.into(), m.volume.iter().map(|&v| v as f32).collect()),
+                (
+                    "quantity".into(),
+                    m.quantity.iter().map(|&q| q as f32).collect(),
+                ),
+            ],
         }
     }
 

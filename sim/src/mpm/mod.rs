@@ -41,6 +41,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use crate::cache::checkpoint::{Decoder, Encoder};
+use crate::cache::ply::VOLUME;
 use crate::error::{Result, SimError};
 use crate::model::{Environment, Model, ParticleColumns, Points, PointsMut, Stepping};
 use crate::scene::Scene;
@@ -690,6 +691,15 @@ impl Model for Mpm {
             body: p.body.clone(),
             fragment: p.body.clone(),
             extra: vec![
+                // The current volume V_p = J_p V_p⁰.
+                (
+                    VOLUME.to_string(),
+                    (0..p.len())
+                        .map(|i| {
+                            (constitutive::determinant(&p.deformation[i]) * p.volume[i]) as f32
+                        })
+                        .collect(),
+                ),
                 (
                     "J".to_string(),
                     p.deformation

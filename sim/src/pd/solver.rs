@@ -7,6 +7,7 @@ use rayon::prelude::*;
 
 use super::{PdModel, stable_time_step};
 use crate::cache::checkpoint::{Decoder, Encoder};
+use crate::cache::ply::VOLUME;
 use crate::cache::vtu::TetFrame;
 use crate::embed::{EmbeddedMesh, NO_PARENT, deformation_gradients};
 use crate::error::Result;
@@ -163,7 +164,10 @@ impl Model for Peridynamics {
             plastic: m.plastic_strain().into_iter().map(|s| s as f32).collect(),
             body: m.reference.body.clone(),
             fragment: m.fragments(),
-            extra: Vec::new(),
+            extra: vec![(
+                VOLUME.into(),
+                m.reference.volume.iter().map(|&v| v as f32).collect(),
+            )],
         }
     }
 

@@ -25,6 +25,7 @@ fn material(e: f64, nu: f64) -> MaterialSpec {
         laplacian_damping: 0.0,
         membrane: None,
         mpm: None,
+        color: None,
     }
 }
 

@@ -100,6 +100,9 @@ pub(super) fn material(name: &str, m: &MaterialSpec) -> Check {
             ));
         }
     }
+    if let Some(c) = &m.color {
+        c.srgb().map_err(|message| issue(&p("color"), message))?;
+    }
     for (key, v) in [
         ("air_damping", m.air_damping),
         ("laplacian_damping", m.laplacian_damping),
