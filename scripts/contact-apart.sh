@@ -53,7 +53,7 @@ for speed in ['2.0', fifth]:
             right = [(p['x'], p['y'], p['z']) for p in ps if p['material'] == 1]
             lf, rf = max(p[0] for p in left), min(p[0] for p in right)
             front = max(front, (lf - rf) / lam)
-            band = 4 * lam
+            band = lam
             a = [p for p in left if p[0] > rf - band]
             b = [p for p in right if p[0] < lf + band]
             for p in a:

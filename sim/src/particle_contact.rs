@@ -88,8 +88,8 @@ pub struct ParticleContact {
     body: Vec<u32>,
     /// Particle spacing l = V^{1/3} (m).
     spacing: Vec<f64>,
-    /// Mean particle spacing l̄ of each scene body's points (m), for the limit of
-    /// [`apart`].
+    /// Particle spacing l̄ = (V̄)^{1/3} of each scene body, V̄ its points' mean volume
+    /// (m), for the limit of [`apart`].
     body_spacing: Vec<f64>,
     /// s c/δ (N/m⁷): k_ij = min(modulus_i, modulus_j) V_i V_j.
     modulus: Vec<f64>,
@@ -192,12 +192,12 @@ impl ParticleContact {
         out.force = vec![[0.0; 3]; n];
         out.near = vec![false; n];
         let mut count = vec![0usize; out.body_spacing.len()];
-        for (&b, &l) in out.body.iter().zip(&out.spacing) {
-            out.body_spacing[b as usize] += l;
+        for (&b, &v) in out.body.iter().zip(&out.volume) {
+            out.body_spacing[b as usize] += v;
             count[b as usize] += 1;
         }
         for (l, &k) in out.body_spacing.iter_mut().zip(&count) {
-            *l /= k.max(1) as f64;
+            *l = (*l / k.max(1) as f64).cbrt();
         }
         // The list holds every pair within max(d_ij, WATCH r_min) (plus the skin).
         let widest = out.spacing.iter().fold(0.0f64, |m, &l| m.max(l));

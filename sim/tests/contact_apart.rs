@@ -74,7 +74,7 @@ fn momentum(p: &Prepared) -> [f64; 3] {
 #[derive(Debug)]
 struct Collision {
     /// The smallest r_ij/l̄ over pairs of particles of the two bodies and every step,
-    /// l̄ the mean particle spacing V^{1/3} of the two spheres.
+    /// l̄ = V̄^{1/3} the particle spacing, V̄ the particles' mean volume.
     closest: f64,
     /// The deepest the fronts overlapped: max x of the left sphere's particles less
     /// min x of the right's, in λ (negative: they never crossed).
@@ -91,12 +91,7 @@ fn collide(mut p: Prepared, closing: f64, duration: f64) -> Collision {
     let points = model(&p).points();
     let n = points.mass.len();
     let body = model(&p).point_bodies().to_vec();
-    let spacing = points
-        .mass
-        .iter()
-        .map(|m| (m / DENSITY).cbrt())
-        .sum::<f64>()
-        / n as f64;
+    let spacing = (points.mass.iter().sum::<f64>() / DENSITY / n as f64).cbrt();
     let one: f64 = (0..n)
         .filter(|&i| body[i] == 0)
         .map(|i| points.mass[i])

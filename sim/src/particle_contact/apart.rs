@@ -6,8 +6,9 @@
 //! r_min = ½ min(l̄, |x_i − x_j|)            one body (fragments, crack faces)
 //! ```
 //!
-//! with l̄ a body's mean particle spacing V^{1/3} (a mesh's surface tets are smaller
-//! than its inner ones, so the points' own spacings would let surfaces come closer).
+//! with l̄ = V̄^{1/3} a body's particle spacing, V̄ the mean volume of its points (a
+//! mesh's surface tets are smaller than its inner ones, so the points' own spacings
+//! would let surfaces come closer).
 //! The spring of the module above is a
 //! penalty: at a contact pressure p it lets a pair overlap by about 2.6 p/κ spacings
 //! (`docs/contact.md`), and surfaces that meet fast interleave, a particle slipping
