@@ -19,6 +19,9 @@
 //! momentum is conserved to rounding. Two points of one body never touch beyond their
 //! reference distance, even at ϱ > 1: unbonded, they stand there at rest.
 //!
+//! After the forces, [`apart`] keeps every such pair at least half a spacing apart
+//! with pairwise impulses (a velocity-level constraint, no stiffer spring).
+//!
 //! Candidates come from a cell list over every participating point, kept as a Verlet
 //! list with a skin: it is rebuilt only when some point has moved more than half the
 //! skin since the last build. Each point gathers its own pairs in increasing index
@@ -34,6 +37,8 @@ use crate::family::{BROKEN, Bonds, INDEX};
 use crate::material::Material;
 use crate::model::Model;
 use crate::scene::Scene;
+
+pub mod apart;
 
 /// A candidate pair has no bond joining it.
 const NO_BOND: u32 = u32::MAX;
@@ -53,6 +58,8 @@ struct Pair {
     reverse: u32,
     /// Contact distance d_ij (m).
     reach: f64,
+    /// The closest the pair may come, r_min (m): [`apart`].
+    limit: f64,
 }
 
 /// The particle-contact settings of `[contact]`.
@@ -81,6 +88,9 @@ pub struct ParticleContact {
     body: Vec<u32>,
     /// Particle spacing l = V^{1/3} (m).
     spacing: Vec<f64>,
+    /// Particle spacing l̄ = (V̄)^{1/3} of each scene body, V̄ its points' mean volume
+    /// (m), for the limit of [`apart`].
+    body_spacing: Vec<f64>,
     /// s c/δ (N/m⁷): k_ij = min(modulus_i, modulus_j) V_i V_j.
     modulus: Vec<f64>,
     /// Volume V (m³).
@@ -102,6 +112,11 @@ pub struct ParticleContact {
     position: Vec<[f64; 3]>,
     velocity: Vec<[f64; 3]>,
     force: Vec<[f64; 3]>,
+    /// Scratch: whether a point has a partner closer than [`apart::WATCH`] limits
+    /// (set with the forces).
+    near: Vec<bool>,
+    /// What keeping pairs apart has done so far.
+    pub apart: apart::Counters,
     /// Wall time spent (s).
     pub time: f64,
     /// Builds of the Verlet list so far.
@@ -133,6 +148,7 @@ impl ParticleContact {
             part: Vec::new(),
             body: Vec::new(),
             spacing: Vec::new(),
+            body_spacing: vec![0.0; scene.bodies.len()],
             modulus: Vec::new(),
             volume: Vec::new(),
             mass: Vec::new(),
@@ -145,6 +161,8 @@ impl ParticleContact {
             position: Vec::new(),
             velocity: Vec::new(),
             force: Vec::new(),
+            near: Vec::new(),
+            apart: apart::Counters::default(),
             time: 0.0,
             builds: 0,
         };
@@ -172,8 +190,19 @@ impl ParticleContact {
         out.position = vec![[0.0; 3]; n];
         out.velocity = vec![[0.0; 3]; n];
         out.force = vec![[0.0; 3]; n];
+        out.near = vec![false; n];
+        let mut count = vec![0usize; out.body_spacing.len()];
+        for (&b, &v) in out.body.iter().zip(&out.volume) {
+            out.body_spacing[b as usize] += v;
+            count[b as usize] += 1;
+        }
+        for (l, &k) in out.body_spacing.iter_mut().zip(&count) {
+            *l = (*l / k.max(1) as f64).cbrt();
+        }
+        // The list holds every pair within max(d_ij, WATCH r_min) (plus the skin).
         let widest = out.spacing.iter().fold(0.0f64, |m, &l| m.max(l));
-        out.max_reach = c.distance * widest;
+        let widest_mean = out.body_spacing.iter().fold(0.0f64, |m, &l| m.max(l));
+        out.max_reach = (c.distance * widest).max(apart::WATCH * apart::LIMIT * widest_mean);
         out
     }
 
@@ -236,13 +265,16 @@ impl ParticleContact {
             .map(|m| m.contact_points().and_then(|c| c.bonds))
             .collect();
         let mut force = std::mem::take(&mut self.force);
+        let mut near = std::mem::take(&mut self.near);
         let this = &*self;
         force
             .par_iter_mut()
+            .zip(near.par_iter_mut())
             .enumerate()
             .with_min_len(512)
-            .for_each(|(i, f)| *f = this.force_on(i, &bonds));
+            .for_each(|(i, (f, close))| (*f, *close) = this.force_on(i, &bonds));
         self.force = force;
+        self.near = near;
     }
 
     /// The contact forces (N) on part `p`'s points after [`ParticleContact::compute`].
@@ -346,13 +378,19 @@ impl ParticleContact {
         if one_body && !self.self_contact[part] {
             return None;
         }
-        let mut reach = self.settings.distance * 0.5 * (self.spacing[i] + self.spacing[j]);
+        let spacing = 0.5 * (self.spacing[i] + self.spacing[j]);
+        let mut reach = self.settings.distance * spacing;
+        let mean = 0.5
+            * (self.body_spacing[self.body[i] as usize] + self.body_spacing[self.body[j] as usize]);
+        let mut limit = apart::LIMIT * mean;
         if one_body {
             let rest = sub(self.reference[i], self.reference[j]);
-            reach = reach.min(self.settings.distance.min(1.0) * dot(rest, rest).sqrt());
+            let rest = dot(rest, rest).sqrt();
+            reach = reach.min(self.settings.distance.min(1.0) * rest);
+            limit = limit.min(apart::LIMIT * rest);
         }
         let d = sub(self.position[i], self.position[j]);
-        let cutoff = reach + skin;
+        let cutoff = reach.max(apart::WATCH * limit) + skin;
         if dot(d, d) >= cutoff * cutoff {
             return None;
         }
@@ -369,19 +407,24 @@ impl ParticleContact {
             bond,
             reverse,
             reach,
+            limit,
         })
     }
 
-    /// The contact force on point i: its pairs summed in list order.
-    fn force_on(&self, i: usize, bonds: &[Option<&Bonds>]) -> [f64; 3] {
+    /// The contact force on point i, its pairs summed in list order, and whether a
+    /// pair that no intact bond joins is closer than [`apart::WATCH`] times its limit.
+    fn force_on(&self, i: usize, bonds: &[Option<&Bonds>]) -> ([f64; 3], bool) {
         let mut total = [0.0; 3];
+        let mut near = false;
         let (yi, vi) = (self.position[i], self.velocity[i]);
         let part_bonds = bonds[self.part[i] as usize];
         for pair in &self.pairs[self.pair_offsets[i]..self.pair_offsets[i + 1]] {
             let j = pair.j as usize;
             let d = sub(yi, self.position[j]);
             let r2 = dot(d, d);
-            if r2 >= pair.reach * pair.reach || r2 == 0.0 {
+            let watch = apart::WATCH * pair.limit;
+            let touches = r2 < pair.reach * pair.reach;
+            if !touches && r2 >= watch * watch || r2 == 0.0 {
                 continue;
             }
             let intact = |k: u32| {
@@ -390,12 +433,17 @@ impl ParticleContact {
             if intact(pair.bond) || intact(pair.reverse) {
                 continue;
             }
-            let f = self.pair_force(i, j, pair.reach, d, r2.sqrt(), vi);
+            near |= r2 < watch * watch;
+            if !touches {
+                continue;
+            }
+            let r = r2.sqrt();
+            let f = self.pair_force(i, j, pair.reach, d, r, vi);
             for a in 0..3 {
                 total[a] += f[a];
             }
         }
-        total
+        (total, near)
     }
 
     /// The force on i from j (module doc), written so that swapping i and j gives

@@ -291,7 +291,10 @@ impl World {
     }
 
     /// Adds the particle-contact forces (if the scene has particle contact) to the
-    /// Verlet parts' accelerations, a += F/m; returns the seconds it took.
+    /// Verlet parts' accelerations, a += F/m, then keeps the pairs that touch at least
+    /// their limit apart with pairwise impulses on the half-step velocities
+    /// ([`crate::particle_contact::apart`]; anchored points act as infinitely heavy);
+    /// returns the seconds it took.
     fn particle_contact(&mut self) -> f64 {
         let Some(contact) = &mut self.contact else {
             return 0.0;
@@ -318,6 +321,20 @@ impl World {
                         a[k] += f[k] / m;
                     }
                 });
+        }
+        let acceleration: Vec<&[[f64; 3]]> = self
+            .parts
+            .iter()
+            .map(|part| part.acceleration.as_slice())
+            .collect();
+        let held: Vec<&[bool]> = self.parts.iter().map(|p| p.anchored.as_slice()).collect();
+        let models: Vec<&dyn Model> = self.parts.iter().map(|p| p.model.as_ref()).collect();
+        let kicks = contact.separate(&models, self.dt, &acceleration, &held);
+        for (p, k, dv) in kicks {
+            let v = &mut self.parts[p].model.points_mut().velocity[k];
+            for a in 0..3 {
+                v[a] += dv[a];
+            }
         }
         let elapsed = t.elapsed().as_secs_f64();
         contact.time += elapsed;
