@@ -102,6 +102,9 @@ pub struct ParticleContact {
     position: Vec<[f64; 3]>,
     velocity: Vec<[f64; 3]>,
     force: Vec<[f64; 3]>,
+    /// Scratch: whether each point is in the rigid phase (empty while none is); two
+    /// rigid points meet through the rigid solver, not here.
+    frozen: Vec<bool>,
     /// Wall time spent (s).
     pub time: f64,
     /// Builds of the Verlet list so far.
@@ -145,6 +148,7 @@ impl ParticleContact {
             position: Vec::new(),
             velocity: Vec::new(),
             force: Vec::new(),
+            frozen: Vec::new(),
             time: 0.0,
             builds: 0,
         };
@@ -226,7 +230,11 @@ impl ParticleContact {
             }
             let points = model.points();
             self.position[range.clone()].copy_from_slice(points.position);
-            self.velocity[range].copy_from_slice(points.velocity);
+            self.velocity[range.clone()].copy_from_slice(points.velocity);
+            if let Some(frozen) = model.frozen() {
+                self.frozen.resize(self.position.len(), false);
+                self.frozen[range].copy_from_slice(frozen);
+            }
         }
         if self.needs_build() {
             self.build(models);
@@ -379,6 +387,9 @@ impl ParticleContact {
         let part_bonds = bonds[self.part[i] as usize];
         for pair in &self.pairs[self.pair_offsets[i]..self.pair_offsets[i + 1]] {
             let j = pair.j as usize;
+            if !self.frozen.is_empty() && self.frozen[i] && self.frozen[j] {
+                continue;
+            }
             let d = sub(yi, self.position[j]);
             let r2 = dot(d, d);
             if r2 >= pair.reach * pair.reach || r2 == 0.0 {
