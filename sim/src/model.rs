@@ -80,6 +80,23 @@ pub struct ContactPoints<'a> {
     pub self_contact: bool,
 }
 
+/// What the rigid phase ([`crate::rigid`]) reads of a model whose fragments may go
+/// rigid: one entry a point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Fragments {
+    /// The fragment of each point: connected components of intact bonds, numbered by
+    /// their smallest point in increasing order.
+    pub fragment: Vec<u32>,
+    /// How near each point's bonds are to breaking: the largest, over its intact
+    /// bonds, of what would break the bond in units of its threshold (1 breaks); −1
+    /// for a point of a body that cannot break (its fragments stay in the model).
+    pub breaking: Vec<f64>,
+    /// Whether each point has lost a bond: only a fragment that broke off (one of its
+    /// points damaged) or a small free piece goes rigid, so an intact body at rest
+    /// waits for what breaks it.
+    pub damaged: Vec<bool>,
+}
+
 /// How a model's points are advanced in time.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Stepping {
@@ -175,6 +192,26 @@ pub trait Model: Any + Debug + Send + Sync {
     /// The points' data for particle contact, or `None` when they take no part in it
     /// (the default).
     fn contact_points(&self) -> Option<ContactPoints<'_>> {
+        None
+    }
+
+    /// The points' fragments and how near their bonds are to breaking, for a model
+    /// whose fragments may leave it for the rigid phase; `None` (the default) for a
+    /// model that keeps its points.
+    fn fragments(&self) -> Option<Fragments> {
+        None
+    }
+
+    /// Hands `points` (a fragment that [`Model::fragments`] named) to the rigid phase:
+    /// from now on the model computes no force on them and their bonds neither stretch
+    /// nor break; the world moves them with their rigid body. Models that return no
+    /// fragments are never asked.
+    fn freeze(&mut self, points: &[u32]) {
+        let _ = points;
+    }
+
+    /// Which points are in the rigid phase, `None` while none is.
+    fn frozen(&self) -> Option<&[bool]> {
         None
     }
 

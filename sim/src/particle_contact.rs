@@ -117,6 +117,9 @@ pub struct ParticleContact {
     near: Vec<bool>,
     /// What keeping pairs apart has done so far.
     pub apart: apart::Counters,
+    /// Scratch: whether each point is in the rigid phase (empty while none is); two
+    /// rigid points meet through the rigid solver, not here.
+    frozen: Vec<bool>,
     /// Wall time spent (s).
     pub time: f64,
     /// Builds of the Verlet list so far.
@@ -163,6 +166,7 @@ impl ParticleContact {
             force: Vec::new(),
             near: Vec::new(),
             apart: apart::Counters::default(),
+            frozen: Vec::new(),
             time: 0.0,
             builds: 0,
         };
@@ -255,7 +259,11 @@ impl ParticleContact {
             }
             let points = model.points();
             self.position[range.clone()].copy_from_slice(points.position);
-            self.velocity[range].copy_from_slice(points.velocity);
+            self.velocity[range.clone()].copy_from_slice(points.velocity);
+            if let Some(frozen) = model.frozen() {
+                self.frozen.resize(self.position.len(), false);
+                self.frozen[range].copy_from_slice(frozen);
+            }
         }
         if self.needs_build() {
             self.build(models);
@@ -420,6 +428,9 @@ impl ParticleContact {
         let part_bonds = bonds[self.part[i] as usize];
         for pair in &self.pairs[self.pair_offsets[i]..self.pair_offsets[i + 1]] {
             let j = pair.j as usize;
+            if !self.frozen.is_empty() && self.frozen[i] && self.frozen[j] {
+                continue;
+            }
             let d = sub(yi, self.position[j]);
             let r2 = dot(d, d);
             let watch = apart::WATCH * pair.limit;

@@ -20,6 +20,8 @@ use crate::contact::{self, Anchor, Collider, ColliderShape};
 use crate::error::{Result, SimError};
 use crate::model::{Environment, Model, ParticleColumns, Stepping};
 use crate::particle_contact::ParticleContact;
+use crate::rigid::RigidPhase;
+use crate::scene::RigidSpec;
 
 /// A model in the world with its anchors and the integrator's per-point state.
 #[derive(Debug)]
@@ -83,6 +85,11 @@ impl Part {
         &self.acceleration
     }
 
+    /// Whether point `i` is held by an active anchor.
+    pub fn is_anchored(&self, i: usize) -> bool {
+        self.anchored.get(i).copied().unwrap_or(false)
+    }
+
     /// |m a · v| summed over the anchored points: the anchors' power.
     fn anchor_power(&self) -> f64 {
         if self.anchors.is_empty() {
@@ -136,6 +143,25 @@ pub struct WorldSettings {
     pub energy_growth: f64,
 }
 
+/// The world's time line: the step `dt` since step `steps` at `time`, and frames of
+/// `steps_per_frame` steps from frame `frame` on (frame `frame` ends at step `steps`).
+/// A run starts on the scene's step from 0; the frame loop starts the clock again from
+/// a frame where the frame rate changes (`[output] schedule`) or once only rigid pieces
+/// move (with the rigid phase's longer step).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Clock {
+    /// Steps at the start of this clock.
+    pub steps: u64,
+    /// Time at the start of this clock (s).
+    pub time: f64,
+    /// The frame that ends where this clock starts (0 for the scene's start).
+    pub frame: u64,
+    /// Steps a frame.
+    pub steps_per_frame: u64,
+    /// Seconds a frame.
+    pub frame_length: f64,
+}
+
 /// Every model of a scene, the colliders and the clock.
 #[derive(Debug)]
 pub struct World {
@@ -147,6 +173,11 @@ pub struct World {
     pub gravity: [f64; 3],
     /// Time step (s).
     pub dt: f64,
+    /// The longest step the scene's models allow (s): the frame loop makes each
+    /// frame's step the frame's length over the fewest whole steps within it.
+    pub step_bound: f64,
+    /// Where the current time step started.
+    pub clock: Clock,
     /// Current time (s).
     pub time: f64,
     /// Steps taken.
@@ -158,6 +189,10 @@ pub struct World {
     pub other_time: f64,
     /// Contact between the models' particles, when the scene has it.
     pub contact: Option<ParticleContact>,
+    /// When fragments may go rigid (a breaking body and `[rigid] enabled`).
+    pub rigid_settings: Option<RigidSpec>,
+    /// The rigid phase, from the first hand-off on.
+    pub rigid: Option<RigidPhase>,
     /// Energy scale for blow-up detection (J).
     energy_budget: f64,
     /// Growth factor over the budget that counts as a blow-up.
@@ -173,11 +208,15 @@ impl World {
             colliders,
             gravity: settings.gravity,
             dt: settings.dt,
+            step_bound: settings.dt,
+            clock: Clock::default(),
             time: 0.0,
             steps: 0,
             anchor_work: 0.0,
             other_time: 0.0,
             contact: None,
+            rigid_settings: None,
+            rigid: None,
             energy_budget: 0.0,
             energy_growth: settings.energy_growth,
         };
@@ -224,17 +263,77 @@ impl World {
         )
     }
 
+    /// The time after `steps` steps on the current clock.
+    pub fn time_after(&self, steps: u64) -> f64 {
+        self.clock.time + (steps - self.clock.steps) as f64 * self.dt
+    }
+
+    /// The step at which `frame` ends on the current clock.
+    pub fn frame_end(&self, frame: usize) -> u64 {
+        self.clock.steps + (frame as u64 - 1 - self.clock.frame) * self.clock.steps_per_frame
+    }
+
+    /// Whether only rigid pieces are left to move: every point of every model is in
+    /// the rigid phase.
+    pub fn rigid_only(&self) -> bool {
+        self.rigid.is_some()
+            && self.parts.iter().all(|p| {
+                p.model.stepping() == Stepping::Verlet
+                    && p.model.frozen().is_some_and(|f| f.iter().all(|&z| z))
+            })
+    }
+
+    /// At the end of frame `frame`, before a frame of `frame_length` s: starts the
+    /// clock again when the frame rate changes, or when only rigid pieces are left to
+    /// move and the rigid phase's longest step allows fewer steps a frame; returns
+    /// whether it did. A world part way into a frame (resumed mid-frame) keeps its
+    /// clock.
+    pub fn start_clock(&mut self, frame: usize, frame_length: f64) -> bool {
+        if self.steps != self.frame_end(frame) {
+            return false;
+        }
+        let bound = match &self.rigid {
+            Some(rigid) if self.rigid_only() => rigid.longest_step().max(self.step_bound),
+            _ => self.step_bound,
+        };
+        let per_frame = (frame_length / bound).ceil().max(1.0) as u64;
+        let same = frame_length.to_bits() == self.clock.frame_length.to_bits();
+        if same && per_frame >= self.clock.steps_per_frame {
+            return false;
+        }
+        self.clock = Clock {
+            steps: self.steps,
+            time: self.time,
+            frame: frame as u64 - 1,
+            steps_per_frame: per_frame,
+            frame_length,
+        };
+        self.dt = frame_length / per_frame as f64;
+        true
+    }
+
     /// One step of every model; returns the number of bonds broken.
     pub fn step(&mut self) -> Result<usize> {
         let dt = self.dt;
         let t0 = Instant::now();
-        let time = (self.steps + 1) as f64 * dt;
+        let time = self.time_after(self.steps + 1);
+        if self.rigid_only() {
+            return self.rigid_step(time);
+        }
         let mut broken = 0;
         let mut model_time = 0.0;
         for part in &mut self.parts {
+            if part.model.stepping() == Stepping::Verlet {
+                kick(part, dt, true);
+            }
+        }
+        if let Some(rigid) = &mut self.rigid {
+            rigid.half_kick(dt, &mut self.parts);
+            rigid.step(dt, self.gravity, &mut self.parts, &mut self.colliders);
+        }
+        for part in &mut self.parts {
             match part.model.stepping() {
                 Stepping::Verlet => {
-                    kick(part, dt, true);
                     part.apply_anchors(time);
                     let t = Instant::now();
                     broken += part.model.internal_forces();
@@ -264,16 +363,27 @@ impl World {
                 part.model.damp(dt, &part.anchored);
             }
         }
+        if let Some(rigid) = &mut self.rigid {
+            rigid.half_kick(dt, &mut self.parts);
+        }
         self.time = time;
         let mut impulses = vec![[0.0; 3]; self.colliders.len()];
         for part in &mut self.parts {
+            // Rigid pieces meet the colliders in the rigid solver.
+            let held: Option<Vec<bool>> = part.model.frozen().map(|frozen| {
+                frozen
+                    .iter()
+                    .zip(&part.anchored)
+                    .map(|(&f, &a)| f || a)
+                    .collect()
+            });
             let p = part.model.points_mut();
             let j = contact::resolve(
                 &self.colliders,
                 p.position,
                 p.velocity,
                 p.mass,
-                &part.anchored,
+                held.as_deref().unwrap_or(&part.anchored),
             );
             for (total, j) in impulses.iter_mut().zip(j) {
                 for a in 0..3 {
@@ -281,13 +391,73 @@ impl World {
                 }
             }
         }
-        contact::advance(&mut self.colliders, &impulses, self.gravity, dt);
+        match &mut self.rigid {
+            Some(rigid) => {
+                // Rapier moves the dynamic colliders: they take the particles'
+                // impulses there, and the others move as the scene says.
+                for (i, j) in impulses.iter_mut().enumerate() {
+                    if rigid.moves_collider(i, &self.colliders) {
+                        rigid.push_collider(i, *j);
+                        let m = self.colliders[i].mass.unwrap_or(1.0);
+                        for a in 0..3 {
+                            self.colliders[i].velocity[a] += j[a] / m;
+                        }
+                        *j = [0.0; 3];
+                    }
+                }
+                let moved: Vec<bool> = (0..self.colliders.len())
+                    .map(|i| rigid.moves_collider(i, &self.colliders))
+                    .collect();
+                contact::advance_except(&mut self.colliders, &impulses, self.gravity, dt, &moved);
+            }
+            None => contact::advance(&mut self.colliders, &impulses, self.gravity, dt),
+        }
+        if let Some(settings) = &self.rigid_settings
+            && (self.steps + 1) % settings.check_every as u64 == 0
+        {
+            let rigid = self
+                .rigid
+                .get_or_insert_with(|| RigidPhase::new(settings.clone(), &self.colliders));
+            let handed = rigid.look(&mut self.parts, time);
+            if handed > 0
+                && let Some(contact) = &self.contact
+            {
+                rigid.gather_contact(&self.parts, |p| contact.force(p));
+            }
+            if rigid.pieces() == 0 {
+                // Nothing went rigid yet: the world stays as it was without it.
+                self.rigid = None;
+            }
+        }
         self.steps += 1;
         if self.steps % 16 == 0 {
             self.check_blowup()?;
         }
         self.other_time += t0.elapsed().as_secs_f64() - model_time - contact_time;
         Ok(broken)
+    }
+
+    /// A step when only rigid pieces move: rapier's, the other colliders moved as the
+    /// scene says; no model, particle contact or particle–collider contact is left to
+    /// compute.
+    fn rigid_step(&mut self, time: f64) -> Result<usize> {
+        let t0 = Instant::now();
+        let dt = self.dt;
+        if let Some(rigid) = &mut self.rigid {
+            rigid.step(dt, self.gravity, &mut self.parts, &mut self.colliders);
+            let moved: Vec<bool> = (0..self.colliders.len())
+                .map(|i| rigid.moves_collider(i, &self.colliders))
+                .collect();
+            let none = vec![[0.0; 3]; self.colliders.len()];
+            contact::advance_except(&mut self.colliders, &none, self.gravity, dt, &moved);
+        }
+        self.time = time;
+        self.steps += 1;
+        if self.steps % 16 == 0 {
+            self.check_blowup()?;
+        }
+        self.other_time += t0.elapsed().as_secs_f64();
+        Ok(0)
     }
 
     /// Adds the particle-contact forces (if the scene has particle contact) to the
@@ -302,6 +472,9 @@ impl World {
         let t = Instant::now();
         let models: Vec<&dyn Model> = self.parts.iter().map(|p| p.model.as_ref()).collect();
         contact.compute(&models);
+        if let Some(rigid) = &mut self.rigid {
+            rigid.gather_contact(&self.parts, |p| contact.force(p));
+        }
         for (p, part) in self.parts.iter_mut().enumerate() {
             if part.model.stepping() != Stepping::Verlet {
                 continue;
@@ -327,7 +500,27 @@ impl World {
             .iter()
             .map(|part| part.acceleration.as_slice())
             .collect();
-        let held: Vec<&[bool]> = self.parts.iter().map(|p| p.anchored.as_slice()).collect();
+        // Rigid pieces' points take no kick (their body moves them): as anchored ones.
+        let rigid_held: Vec<Option<Vec<bool>>> = self
+            .parts
+            .iter()
+            .map(|p| {
+                let frozen = p.model.frozen()?;
+                Some(
+                    frozen
+                        .iter()
+                        .zip(&p.anchored)
+                        .map(|(&f, &a)| f || a)
+                        .collect(),
+                )
+            })
+            .collect();
+        let held: Vec<&[bool]> = self
+            .parts
+            .iter()
+            .zip(&rigid_held)
+            .map(|(p, r)| r.as_deref().unwrap_or(p.anchored.as_slice()))
+            .collect();
         let models: Vec<&dyn Model> = self.parts.iter().map(|p| p.model.as_ref()).collect();
         let kicks = contact.separate(&models, self.dt, &acceleration, &held);
         for (p, k, dv) in kicks {
@@ -498,6 +691,9 @@ impl World {
         if let Some(contact) = &self.contact {
             out.push(("particle contact", contact.time));
         }
+        if let Some(rigid) = &self.rigid {
+            out.push(("rigid bodies", rigid.time));
+        }
         out
     }
 
@@ -527,6 +723,20 @@ impl World {
             .flat_map(|c| [c.center, c.velocity])
             .collect();
         out.put_f64x3_slice(&colliders);
+        let c = self.clock;
+        out.put_u64(c.steps);
+        out.put_f64(c.time);
+        out.put_u64(c.frame);
+        out.put_u64(c.steps_per_frame);
+        out.put_f64(self.dt);
+        out.put_f64(c.frame_length);
+        match &self.rigid {
+            Some(rigid) => {
+                out.put_u64(1);
+                rigid.save(out);
+            }
+            None => out.put_u64(0),
+        }
     }
 
     /// Restores what [`World::save`] wrote, at `time` after `steps` steps with
@@ -565,6 +775,48 @@ impl World {
         }
         self.anchor_work = input.take_finite_f64("anchor work")?;
         let colliders = input.take_finite_f64x3_slice("colliders", 2 * self.colliders.len())?;
+        let clock = Clock {
+            steps: input.take_u64("clock")?,
+            time: input.take_finite_f64("clock")?,
+            frame: input.take_u64("clock")?,
+            steps_per_frame: input.take_u64("clock")?,
+            frame_length: 0.0,
+        };
+        let dt = input.take_finite_f64("time step")?;
+        let frame_length = input.take_finite_f64("clock")?;
+        let clock = Clock {
+            frame_length,
+            ..clock
+        };
+        if clock.steps > steps || !(dt > 0.0) || !(frame_length > 0.0) {
+            return Err(input
+                .error(
+                    "clock",
+                    format!("{clock:?} with a step of {dt:e} s does not fit {steps} steps"),
+                )
+                .into());
+        }
+        match input.take_u64("rigid phase")? {
+            0 => self.rigid = None,
+            1 => {
+                let Some(settings) = self.rigid_settings.clone() else {
+                    return Err(input
+                        .error(
+                            "rigid phase",
+                            "the scene has no rigid phase ([rigid] enabled = false)",
+                        )
+                        .into());
+                };
+                let mut rigid = RigidPhase::new(settings, &self.colliders);
+                rigid.restore(input, &mut self.parts)?;
+                self.rigid = Some(rigid);
+            }
+            other => {
+                return Err(input
+                    .error("rigid phase", format!("flag {other}, not 0 or 1"))
+                    .into());
+            }
+        }
         for (i, (c, cv)) in self
             .colliders
             .iter_mut()
@@ -573,15 +825,31 @@ impl World {
         {
             // A kinematic collider's motion is the scene's: replay it to check.
             if c.mass.is_none() {
+                // Exact to the bit on one clock; within rounding over several.
                 let mut center = c.center;
                 if c.shape != ColliderShape::Ground {
-                    for _ in 0..steps {
+                    if clock.steps == 0 {
+                        for _ in 0..steps {
+                            for (x, v) in center.iter_mut().zip(c.velocity) {
+                                *x += v * self.dt;
+                            }
+                        }
+                    } else {
                         for (x, v) in center.iter_mut().zip(c.velocity) {
-                            *x += v * self.dt;
+                            *x += v * time;
                         }
                     }
                 }
-                if cv[0] != center || cv[1] != c.velocity {
+                let off = (0..3)
+                    .map(|k| (cv[0][k] - center[k]).abs())
+                    .fold(0.0, f64::max);
+                let scale = (0..3).map(|k| center[k].abs() + (c.velocity[k] * time).abs());
+                let tolerance = if clock.steps == 0 {
+                    0.0
+                } else {
+                    1e-9 * scale.fold(1e-3, f64::max)
+                };
+                if off > tolerance || cv[1] != c.velocity {
                     let message = format!(
                         "kinematic collider {i} is at {:?} moving at {:?}; after {steps} steps \
                          the scene puts it at {center:?} moving at {:?}",
@@ -595,6 +863,8 @@ impl World {
         }
         self.time = time;
         self.steps = steps;
+        self.clock = clock;
+        self.dt = dt;
         if let Some(contact) = &mut self.contact {
             contact.invalidate();
         }

@@ -6,12 +6,13 @@
 //! is written next to the cache by [`Scene::to_toml`].
 
 mod collider;
-mod exact;
 mod color;
+mod exact;
 mod locate;
 mod membrane;
 mod mpm;
 mod output;
+mod rigid;
 mod shape;
 mod validate;
 
@@ -21,7 +22,8 @@ pub use membrane::{
     MembraneFormulation, MembraneLaw, MembraneMaterialSpec, MembraneSpec, ScatterSpec, SourceSpec,
 };
 pub use mpm::{MpmElasticity, MpmPlasticity, MpmSettings, MpmSpec, MpmTransfer};
-pub use output::{EmbeddedSpec, OutputSpec, SurfaceMethod, VdbFilter, VdbSpec};
+pub use output::{EmbeddedSpec, OutputSpec, ScheduleSpec, SurfaceMethod, VdbFilter, VdbSpec};
+pub use rigid::RigidSpec;
 pub use shape::{Axis, MeshScale, ShapeSpec};
 pub use validate::SPHERE_RADIUS_PER_SPACING;
 
@@ -53,6 +55,9 @@ pub struct Scene {
     /// Contact between the bodies' particles (`[contact]`).
     #[serde(default)]
     pub contact: ContactSpec,
+    /// The rigid phase of fragments that stopped breaking (`[rigid]`).
+    #[serde(default)]
+    pub rigid: RigidSpec,
     /// What to write (`[output]`).
     #[serde(default)]
     pub output: OutputSpec,
@@ -542,9 +547,9 @@ impl Scene {
         })
     }
 
-    /// Seconds between output frames.
+    /// Seconds between the first output frames (the first segment's frame length).
     pub fn frame_time(&self) -> f64 {
-        1.0 / self.scene.fps
+        self.frame_segments()[0].1
     }
 
     /// The display colour (sRGB, in [0, 1]) of each body, in body order: its material's
@@ -572,7 +577,44 @@ impl Scene {
 
     /// Number of output frames after the initial one.
     pub fn frame_count(&self) -> usize {
-        (self.scene.duration * self.scene.fps).round().max(1.0) as usize
+        self.frame_segments().iter().map(|s| s.0).sum()
+    }
+
+    /// The frame segments of the shot, each (frames, seconds a frame): `[output]
+    /// schedule`'s segments, then `[scene] fps` to `duration`. A segment's frames
+    /// divide it evenly (their count rounded from its length times its rate), so each
+    /// ends on its `until`; without a schedule, `duration × fps` frames of 1/`fps` s.
+    pub fn frame_segments(&self) -> Vec<(usize, f64)> {
+        let whole = |length: f64, fps: f64| (length * fps).round().max(1.0);
+        if self.output.schedule.is_empty() {
+            let frames = whole(self.scene.duration, self.scene.fps);
+            return vec![(frames as usize, 1.0 / self.scene.fps)];
+        }
+        let mut out = Vec::new();
+        let mut start = 0.0;
+        for s in &self.output.schedule {
+            let frames = whole(s.until - start, s.fps);
+            out.push((frames as usize, (s.until - start) / frames));
+            start = s.until;
+        }
+        if self.scene.duration > start {
+            let frames = whole(self.scene.duration - start, self.scene.fps);
+            out.push((frames as usize, (self.scene.duration - start) / frames));
+        }
+        out
+    }
+
+    /// Seconds from the frame before `frame` (from 2) to `frame`.
+    pub fn frame_length(&self, frame: usize) -> f64 {
+        let mut first = 2;
+        let segments = self.frame_segments();
+        for &(frames, length) in &segments {
+            if frame < first + frames {
+                return length;
+            }
+            first += frames;
+        }
+        segments.last().map_or(1.0 / self.scene.fps, |s| s.1)
     }
 }
 

@@ -52,6 +52,23 @@ pub struct OutputSpec {
     /// Default true.
     #[serde(default = "default_true")]
     pub usd: bool,
+    /// A frame rate that changes along the shot: segments `{ until, fps }` in
+    /// increasing `until` (s), each written at its own `fps`, then `[scene] fps` to
+    /// the end (for example 7,500 frames a second through an impact, then 24). Each
+    /// cache frame is still one timeline frame at `playback_fps`, so the shot plays
+    /// slow motion into real time. Default: none, `[scene] fps` throughout.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub schedule: Vec<ScheduleSpec>,
+}
+
+/// One segment of `[output] schedule`: frames at `fps` up to `until` s.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ScheduleSpec {
+    /// Where the segment ends (s); it starts where the one before it ends (or at 0).
+    pub until: f64,
+    /// Frames a second within it.
+    pub fps: f64,
 }
 
 fn default_playback_fps() -> f64 {
@@ -108,6 +125,7 @@ impl Default for OutputSpec {
             playback_fps: default_playback_fps(),
             gltf_damage_colour: false,
             usd: true,
+            schedule: Vec::new(),
         }
     }
 }

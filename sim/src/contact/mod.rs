@@ -499,7 +499,22 @@ pub fn resolve(
 /// Moves the colliders by one step: dynamic ones take their impulses and gravity,
 /// meshes go to their pose at the new time.
 pub fn advance(colliders: &mut [Collider], impulses: &[[f64; 3]], gravity: [f64; 3], dt: f64) {
-    for (c, j) in colliders.iter_mut().zip(impulses) {
+    advance_except(colliders, impulses, gravity, dt, &[]);
+}
+
+/// [`advance`] for the colliders whose `skip` entry is not true (the rigid phase
+/// moves those).
+pub fn advance_except(
+    colliders: &mut [Collider],
+    impulses: &[[f64; 3]],
+    gravity: [f64; 3],
+    dt: f64,
+    skip: &[bool],
+) {
+    for (i, (c, j)) in colliders.iter_mut().zip(impulses).enumerate() {
+        if skip.get(i).copied().unwrap_or(false) {
+            continue;
+        }
         if matches!(c.shape, ColliderShape::Mesh(_)) {
             c.set_time(c.time + dt);
             continue;

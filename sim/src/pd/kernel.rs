@@ -113,6 +113,10 @@ fn dilatation_plasticity<const P: bool, const F: bool, const A: bool, const L: b
                     .enumerate()
                     .with_min_len(64)
                     .for_each_init(Vec::new, |stretch, (i, ((th, ext), yielded))| {
+                        if m.is_frozen(i) {
+                            *th = 0.0;
+                            return;
+                        }
                         *th = dilatation::<F, L, true>(m, i, stretch);
                         *yielded = return_mapping::<F, A>(m, i, *th, ext, stretch);
                     });
@@ -121,7 +125,13 @@ fn dilatation_plasticity<const P: bool, const F: bool, const A: bool, const L: b
                 .par_iter_mut()
                 .enumerate()
                 .with_min_len(64)
-                .for_each(|(i, th)| *th = dilatation::<F, L, false>(m, i, &mut Vec::new())),
+                .for_each(|(i, th)| {
+                    *th = if m.is_frozen(i) {
+                        0.0
+                    } else {
+                        dilatation::<F, L, false>(m, i, &mut Vec::new())
+                    }
+                }),
         }
     }
     m.theta = theta;
@@ -304,7 +314,8 @@ fn forces<const P: bool, const F: bool, const A: bool, const L: bool>(m: &mut Pd
 
 /// The force density on particle i, and (with fracture) how many of its bonds broke
 /// and how many stay intact; `crushed` holds e^c of i's bonds (empty when no
-/// material crushes) and is updated.
+/// material crushes) and is updated. A particle in the rigid phase has no force and
+/// keeps its bonds as they are ([`PdModel::frozen`]).
 #[inline(always)]
 fn particle_force<const P: bool, const F: bool, const A: bool, const L: bool>(
     m: &PdModel,
@@ -327,6 +338,9 @@ fn particle_force<const P: bool, const F: bool, const A: bool, const L: bool>(
     let start = bonds.offsets[i];
     let mut f = [0.0f64; 3];
     let (mut broken, mut intact) = (0, 0);
+    if m.is_frozen(i) {
+        return (f, 0, row.iter().filter(|&&nb| nb & BROKEN == 0).count());
+    }
     for (slot, nb) in row.iter_mut().enumerate() {
         // A bond broken in tension does nothing; a crushed one (finite e^c) pushes back.
         let crushed_bond = F && *nb & BROKEN != 0;
@@ -340,6 +354,10 @@ fn particle_force<const P: bool, const F: bool, const A: bool, const L: bool>(
         let r = bonds.rest_length[k];
         let e = l - r;
         if crushed_bond {
+            if m.is_frozen(j) {
+                // Rigid pieces meet the free particles through contact instead.
+                continue;
+            }
             // Crushed glass yields at the strain ε_c: e^c follows e down.
             let ec = &mut crushed[slot];
             *ec = ec.min((e + c.critical_compression * r) as f32);

@@ -168,6 +168,11 @@ pub struct PdModel {
     pub force: Vec<[f64; 3]>,
     /// Time spent in each stage.
     pub times: StageTimes,
+    /// Particles handed to the rigid phase ([`crate::rigid`]): their forces are not
+    /// computed and their bonds neither stretch nor break; a crushed bond between a
+    /// frozen particle and a free one pushes neither. `None` until a fragment goes
+    /// rigid, so a scene without a rigid phase pays nothing.
+    pub frozen: Option<Vec<bool>>,
 }
 
 /// V_H∞ = 4πδ³/3, the volume of a complete family.
@@ -270,6 +275,7 @@ impl PdModel {
             theta: vec![0.0; n],
             force: vec![[0.0; 3]; n],
             times: StageTimes::default(),
+            frozen: None,
         }
     }
 
@@ -375,6 +381,57 @@ impl PdModel {
     /// index in increasing order (deterministic).
     pub fn fragments(&self) -> Vec<u32> {
         self.bonds.fragments()
+    }
+
+    /// Whether particle i has gone to the rigid phase.
+    #[inline(always)]
+    pub fn is_frozen(&self, i: usize) -> bool {
+        self.frozen.as_ref().is_some_and(|f| f[i])
+    }
+
+    /// How near each particle's intact bonds are to breaking: the largest, over its
+    /// intact bonds, of the weighted elastic stretch over its threshold, s^ω/((1 + αφ)
+    /// s_c) (Eq. 18–19 as the force pass applies them), and of the compressive strain
+    /// over a crushing material's ε_c; −1 for a particle of a body that cannot break.
+    /// The rigid phase hands a fragment over only when this stays under its margin.
+    pub fn breaking_ratios(&self) -> Vec<f64> {
+        if !self.features.fracture {
+            return vec![-1.0; self.len()];
+        }
+        let y = &self.particles.position;
+        let bonds = &self.bonds;
+        let phi = &self.particles.damage;
+        (0..self.len())
+            .into_par_iter()
+            .with_min_len(256)
+            .map(|i| {
+                let c = &self.bodies[self.reference.body[i] as usize].constants;
+                if !c.critical_stretch.is_finite() && !c.critical_compression.is_finite() {
+                    return -1.0;
+                }
+                let g = 1.0 + c.alpha * phi[i];
+                let mut worst = 0.0f64;
+                for k in bonds.range(i) {
+                    let nb = bonds.neighbours[k];
+                    if nb & BROKEN != 0 {
+                        continue;
+                    }
+                    let j = (nb & INDEX) as usize;
+                    let r = bonds.rest_length[k];
+                    let e = norm(sub(y[j], y[i]))
+                        - r
+                        - self.plastic.as_ref().map_or(0.0, |p| p.extension[k]);
+                    let omega_r = match &self.omega {
+                        Some(w) => w[k] as f64 * r,
+                        None => c.delta,
+                    };
+                    worst = worst
+                        .max(e / (g * c.critical_stretch * omega_r))
+                        .max(-e / (g * c.critical_compression * r));
+                }
+                worst
+            })
+            .collect()
     }
 
     /// Plastic strain measure per particle: mean |e^p|/|ξ| over its bonds (0 without

@@ -12,7 +12,7 @@ use crate::cache::vtu::TetFrame;
 use crate::embed::{EmbeddedMesh, NO_PARENT, deformation_gradients};
 use crate::error::Result;
 use crate::family::{BROKEN, INDEX};
-use crate::model::{ContactPoints, Model, ParticleColumns, Points, PointsMut};
+use crate::model::{ContactPoints, Fragments, Model, ParticleColumns, Points, PointsMut};
 
 /// A [`PdModel`] with its particle masses and, when the scene writes `tets/`, its
 /// embedded tet mesh.
@@ -173,6 +173,28 @@ impl Model for Peridynamics {
 
     fn bonds(&self) -> usize {
         self.model.bonds.len()
+    }
+
+    /// Only a body that can break hands its fragments over.
+    fn fragments(&self) -> Option<Fragments> {
+        let m = &self.model;
+        m.features.fracture.then(|| Fragments {
+            fragment: m.fragments(),
+            breaking: m.breaking_ratios(),
+            damaged: m.particles.damage.iter().map(|&d| d > 0.0).collect(),
+        })
+    }
+
+    fn freeze(&mut self, points: &[u32]) {
+        let n = self.model.len();
+        let frozen = self.model.frozen.get_or_insert_with(|| vec![false; n]);
+        for &i in points {
+            frozen[i as usize] = true;
+        }
+    }
+
+    fn frozen(&self) -> Option<&[bool]> {
+        self.model.frozen.as_deref()
     }
 
     /// Particles touch across bodies and, where no intact bond joins them, within one.

@@ -138,6 +138,10 @@ impl<'a> Frames<'a> {
     }
 
     fn frames(&mut self, world: &mut World, setup: &Timings) -> Result<()> {
+        if world.clock.steps_per_frame == 0 {
+            world.clock.steps_per_frame = self.steps_per_frame as u64;
+            world.clock.frame_length = self.scene.frame_time();
+        }
         for frame in self.first..=self.frames + 1 {
             if frame > 1
                 && let Some(reason) = self.advance(world, frame)?
@@ -251,7 +255,7 @@ impl<'a> Frames<'a> {
             frame,
             frames: frames + 1,
             steps: world.steps,
-            steps_per_frame: self.steps_per_frame,
+            steps_per_frame: world.clock.steps_per_frame as usize,
         });
         self.frame_bytes = bytes;
         Ok(stop)
@@ -293,12 +297,12 @@ impl<'a> Frames<'a> {
         frame: usize,
         reason: String,
     ) -> Result<()> {
-        let into = world.steps - (frame - 2) as u64 * self.steps_per_frame as u64;
+        let into = world.steps - world.frame_end(frame - 1);
         self.manifest.status = Status::Interrupted;
         self.manifest.message = format!(
             "{reason}: stopped during frame {frame}, after {into} of its {} steps; --resume \
              continues from there",
-            self.steps_per_frame
+            world.clock.steps_per_frame
         );
         self.finish(world, setup);
         self.manifest.write(&self.layout.manifest())?;
@@ -333,7 +337,9 @@ impl<'a> Frames<'a> {
     /// blow-up names the last good frame. A request to stop is looked at before each
     /// step: its reason is returned with the world between two steps.
     fn advance(&mut self, world: &mut World, frame: usize) -> Result<Option<String>> {
-        let end = (frame - 1) as u64 * self.steps_per_frame as u64;
+        // A new frame rate, or only rigid pieces left to move: a new clock.
+        world.start_clock(frame - 1, self.scene.frame_length(frame));
+        let end = world.frame_end(frame);
         let stepped = (|| {
             while world.steps < end {
                 if let Some(reason) = self.stop.reason() {

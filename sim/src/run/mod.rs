@@ -151,6 +151,7 @@ pub fn run_prepared(
             scene_hash: scene_hash(scene),
             steps_per_frame: prepared.steps_per_frame,
             frame_count: scene.frame_count(),
+            frame_length: scene.frame_time(),
         };
         let from = resume::restore(
             layout,

@@ -103,6 +103,8 @@ pub struct Expected {
     pub steps_per_frame: usize,
     /// Frames of the whole scene after the initial one.
     pub frame_count: usize,
+    /// Seconds a frame at the start.
+    pub frame_length: f64,
 }
 
 /// Restores `world` (built from the same scene) from the checkpoint in `layout`; with
@@ -128,8 +130,8 @@ pub fn restore(
         )
         .into());
     }
-    check_clock(&checkpoint, world.dt, expected)
-        .map_err(|message| CacheError::checkpoint(&path, format!("{message}; {RERUN}")))?;
+    world.clock.steps_per_frame = expected.steps_per_frame as u64;
+    world.clock.frame_length = expected.frame_length;
     world.restore(
         &mut input,
         checkpoint.time,
@@ -137,6 +139,8 @@ pub fn restore(
         checkpoint.broken_bonds,
     )?;
     input.finish()?;
+    check_clock(&checkpoint, world, expected)
+        .map_err(|message| CacheError::checkpoint(&path, format!("{message}; {RERUN}")))?;
     let frame = checkpoint.frame as usize;
     if tets {
         // The topology written at the checkpoint's frame keeps the vertex numbering
@@ -171,8 +175,8 @@ pub fn restore(
 /// Checks the checkpoint's clock against the scene's: the frame within the run, the
 /// steps those frames take (a checkpoint written between frames has the steps of its
 /// last whole frame and fewer than one frame's more), and the time those steps reach,
-/// to the bit (the world's time is steps × dt).
-fn check_clock(checkpoint: &Checkpoint, dt: f64, expected: Expected) -> Result<(), String> {
+/// to the bit (the world's time is steps × dt from where its clock started).
+fn check_clock(checkpoint: &Checkpoint, world: &World, expected: Expected) -> Result<(), String> {
     let Checkpoint {
         frame, steps, time, ..
     } = *checkpoint;
@@ -182,17 +186,24 @@ fn check_clock(checkpoint: &Checkpoint, dt: f64, expected: Expected) -> Result<(
             "it is at frame {frame}, the scene has frames 1 to {last}"
         ));
     }
-    let per_frame = expected.steps_per_frame.max(1) as u64;
-    let first = (frame - 1) * per_frame;
+    let per_frame = world.clock.steps_per_frame.max(1);
+    if frame < world.clock.frame + 1 {
+        return Err(format!(
+            "it is at frame {frame}, before its clock's start at frame {}",
+            world.clock.frame
+        ));
+    }
+    let first = world.frame_end(frame as usize);
     if steps < first || steps - first >= per_frame {
         return Err(format!(
             "it is at frame {frame} after {steps} steps, where the scene takes {first} steps \
              to that frame ({per_frame} a frame)"
         ));
     }
-    if time.to_bits() != (steps as f64 * dt).to_bits() {
+    if time.to_bits() != world.time_after(steps).to_bits() {
         return Err(format!(
-            "its time {time:e} s is not {steps} steps of {dt:e} s"
+            "its time {time:e} s is not {steps} steps of {:e} s",
+            world.dt
         ));
     }
     Ok(())

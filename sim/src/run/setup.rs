@@ -103,6 +103,11 @@ pub fn prepare_discretized(scene: &Scene, disc: Discretization) -> Result<Prepar
     if let Some(contact) = contact {
         world.set_particle_contact(contact);
     }
+    world.step_bound = scene.scene.dt.unwrap_or(scene.scene.dt_safety * stable.0);
+    // Fragments go rigid only from bodies that can break (their fragments say so).
+    if scene.rigid.enabled && world.parts.iter().any(|p| p.model.fragments().is_some()) {
+        world.rigid_settings = Some(scene.rigid.clone());
+    }
     Ok(Prepared {
         world,
         discretization: disc,

@@ -100,6 +100,8 @@ pub(super) fn validate(scene: &Scene) -> Check {
         collider(scene, &i.to_string(), c)?;
     }
     contact(scene)?;
+    rigid(scene)?;
+    schedule(scene)?;
     vdb(&scene.output.vdb)?;
     positive(
         &["output", "playback_fps"],
@@ -402,6 +404,74 @@ fn shape(scene: &Scene, path: &[&str], s: &ShapeSpec) -> Check {
                 ));
             }
         }
+    }
+    Ok(())
+}
+
+fn schedule(scene: &Scene) -> Check {
+    let mut start = 0.0;
+    for (k, s) in scene.output.schedule.iter().enumerate() {
+        let i = k.to_string();
+        if !(s.until.is_finite() && s.until > start && s.until < scene.scene.duration) {
+            return Err(issue(
+                &["output", "schedule", i.as_str(), "until"],
+                format!(
+                    "a segment ends after the one before it ({start} s) and before the scene's \
+                     duration ({} s), got {}",
+                    scene.scene.duration, s.until
+                ),
+            ));
+        }
+        positive(
+            &["output", "schedule", i.as_str(), "fps"],
+            s.fps,
+            "a segment's frames a second",
+        )?;
+        start = s.until;
+    }
+    Ok(())
+}
+
+fn rigid(scene: &Scene) -> Check {
+    let r = &scene.rigid;
+    let p = |key: &'static str| ["rigid", key];
+    let fraction = |key: &'static str, v: f64, what: &str| {
+        if v.is_finite() && v > 0.0 && v < 1.0 {
+            Ok(())
+        } else {
+            Err(issue(&p(key), format!("{what} must be in (0, 1), got {v}")))
+        }
+    };
+    fraction(
+        "margin",
+        r.margin,
+        "the margin (a fraction of the stretch that breaks a bond)",
+    )?;
+    fraction(
+        "vibration",
+        r.vibration,
+        "the vibration (a fraction of the fragment's kinetic energy)",
+    )?;
+    positive(&p("rest_speed"), r.rest_speed, "the rest speed in m/s")?;
+    positive(&p("settle_time"), r.settle_time, "the settle time in s")?;
+    positive(&p("step"), r.step, "the rigid phase's longest step in s")?;
+    if r.check_every == 0 {
+        return Err(issue(
+            &p("check_every"),
+            "check_every counts steps between two looks for settled fragments: at least 1",
+        ));
+    }
+    if !(r.friction.is_finite() && r.friction >= 0.0) {
+        return Err(issue(
+            &p("friction"),
+            format!("friction must be ≥ 0, got {}", r.friction),
+        ));
+    }
+    if !(r.restitution.is_finite() && (0.0..=1.0).contains(&r.restitution)) {
+        return Err(issue(
+            &p("restitution"),
+            format!("restitution must be in [0, 1], got {}", r.restitution),
+        ));
     }
     Ok(())
 }

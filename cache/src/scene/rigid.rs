@@ -1,0 +1,97 @@
+//! `[rigid]`: when a fragment leaves its model for the rigid phase, and how rigid
+//! pieces collide (the simulator's `rigid` module).
+
+use serde::{Deserialize, Serialize};
+
+use super::default_true;
+
+/// `[rigid]`: the hand-off of fragments that stopped breaking and vibrating to rigid
+/// bodies, and the rigid solver's settings.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RigidSpec {
+    /// Hand fragments of breaking peridynamic bodies to rigid bodies. Default true.
+    #[serde(default = "default_true")]
+    pub enabled: bool,
+    /// A fragment goes rigid only while every intact bond is below this fraction of
+    /// what breaks it (its critical stretch, or its crushing strain). Default 0.95:
+    /// glass pieces ring near their breaking strain for milliseconds after they break
+    /// off (docs/rigid.md).
+    #[serde(default = "default_margin")]
+    pub margin: f64,
+    /// ... and while the kinetic energy of its motion relative to its best-fit rigid
+    /// motion is under this fraction of its kinetic energy (or its relative motion is
+    /// slower than `rest_speed`). Default 0.1.
+    #[serde(default = "default_vibration")]
+    pub vibration: f64,
+    /// Root-mean-square speed relative to the best-fit rigid motion under which a
+    /// fragment counts as still whatever its own speed, in m/s. Default 0.05.
+    #[serde(default = "default_rest_speed")]
+    pub rest_speed: f64,
+    /// How long both conditions must hold, in s. Default 2e-4.
+    #[serde(default = "default_settle_time")]
+    pub settle_time: f64,
+    /// Fragments of at most this many particles go rigid as soon as they are free.
+    /// Default 8.
+    #[serde(default = "default_small_fragment")]
+    pub small_fragment: usize,
+    /// Steps between two looks for fragments to hand over. Default 32.
+    #[serde(default = "default_check_every")]
+    pub check_every: usize,
+    /// The longest time step, in s, once no deformable particle is left (only rigid
+    /// pieces move). Default 1/600.
+    #[serde(default = "default_step")]
+    pub step: f64,
+    /// Coulomb friction of rigid pieces with each other, the ground and the colliders.
+    /// Default 0.6.
+    #[serde(default = "default_friction")]
+    pub friction: f64,
+    /// Restitution of rigid pieces' impacts. Default 0.1.
+    #[serde(default = "default_restitution")]
+    pub restitution: f64,
+}
+
+impl Default for RigidSpec {
+    fn default() -> Self {
+        RigidSpec {
+            enabled: true,
+            margin: default_margin(),
+            vibration: default_vibration(),
+            rest_speed: default_rest_speed(),
+            settle_time: default_settle_time(),
+            small_fragment: default_small_fragment(),
+            check_every: default_check_every(),
+            step: default_step(),
+            friction: default_friction(),
+            restitution: default_restitution(),
+        }
+    }
+}
+
+fn default_margin() -> f64 {
+    0.95
+}
+fn default_vibration() -> f64 {
+    0.1
+}
+fn default_rest_speed() -> f64 {
+    0.05
+}
+fn default_settle_time() -> f64 {
+    2e-4
+}
+fn default_small_fragment() -> usize {
+    8
+}
+fn default_check_every() -> usize {
+    32
+}
+fn default_step() -> f64 {
+    1.0 / 600.0
+}
+fn default_friction() -> f64 {
+    0.6
+}
+fn default_restitution() -> f64 {
+    0.1
+}

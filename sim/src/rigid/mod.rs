@@ -1,0 +1,617 @@
+//! The rigid phase: fragments that have stopped breaking and vibrating leave their
+//! model and become rigid bodies stepped by `rapier3d` (ARCHITECTURE, "A rigid phase").
+//! Nothing in the papers does it; it is how studios finish a destruction shot (a
+//! fracture solver's pieces handed to Houdini's RBD or Bullet).
+//!
+//! **When.** Every `check_every` steps the world looks at each model that can break
+//! ([`Model::fragments`]): a fragment (a connected component of intact bonds, as the
+//! cache numbers them) of at most `small_fragment` points goes rigid at once; a larger
+//! one that broke off (a point of it lost a bond: an intact body at rest waits for
+//! what breaks it) when, for `settle_time`, no intact bond is within `margin` of what
+//! breaks it and
+//! the kinetic energy of its motion relative to its best-fit rigid motion is under
+//! `vibration` of its kinetic energy (or that motion's r.m.s. speed under
+//! `rest_speed`). A fragment that holds an anchored point stays in its model.
+//!
+//! **The switch.** With M = Σ m_i, c = Σ m_i x_i / M, P = Σ m_i v_i, L = Σ m_i
+//! (x_i − c) × v_i and I = Σ m_i (|r_i|² 1 − r_i r_iᵀ), the body starts at c with
+//! V = P/M and ω = I⁻¹L: its linear and angular momentum are the fragment's, and its
+//! kinetic energy ½MV² + ½ωᵀIω is the fragment's less the relative motion's (the
+//! best-fit rigid motion is the one that keeps both momenta). I is the points' own,
+//! so a fragment moving rigidly keeps its kinetic energy exactly; fragments of fewer
+//! than four points add each point's inertia as a cube of its volume (their I is
+//! singular otherwise). A piece stays rigid for the rest of the run (see
+//! docs/rigid.md for why it does not go back).
+//!
+//! **Colliders** come from the fragment's particles: a cube of its spacing for a single
+//! particle (a grain; a ball would roll forever), the convex hull of the particle
+//! centres rounded by half a spacing up to [`HULL_POINTS`] points (or, where the hull
+//! is flat, the union of the particles' cubes), and above that the union of the
+//! particles' cubes (concave where the piece is). Rigid pieces collide with each other,
+//! the ground and the scene's colliders in rapier; with the particles still deformable
+//! through particle contact, its force on a piece's points summed into a force and a
+//! torque and given to the piece as two half impulses, as velocity Verlet gives it to
+//! the particles, so the two sides exchange the same momentum. A dynamic scene collider
+//! (a ball with a mass) is moved by rapier from the first hand-off on, so pieces push
+//! it and it lands on the ground.
+//!
+//! Rapier is built with `enhanced-determinism` and without its `parallel` feature:
+//! the same bytes with any thread count; its state is serialized into checkpoints (CBOR).
+
+use std::collections::BTreeMap;
+
+use rapier3d_f64::na::{Matrix3, Point3, UnitQuaternion, Vector3};
+use rapier3d_f64::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::cache::checkpoint::{Decoder, Encoder};
+use crate::contact::{Collider, ColliderShape};
+use crate::error::Result;
+use crate::scene::RigidSpec;
+use crate::world::Part;
+
+/// Above this many points a piece collides as the union of its particles' cubes
+/// instead of their rounded convex hull.
+pub const HULL_POINTS: usize = 256;
+
+/// A fragment handed to rapier.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+struct Piece {
+    /// The world part its points belong to.
+    part: u32,
+    /// Its points in that part's model.
+    points: Vec<u32>,
+    /// Each point's position in the body frame (from the centre of mass, the body's
+    /// orientation at the switch being the identity).
+    local: Vec<[f64; 3]>,
+    /// Its rapier body.
+    body: RigidBodyHandle,
+}
+
+/// Rapier's state: what is saved in checkpoints.
+#[derive(Serialize, Deserialize)]
+struct Physics {
+    bodies: RigidBodySet,
+    colliders: ColliderSet,
+    islands: IslandManager,
+    broad_phase: DefaultBroadPhase,
+    narrow_phase: NarrowPhase,
+    impulse_joints: ImpulseJointSet,
+    multibody_joints: MultibodyJointSet,
+    ccd: CCDSolver,
+}
+
+impl Physics {
+    fn new() -> Physics {
+        Physics {
+            bodies: RigidBodySet::new(),
+            colliders: ColliderSet::new(),
+            islands: IslandManager::new(),
+            broad_phase: DefaultBroadPhase::new(),
+            narrow_phase: NarrowPhase::new(),
+            impulse_joints: ImpulseJointSet::new(),
+            multibody_joints: MultibodyJointSet::new(),
+            ccd: CCDSolver::new(),
+        }
+    }
+}
+
+/// What a look at the fragments found of one fragment.
+struct Fit {
+    mass: f64,
+    center: [f64; 3],
+    velocity: [f64; 3],
+    spin: [f64; 3],
+    inertia: Matrix3<f64>,
+    /// Kinetic energy of the motion relative to the rigid fit (J).
+    relative: f64,
+    /// Kinetic energy (J).
+    kinetic: f64,
+}
+
+/// The rigid phase of a world: rapier's bodies and the pieces they carry.
+pub struct RigidPhase {
+    settings: RigidSpec,
+    physics: Physics,
+    pipeline: PhysicsPipeline,
+    pieces: Vec<Piece>,
+    /// Scene colliders in rapier (index into the world's colliders, handle); the
+    /// dynamic ones are moved by rapier.
+    mirrors: Vec<(usize, RigidBodyHandle)>,
+    /// Fragments that have met the conditions since a time: (part, smallest point).
+    calm: BTreeMap<(u32, u32), f64>,
+    /// Contact force and torque (about the centre of mass) on each piece at the last
+    /// contact computation (scratch, recomputed after a resume's first step).
+    contact: Vec<([f64; 3], [f64; 3])>,
+    /// Wall time spent (s).
+    pub time: f64,
+}
+
+impl std::fmt::Debug for RigidPhase {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("RigidPhase")
+            .field("pieces", &self.pieces.len())
+            .field("mirrors", &self.mirrors)
+            .finish_non_exhaustive()
+    }
+}
+
+fn vector(v: [f64; 3]) -> Vector3<f64> {
+    Vector3::new(v[0], v[1], v[2])
+}
+
+fn array(v: &Vector3<f64>) -> [f64; 3] {
+    [v.x, v.y, v.z]
+}
+
+impl RigidPhase {
+    /// An empty rigid phase with the scene's colliders mirrored in rapier.
+    pub fn new(settings: RigidSpec, colliders: &[Collider]) -> RigidPhase {
+        let mut phase = RigidPhase {
+            settings,
+            physics: Physics::new(),
+            pipeline: PhysicsPipeline::new(),
+            pieces: Vec::new(),
+            mirrors: Vec::new(),
+            calm: BTreeMap::new(),
+            contact: Vec::new(),
+            time: 0.0,
+        };
+        phase.mirror(colliders);
+        phase
+    }
+
+    /// Puts the ground and the sphere and box colliders into rapier: the ground
+    /// fixed, colliders with a mass dynamic, the others moved at their velocity.
+    /// Mesh colliders are not mirrored (docs/rigid.md).
+    fn mirror(&mut self, colliders: &[Collider]) {
+        let s = &self.settings;
+        for (i, c) in colliders.iter().enumerate() {
+            let (body, shape) = match c.shape {
+                ColliderShape::Ground => (
+                    RigidBodyBuilder::fixed().translation(vector([0.0, c.center[1], 0.0])),
+                    ColliderBuilder::halfspace(Vector3::y_axis()),
+                ),
+                ColliderShape::Sphere(r) => (self.moving(c), ColliderBuilder::ball(r)),
+                ColliderShape::Box(h) => (
+                    self.moving(c).enabled_rotations(false, false, false),
+                    ColliderBuilder::cuboid(h[0], h[1], h[2]),
+                ),
+                ColliderShape::Mesh(_) => continue,
+            };
+            let handle = self.physics.bodies.insert(body.build());
+            let mut collider = shape.friction(c.friction).restitution(s.restitution);
+            if let Some(m) = c.mass {
+                collider = collider.mass(m);
+            }
+            self.physics.colliders.insert_with_parent(
+                collider.build(),
+                handle,
+                &mut self.physics.bodies,
+            );
+            self.mirrors.push((i, handle));
+        }
+    }
+
+    fn moving(&self, c: &Collider) -> RigidBodyBuilder {
+        let builder = match c.mass {
+            Some(_) => RigidBodyBuilder::dynamic()
+                .ccd_enabled(true)
+                .gravity_scale(if c.gravity { 1.0 } else { 0.0 }),
+            None => RigidBodyBuilder::kinematic_velocity_based(),
+        };
+        builder
+            .translation(vector(c.center))
+            .linvel(vector(c.velocity))
+    }
+
+    /// Pieces so far.
+    pub fn pieces(&self) -> usize {
+        self.pieces.len()
+    }
+
+    /// Whether rapier moves world collider `i` (a dynamic one, mirrored).
+    pub fn moves_collider(&self, i: usize, colliders: &[Collider]) -> bool {
+        colliders[i].mass.is_some() && self.mirrors.iter().any(|&(c, _)| c == i)
+    }
+
+    /// Looks for fragments to hand over at `time` and hands them over; returns how
+    /// many went rigid.
+    pub fn look(&mut self, parts: &mut [Part], time: f64) -> usize {
+        let mut handed = 0;
+        let mut seen = BTreeMap::new();
+        for (p, part) in parts.iter_mut().enumerate() {
+            let Some(fragments) = part.model.fragments() else {
+                continue;
+            };
+            let frozen = part.model.frozen().map(|f| f.to_vec());
+            // Every point of a fragment, or none when any is frozen, anchored or
+            // cannot break.
+            let mut whole: BTreeMap<u32, Vec<u32>> = BTreeMap::new();
+            let mut blocked: Vec<bool> = vec![false; fragments.fragment.len()];
+            for (i, &f) in fragments.fragment.iter().enumerate() {
+                if frozen.as_ref().is_some_and(|z| z[i])
+                    || part.is_anchored(i)
+                    || fragments.breaking[i] < 0.0
+                {
+                    blocked[f as usize] = true;
+                }
+                whole.entry(f).or_default().push(i as u32);
+            }
+            for (f, points) in whole {
+                if blocked[f as usize] {
+                    continue;
+                }
+                let key = (p as u32, points[0]);
+                let small = points.len() <= self.settings.small_fragment;
+                if !small && !points.iter().any(|&i| fragments.damaged[i as usize]) {
+                    continue;
+                }
+                let worst = points
+                    .iter()
+                    .map(|&i| fragments.breaking[i as usize])
+                    .fold(0.0, f64::max);
+                let fit = fit(part, &points);
+                let still = small
+                    || (worst < self.settings.margin && {
+                        let rest = 0.5 * fit.mass * self.settings.rest_speed.powi(2);
+                        fit.relative <= self.settings.vibration * fit.kinetic
+                            || fit.relative <= rest
+                    });
+                if !still {
+                    continue;
+                }
+                let since = *self.calm.get(&key).unwrap_or(&time);
+                seen.insert(key, since);
+                if small || time - since >= self.settings.settle_time {
+                    self.hand_over(p, part, points, &fit);
+                    seen.remove(&key);
+                    handed += 1;
+                }
+            }
+        }
+        self.calm = seen;
+        handed
+    }
+
+    /// Makes `points` of part `p` a rigid body with the momenta of `fit`, and sets
+    /// their velocities to its rigid motion.
+    fn hand_over(&mut self, p: usize, part: &mut Part, points: Vec<u32>, fit: &Fit) {
+        let s = &self.settings;
+        let volume = part.model.contact_points().map(|c| c.volume.to_vec());
+        let pts = part.model.points();
+        let local: Vec<[f64; 3]> = points
+            .iter()
+            .map(|&i| {
+                let x = pts.position[i as usize];
+                [0, 1, 2].map(|k| x[k] - fit.center[k])
+            })
+            .collect();
+        let spacing = |i: u32| {
+            volume
+                .as_ref()
+                .map_or(0.0, |v| v[i as usize].cbrt())
+                .max(1e-9)
+        };
+        let radius = 0.5 * points.iter().map(|&i| spacing(i)).sum::<f64>() / points.len() as f64;
+        let balls = || {
+            let shapes = local
+                .iter()
+                .zip(&points)
+                .map(|(r, &i)| {
+                    let h = 0.5 * spacing(i);
+                    (
+                        Isometry::translation(r[0], r[1], r[2]),
+                        SharedShape::cuboid(h, h, h),
+                    )
+                })
+                .collect();
+            ColliderBuilder::compound(shapes)
+        };
+        let shape = if points.len() == 1 {
+            ColliderBuilder::cuboid(radius, radius, radius)
+        } else if points.len() <= HULL_POINTS {
+            let hull: Vec<Point3<f64>> = local.iter().map(|r| Point3::from(vector(*r))).collect();
+            ColliderBuilder::round_convex_hull(&hull, radius).unwrap_or_else(balls)
+        } else {
+            balls()
+        };
+        let body = RigidBodyBuilder::dynamic()
+            .translation(vector(fit.center))
+            .linvel(vector(fit.velocity))
+            .angvel(vector(fit.spin))
+            .ccd_enabled(true)
+            .additional_mass_properties(MassProperties::with_inertia_matrix(
+                Point3::origin(),
+                fit.mass,
+                fit.inertia,
+            ))
+            .build();
+        let handle = self.physics.bodies.insert(body);
+        self.physics.colliders.insert_with_parent(
+            shape
+                .density(0.0)
+                .friction(s.friction)
+                .restitution(s.restitution)
+                .build(),
+            handle,
+            &mut self.physics.bodies,
+        );
+        part.model.freeze(&points);
+        let piece = Piece {
+            part: p as u32,
+            points,
+            local,
+            body: handle,
+        };
+        place(&piece, &self.physics.bodies[handle], part);
+        self.pieces.push(piece);
+        self.contact.push(([0.0; 3], [0.0; 3]));
+    }
+
+    /// Gives each piece half a step's impulse of the last contact forces (velocity
+    /// Verlet's half kick), writing the new velocities to its points.
+    pub fn half_kick(&mut self, dt: f64, parts: &mut [Part]) {
+        for (piece, (f, tau)) in self.pieces.iter().zip(&self.contact) {
+            let body = &mut self.physics.bodies[piece.body];
+            if *f != [0.0; 3] || *tau != [0.0; 3] {
+                body.apply_impulse(vector(*f) * (0.5 * dt), true);
+                body.apply_torque_impulse(vector(*tau) * (0.5 * dt), true);
+            }
+            place(piece, body, &mut parts[piece.part as usize]);
+        }
+    }
+
+    /// One rapier step of `dt` (the dynamic scene colliders' impulses since the last
+    /// one already applied), then the pieces' points and the dynamic colliders to
+    /// their bodies' new poses.
+    pub fn step(
+        &mut self,
+        dt: f64,
+        gravity: [f64; 3],
+        parts: &mut [Part],
+        colliders: &mut [Collider],
+    ) {
+        let t = std::time::Instant::now();
+        for &(i, handle) in &self.mirrors {
+            let c = &colliders[i];
+            let body = &mut self.physics.bodies[handle];
+            if c.mass.is_none() && !matches!(c.shape, ColliderShape::Ground) {
+                body.set_linvel(vector(c.velocity), true);
+            }
+        }
+        let params = IntegrationParameters {
+            dt,
+            ..IntegrationParameters::default()
+        };
+        let ph = &mut self.physics;
+        self.pipeline.step(
+            &vector(gravity),
+            &params,
+            &mut ph.islands,
+            &mut ph.broad_phase,
+            &mut ph.narrow_phase,
+            &mut ph.bodies,
+            &mut ph.colliders,
+            &mut ph.impulse_joints,
+            &mut ph.multibody_joints,
+            &mut ph.ccd,
+            &(),
+            &(),
+        );
+        for piece in &self.pieces {
+            place(
+                piece,
+                &ph.bodies[piece.body],
+                &mut parts[piece.part as usize],
+            );
+        }
+        for &(i, handle) in &self.mirrors {
+            let c = &mut colliders[i];
+            if c.mass.is_some() {
+                let body = &ph.bodies[handle];
+                c.center = array(body.translation());
+                c.velocity = array(body.linvel());
+            }
+        }
+        self.time += t.elapsed().as_secs_f64();
+    }
+
+    /// Gives dynamic scene collider `i` the impulse `j` (from the particles).
+    pub fn push_collider(&mut self, i: usize, j: [f64; 3]) {
+        if let Some(&(_, handle)) = self.mirrors.iter().find(|&&(c, _)| c == i) {
+            self.physics.bodies[handle].apply_impulse(vector(j), true);
+        }
+    }
+
+    /// Sums the contact forces on each piece's points (`force(part)` gives a part's
+    /// per-point forces) into a force and a torque about its centre of mass.
+    pub fn gather_contact<'a>(&mut self, parts: &[Part], force: impl Fn(usize) -> &'a [[f64; 3]]) {
+        for (piece, slot) in self.pieces.iter().zip(self.contact.iter_mut()) {
+            let p = piece.part as usize;
+            let f = force(p);
+            if f.is_empty() {
+                *slot = ([0.0; 3], [0.0; 3]);
+                continue;
+            }
+            let x = parts[p].model.points().position;
+            let c = array(self.physics.bodies[piece.body].translation());
+            let (mut total, mut torque) = ([0.0; 3], [0.0; 3]);
+            for &i in &piece.points {
+                let (fi, r) = (f[i as usize], [0, 1, 2].map(|k| x[i as usize][k] - c[k]));
+                for k in 0..3 {
+                    total[k] += fi[k];
+                }
+                torque[0] += r[1] * fi[2] - r[2] * fi[1];
+                torque[1] += r[2] * fi[0] - r[0] * fi[2];
+                torque[2] += r[0] * fi[1] - r[1] * fi[0];
+            }
+            *slot = (total, torque);
+        }
+    }
+
+    /// Whether a piece is awake (moving).
+    pub fn any_awake(&self) -> bool {
+        self.pieces
+            .iter()
+            .any(|p| !self.physics.bodies[p.body].is_sleeping())
+    }
+
+    /// The longest step the rigid phase allows.
+    pub fn longest_step(&self) -> f64 {
+        self.settings.step
+    }
+
+    /// Writes the rigid phase (its pieces, the colliders it mirrors, the fragments
+    /// settling and rapier's state) into a checkpoint.
+    pub fn save(&self, out: &mut Encoder) {
+        let state = (&self.pieces, &self.mirrors, &self.calm, &self.physics);
+        let mut bytes = Vec::new();
+        // Writing into memory fails only on a type serde cannot express, which
+        // rapier's state is not: an empty record would then fail the resume, loudly.
+        let _ = ciborium::into_writer(&state, &mut bytes);
+        out.put_u64(bytes.len() as u64);
+        out.put_u32_slice(&bytes_to_words(&bytes));
+    }
+
+    /// Restores what [`RigidPhase::save`] wrote and freezes the pieces' points in
+    /// their models.
+    pub fn restore(&mut self, input: &mut Decoder<'_>, parts: &mut [Part]) -> Result<()> {
+        let len = input.take_u64("rigid phase")? as usize;
+        if len > input.remaining() {
+            return Err(input
+                .error(
+                    "rigid phase",
+                    format!("{len} bytes, more than the file holds"),
+                )
+                .into());
+        }
+        let words = input.take_u32_slice("rigid phase", len.div_ceil(4))?;
+        let bytes = words_to_bytes(&words, len);
+        type State = (
+            Vec<Piece>,
+            Vec<(usize, RigidBodyHandle)>,
+            BTreeMap<(u32, u32), f64>,
+            Physics,
+        );
+        let (pieces, mirrors, calm, physics): State = ciborium::from_reader(bytes.as_slice())
+            .map_err(|e| input.error("rigid phase", format!("does not read: {e}")))?;
+        for (k, piece) in pieces.iter().enumerate() {
+            let part = parts.get_mut(piece.part as usize);
+            let n = part.as_ref().map_or(0, |p| p.model.points().position.len());
+            if part.is_none()
+                || piece.points.len() != piece.local.len()
+                || piece.points.iter().any(|&i| i as usize >= n)
+                || physics.bodies.get(piece.body).is_none()
+            {
+                return Err(input
+                    .error(
+                        "rigid phase",
+                        format!("piece {k} names points or a body the scene has not"),
+                    )
+                    .into());
+            }
+            if let Some(part) = part {
+                part.model.freeze(&piece.points);
+            }
+        }
+        self.contact = vec![([0.0; 3], [0.0; 3]); pieces.len()];
+        self.pieces = pieces;
+        self.mirrors = mirrors;
+        self.calm = calm;
+        self.physics = physics;
+        Ok(())
+    }
+}
+
+fn bytes_to_words(bytes: &[u8]) -> Vec<u32> {
+    bytes
+        .chunks(4)
+        .map(|c| {
+            let mut w = [0u8; 4];
+            w[..c.len()].copy_from_slice(c);
+            u32::from_le_bytes(w)
+        })
+        .collect()
+}
+
+fn words_to_bytes(words: &[u32], len: usize) -> Vec<u8> {
+    let mut out: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
+    out.truncate(len);
+    out
+}
+
+/// Moves a piece's points to its body's pose: y = c + R r, v = V + ω × R r.
+fn place(piece: &Piece, body: &RigidBody, part: &mut Part) {
+    let pose = body.position();
+    let rotation: UnitQuaternion<f64> = pose.rotation;
+    let c = array(&pose.translation.vector);
+    let (v, w) = (array(body.linvel()), array(body.angvel()));
+    let p = part.model.points_mut();
+    for (&i, r0) in piece.points.iter().zip(&piece.local) {
+        let r = array(&(rotation * vector(*r0)));
+        let i = i as usize;
+        p.position[i] = [0, 1, 2].map(|k| c[k] + r[k]);
+        p.velocity[i] = [
+            v[0] + w[1] * r[2] - w[2] * r[1],
+            v[1] + w[2] * r[0] - w[0] * r[2],
+            v[2] + w[0] * r[1] - w[1] * r[0],
+        ];
+    }
+}
+
+/// The best-fit rigid motion of `points` (module doc).
+fn fit(part: &Part, points: &[u32]) -> Fit {
+    let p = part.model.points();
+    let volume = part.model.contact_points().map(|c| c.volume);
+    let mut mass = 0.0;
+    let mut moment = [0.0; 3];
+    let mut momentum = [0.0; 3];
+    let mut kinetic = 0.0;
+    for &i in points {
+        let (m, x, v) = (
+            p.mass[i as usize],
+            p.position[i as usize],
+            p.velocity[i as usize],
+        );
+        mass += m;
+        for k in 0..3 {
+            moment[k] += m * x[k];
+            momentum[k] += m * v[k];
+        }
+        kinetic += 0.5 * m * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    }
+    let center = moment.map(|s| s / mass);
+    let velocity = momentum.map(|s| s / mass);
+    let mut angular = Vector3::zeros();
+    let mut inertia = Matrix3::zeros();
+    for &i in points {
+        let (m, x, v) = (
+            p.mass[i as usize],
+            p.position[i as usize],
+            p.velocity[i as usize],
+        );
+        let r = Vector3::new(x[0] - center[0], x[1] - center[1], x[2] - center[2]);
+        angular += m * r.cross(&vector(v));
+        inertia += m * (Matrix3::identity() * r.norm_squared() - r * r.transpose());
+        if points.len() < 4 {
+            // A point's own inertia, as a cube of its volume: m l²/6.
+            let l2 = volume.map_or(0.0, |v| v[i as usize].cbrt().powi(2));
+            inertia += Matrix3::identity() * (m * l2 / 6.0);
+        }
+    }
+    let spin = inertia
+        .try_inverse()
+        .map_or(Vector3::zeros(), |inv| inv * angular);
+    let rigid = 0.5 * mass * (velocity[0].powi(2) + velocity[1].powi(2) + velocity[2].powi(2))
+        + 0.5 * spin.dot(&(inertia * spin));
+    Fit {
+        mass,
+        center,
+        velocity,
+        spin: array(&spin),
+        inertia,
+        relative: (kinetic - rigid).max(0.0),
+        kinetic,
+    }
+}

@@ -1,0 +1,150 @@
+//! The rigid phase (`sim/src/rigid`, docs/rigid.md): a fragment's momenta and kinetic
+//! energy across the switch, pieces that land and come to rest, a rigid piece that
+//! breaks a deformable wall, and the same bytes with 1 and 2 threads and after a
+//! resume in the rigid phase. Small resolutions; figures with `--nocapture`.
+
+mod common;
+
+use std::path::Path;
+
+use perifrac_sim::rigid::RigidPhase;
+use perifrac_sim::run::{self, Prepared, RunOptions};
+use perifrac_sim::scene::Scene;
+
+fn scene(text: &str) -> Scene {
+    Scene::parse(text, Path::new("rigid-test.toml"), Path::new(".")).expect("scene")
+}
+
+const GLASS: &str = "[materials.glass]\ndensity = 2200.0\nbulk_modulus = 3.3e10\n\
+                     shear_modulus = 2.0e10\ncritical_stretch = 0.0005\n";
+
+/// (Σ m v, Σ m x × v, Σ ½ m |v|²) over the first part's points.
+fn momenta(p: &Prepared) -> ([f64; 3], [f64; 3], f64) {
+    let points = p.world.parts[0].model.points();
+    let (mut linear, mut angular, mut kinetic) = ([0.0; 3], [0.0; 3], 0.0);
+    for ((m, x), v) in points.mass.iter().zip(points.position).zip(points.velocity) {
+        for a in 0..3 {
+            linear[a] += m * v[a];
+        }
+        angular[0] += m * (x[1] * v[2] - x[2] * v[1]);
+        angular[1] += m * (x[2] * v[0] - x[0] * v[2]);
+        angular[2] += m * (x[0] * v[1] - x[1] * v[0]);
+        kinetic += 0.5 * m * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    }
+    (linear, angular, kinetic)
+}
+
+fn relative(a: [f64; 3], b: [f64; 3]) -> f64 {
+    let d = (0..3).map(|k| (a[k] - b[k]).powi(2)).sum::<f64>().sqrt();
+    d / (0..3).map(|k| a[k] * a[k]).sum::<f64>().sqrt()
+}
+
+/// A tumbling glass block handed over as one piece.
+fn tumbling_block() -> Prepared {
+    let text = format!(
+        "[scene]\ngravity = [0, 0, 0]\n{GLASS}[[body]]\nmaterial = \"glass\"\nresolution = 0.02\n\
+         shape = {{ type = \"box\", center = [0.3, 0.2, -0.1], size = [0.12, 0.06, 0.08] }}\n\
+         velocity = [1.0, -2.0, 3.0]\nangular_velocity = [5.0, -3.0, 2.0]\n\
+         [rigid]\nsmall_fragment = 100000\n"
+    );
+    run::prepare(&scene(&text)).expect("prepares")
+}
+
+#[test]
+fn a_rigidly_moving_fragment_keeps_its_momenta_and_energy_across_the_switch() {
+    let mut p = tumbling_block();
+    let (linear, angular, kinetic) = momenta(&p);
+    let settings = p
+        .world
+        .rigid_settings
+        .clone()
+        .expect("a breaking body has a rigid phase");
+    let mut rigid = RigidPhase::new(settings, &p.world.colliders);
+    assert_eq!(rigid.look(&mut p.world.parts, 0.0), 1, "one piece");
+    let (l2, a2, k2) = momenta(&p);
+    let errors = [
+        relative(linear, l2),
+        relative(angular, a2),
+        (kinetic - k2).abs() / kinetic,
+    ];
+    println!("relative change of P, L, E across the switch: {errors:?}");
+    assert!(errors.iter().all(|&e| e < 1e-9), "{errors:?}");
+}
+
+#[test]
+fn a_vibrating_fragment_keeps_its_momenta_and_loses_only_its_vibration() {
+    let mut p = tumbling_block();
+    // A vibration on top of the rigid motion: a breathing mode about the centroid.
+    {
+        let points = p.world.parts[0].model.points_mut();
+        for (v, x) in points.velocity.iter_mut().zip(points.reference.iter()) {
+            let r = [x[0] - 0.3, x[1] - 0.2, x[2] + 0.1];
+            for k in 0..3 {
+                v[k] += 4.0 * r[k];
+            }
+        }
+    }
+    let (linear, angular, kinetic) = momenta(&p);
+    let settings = p.world.rigid_settings.clone().expect("rigid phase");
+    let mut rigid = RigidPhase::new(settings, &p.world.colliders);
+    assert_eq!(rigid.look(&mut p.world.parts, 0.0), 1);
+    let (l2, a2, k2) = momenta(&p);
+    println!(
+        "P {:.2e}, L {:.2e}, E {kinetic:.4} J -> {k2:.4} J",
+        relative(linear, l2),
+        relative(angular, a2)
+    );
+    assert!(relative(linear, l2) < 1e-9 && relative(angular, a2) < 1e-9);
+    // The breathing mode's energy goes: what is left is below, and more than the
+    // translation's.
+    assert!(k2 < kinetic * 0.999 && k2 > 0.5 * 2200.0 * 0.12 * 0.06 * 0.08 * 14.0 * 0.9);
+}
+
+/// A glass plate dropped on the ground: it shatters, its pieces go rigid and land.
+fn plate_drop(duration: f64) -> Scene {
+    scene(&format!(
+        "[scene]\nduration = {duration}\nfps = 10.0\n{GLASS}critical_compression = 0.01\n\
+         [[body]]\nname = \"plate\"\nmaterial = \"glass\"\nresolution = 0.02\n\
+         shape = {{ type = \"box\", center = [0.0, 0.03, 0.0], size = [0.12, 0.04, 0.12] }}\n\
+         velocity = [0.0, -6.0, 0.0]\nangular_velocity = [4.0, 0.0, 3.0]\n\
+         [[collider]]\ntype = \"ground\"\n\
+         [output]\npreview = false\nusd = false\ncheckpoint_every = 2\n"
+    ))
+}
+
+#[test]
+fn a_dropped_glass_plate_shatters_and_every_piece_comes_to_rest() {
+    // Grains thrown up at twice the drop speed land within 3 s.
+    let s = plate_drop(3.5);
+    let dir = tempfile::tempdir().expect("temp dir");
+    let manifest = run::run(&s, dir.path(), &RunOptions::default(), &mut |_| {}).expect("runs");
+    assert_eq!(manifest.status.to_string(), "complete");
+    let last = manifest.frames();
+    let frame = perifrac_sim::cache::ply::ParticleFrame::read(
+        &dir.path().join(format!("particles/{last:04}.ply")),
+    )
+    .expect("reads");
+    let fragments = frame.fragment.iter().fold(0.0f32, |m, &f| m.max(f)) as u32 + 1;
+    let fastest = frame
+        .velocity
+        .iter()
+        .map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt())
+        .fold(0.0f32, f32::max);
+    let lowest = frame.position.iter().map(|x| x[1]).fold(f32::MAX, f32::min);
+    println!(
+        "{fragments} fragments; {} steps; fastest particle {fastest:.2e} m/s; lowest {lowest:.4} m",
+        manifest.steps
+    );
+    assert!(fragments > 2, "the plate shatters");
+    assert!(fastest < 0.05, "every piece at rest: {fastest} m/s");
+    assert!(
+        lowest > -0.0075,
+        "pieces on the ground, not through it: {lowest}"
+    );
+}
+
+#[test]
+fn the_rigid_phase_threads_and_resumes_to_the_same_bytes() {
+    // Stopped in the rigid phase (after frame 2 of 3, 0.2 s in).
+    common::threads_and_resume(&plate_drop(0.3), 2);
+}
