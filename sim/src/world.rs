@@ -398,9 +398,10 @@ impl World {
                 for (i, j) in impulses.iter_mut().enumerate() {
                     if rigid.moves_collider(i, &self.colliders) {
                         rigid.push_collider(i, *j);
-                        let m = self.colliders[i].mass.unwrap_or(1.0);
-                        for a in 0..3 {
-                            self.colliders[i].velocity[a] += j[a] / m;
+                        let c = &mut self.colliders[i];
+                        let m = c.mass.unwrap_or(1.0);
+                        for (v, j) in c.velocity.iter_mut().zip(j.iter()) {
+                            *v += j / m;
                         }
                         *j = [0.0; 3];
                     }
@@ -788,7 +789,7 @@ impl World {
             frame_length,
             ..clock
         };
-        if clock.steps > steps || !(dt > 0.0) || !(frame_length > 0.0) {
+        if clock.steps > steps || dt <= 0.0 || frame_length <= 0.0 {
             return Err(input
                 .error(
                     "clock",
