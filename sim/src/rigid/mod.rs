@@ -4,7 +4,7 @@
 //! fracture solver's pieces handed to Houdini's RBD or Bullet).
 //!
 //! **When.** Every `check_every` steps the world looks at each model that can break
-//! ([`Model::fragments`]): a fragment (a connected component of intact bonds, as the
+//! ([`crate::model::Model::fragments`]): a fragment (a connected component of intact bonds, as the
 //! cache numbers them) of at most `small_fragment` points goes rigid at once; a larger
 //! one that broke off (a point of it lost a bond: an intact body at rest waits for
 //! what breaks it) when, for `settle_time`, no intact bond is within `margin` of what
