@@ -270,7 +270,10 @@ impl World {
 
     /// The step at which `frame` ends on the current clock.
     pub fn frame_end(&self, frame: usize) -> u64 {
-        self.clock.steps + (frame as u64 - 1 - self.clock.frame) * self.clock.steps_per_frame
+        let frames = (frame as u64).saturating_sub(1 + self.clock.frame);
+        self.clock
+            .steps
+            .saturating_add(frames.saturating_mul(self.clock.steps_per_frame))
     }
 
     /// Whether only rigid pieces are left to move: every point of every model is in
@@ -789,7 +792,7 @@ impl World {
             frame_length,
             ..clock
         };
-        if clock.steps > steps || dt <= 0.0 || frame_length <= 0.0 {
+        if clock.steps > steps || dt <= 0.0 || frame_length < 0.0 {
             return Err(input
                 .error(
                     "clock",

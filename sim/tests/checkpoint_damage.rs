@@ -95,7 +95,7 @@ fn recrc(bytes: &[u8], change: impl FnOnce(&mut Vec<u8>)) -> Vec<u8> {
 /// the way [`perifrac_sim::world::World::save`] and the peridynamic model write
 /// them: `(name, offset, length of one value)`.
 fn payload_fields(payload: &[u8]) -> Vec<(&'static str, usize, usize)> {
-    let layout: [(&str, Option<usize>); 8] = [
+    let layout: [(&str, Option<usize>); 15] = [
         ("models", None),
         ("acceleration", Some(24)),
         ("positions", Some(24)),
@@ -104,6 +104,13 @@ fn payload_fields(payload: &[u8]) -> Vec<(&'static str, usize, usize)> {
         ("plastic extensions", Some(8)),
         ("anchor work", None),
         ("colliders", Some(24)),
+        ("clock steps", None),
+        ("clock time", None),
+        ("clock frame", None),
+        ("clock steps a frame", None),
+        ("time step", None),
+        ("frame length", None),
+        ("rigid phase", None),
     ];
     let mut at = 0;
     let mut out = Vec::new();

@@ -45,7 +45,7 @@ fn tumbling_block() -> Prepared {
         "[scene]\ngravity = [0, 0, 0]\n{GLASS}[[body]]\nmaterial = \"glass\"\nresolution = 0.02\n\
          shape = {{ type = \"box\", center = [0.3, 0.2, -0.1], size = [0.12, 0.06, 0.08] }}\n\
          velocity = [1.0, -2.0, 3.0]\nangular_velocity = [5.0, -3.0, 2.0]\n\
-         [rigid]\nsmall_fragment = 100000\n"
+         [rigid]\nenabled = true\nsmall_fragment = 100000\n"
     );
     run::prepare(&scene(&text)).expect("prepares")
 }
@@ -107,7 +107,7 @@ fn plate_drop(duration: f64) -> Scene {
          [[body]]\nname = \"plate\"\nmaterial = \"glass\"\nresolution = 0.02\n\
          shape = {{ type = \"box\", center = [0.0, 0.03, 0.0], size = [0.12, 0.04, 0.12] }}\n\
          velocity = [0.0, -6.0, 0.0]\nangular_velocity = [4.0, 0.0, 3.0]\n\
-         [[collider]]\ntype = \"ground\"\n\
+         [[collider]]\ntype = \"ground\"\n[rigid]\nenabled = true\n\
          [output]\npreview = false\nusd = false\ncheckpoint_every = 2\n"
     ))
 }

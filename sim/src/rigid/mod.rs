@@ -6,8 +6,8 @@
 //! **When.** Every `check_every` steps the world looks at each model that can break
 //! ([`crate::model::Model::fragments`]): a fragment (a connected component of intact bonds, as the
 //! cache numbers them) of at most `small_fragment` points goes rigid at once; a larger
-//! one that broke off (a point of it lost a bond: an intact body at rest waits for
-//! what breaks it) when, for `settle_time`, no intact bond is within `margin` of what
+//! one that broke off (less than its whole body, and a point of it lost a bond: an
+//! intact or only pre-cut body at rest waits for what breaks it) when, for `settle_time`, no intact bond is within `margin` of what
 //! breaks it and
 //! the kinetic energy of its motion relative to its best-fit rigid motion is under
 //! `vibration` of its kinetic energy (or that motion's r.m.s. speed under
@@ -121,7 +121,8 @@ pub struct RigidPhase {
     /// Fragments that have met the conditions since a time: (part, smallest point).
     calm: BTreeMap<(u32, u32), f64>,
     /// Contact force and torque (about the centre of mass) on each piece at the last
-    /// contact computation (scratch, recomputed after a resume's first step).
+    /// contact computation: the next step's first half impulse (saved, as the
+    /// particles' accelerations are).
     contact: Vec<([f64; 3], [f64; 3])>,
     /// Wall time spent (s).
     pub time: f64,
@@ -227,6 +228,12 @@ impl RigidPhase {
             let frozen = part.model.frozen().map(|f| f.to_vec());
             // Every point of a fragment, or none when any is frozen, anchored or
             // cannot break.
+            // Points of each scene body: a fragment that is a whole body (cut at set-up
+            // perhaps, but not broken apart) waits for what breaks it.
+            let mut body_points: BTreeMap<u32, usize> = BTreeMap::new();
+            for &b in part.model.point_bodies() {
+                *body_points.entry(b).or_default() += 1;
+            }
             let mut whole: BTreeMap<u32, Vec<u32>> = BTreeMap::new();
             let mut blocked: Vec<bool> = vec![false; fragments.fragment.len()];
             for (i, &f) in fragments.fragment.iter().enumerate() {
@@ -244,7 +251,10 @@ impl RigidPhase {
                 }
                 let key = (p as u32, points[0]);
                 let small = points.len() <= self.settings.small_fragment;
-                if !small && !points.iter().any(|&i| fragments.damaged[i as usize]) {
+                let body = part.model.point_bodies()[points[0] as usize];
+                let broke_off = points.len() < body_points[&body]
+                    && points.iter().any(|&i| fragments.damaged[i as usize]);
+                if !small && !broke_off {
                     continue;
                 }
                 let worst = points
@@ -463,9 +473,15 @@ impl RigidPhase {
     }
 
     /// Writes the rigid phase (its pieces, the colliders it mirrors, the fragments
-    /// settling and rapier's state) into a checkpoint.
+    /// settling, the pieces' last contact forces and rapier's state) into a checkpoint.
     pub fn save(&self, out: &mut Encoder) {
-        let state = (&self.pieces, &self.mirrors, &self.calm, &self.physics);
+        let state = (
+            &self.pieces,
+            &self.mirrors,
+            &self.calm,
+            &self.contact,
+            &self.physics,
+        );
         let mut bytes = Vec::new();
         // Writing into memory fails only on a type serde cannot express, which
         // rapier's state is not: an empty record would then fail the resume, loudly.
@@ -492,10 +508,12 @@ impl RigidPhase {
             Vec<Piece>,
             Vec<(usize, RigidBodyHandle)>,
             BTreeMap<(u32, u32), f64>,
+            Vec<([f64; 3], [f64; 3])>,
             Physics,
         );
-        let (pieces, mirrors, calm, physics): State = ciborium::from_reader(bytes.as_slice())
-            .map_err(|e| input.error("rigid phase", format!("does not read: {e}")))?;
+        let (pieces, mirrors, calm, contact, physics): State =
+            ciborium::from_reader(bytes.as_slice())
+                .map_err(|e| input.error("rigid phase", format!("does not read: {e}")))?;
         for (k, piece) in pieces.iter().enumerate() {
             let part = parts.get_mut(piece.part as usize);
             let n = part.as_ref().map_or(0, |p| p.model.points().position.len());
@@ -515,7 +533,20 @@ impl RigidPhase {
                 part.model.freeze(&piece.points);
             }
         }
-        self.contact = vec![([0.0; 3], [0.0; 3]); pieces.len()];
+        if contact.len() != pieces.len()
+            || contact
+                .iter()
+                .flat_map(|(f, t)| f.iter().chain(t))
+                .any(|x| !x.is_finite())
+        {
+            return Err(input
+                .error(
+                    "rigid phase",
+                    "the pieces' contact forces do not match the pieces",
+                )
+                .into());
+        }
+        self.contact = contact;
         self.pieces = pieces;
         self.mirrors = mirrors;
         self.calm = calm;
