@@ -193,6 +193,8 @@ pub struct World {
     pub rigid_settings: Option<RigidSpec>,
     /// The rigid phase, from the first hand-off on.
     pub rigid: Option<RigidPhase>,
+    /// The scene's length (s): a checkpoint's clock lies within it.
+    duration: f64,
     /// Energy scale for blow-up detection (J).
     energy_budget: f64,
     /// Growth factor over the budget that counts as a blow-up.
@@ -217,6 +219,7 @@ impl World {
             contact: None,
             rigid_settings: None,
             rigid: None,
+            duration: settings.duration,
             energy_budget: 0.0,
             energy_growth: settings.energy_growth,
         };
@@ -799,6 +802,16 @@ impl World {
                     format!("{clock:?} with a step of {dt:e} s does not fit {steps} steps"),
                 )
                 .into());
+        }
+        // The world's time is steps × dt from where its clock started, to the bit, and
+        // lies within the scene (which also bounds the collider replay below).
+        let reached = clock.time + (steps - clock.steps) as f64 * dt;
+        if time.to_bits() != reached.to_bits() || time > self.duration + dt {
+            let message = format!(
+                "its time {time:e} s is not {steps} steps of {dt:e} s within the scene's {:e} s",
+                self.duration
+            );
+            return Err(input.error("clock", message).into());
         }
         match input.take_u64("rigid phase")? {
             0 => self.rigid = None,

@@ -384,10 +384,11 @@ fn fem_and_mpm_restores_check_their_values() {
             .restore(&mut Decoder::new(&saved, path), 0.0, 0, 0)
             .expect("restores");
         // A NaN in the last f64 of the model's state (FEM: a rotation; MPM: a
-        // plastic strain, before the length of its empty internal energies), before
-        // the anchor work and the (empty) colliders.
+        // plastic strain, before the lengths of its empty internal energies and
+        // temperatures), before the anchor work, the (empty) colliders and the seven
+        // words of the clock, time step, frame length and rigid phase.
         let mut bad = saved.clone();
-        let at = bad.len() - 3 * 8 - if model == "mpm" { 8 } else { 0 };
+        let at = bad.len() - (3 + 7) * 8 - if model == "mpm" { 2 * 8 } else { 0 };
         bad[at..at + 8].copy_from_slice(&f64::NAN.to_le_bytes());
         let e = prepared
             .world
