@@ -2,7 +2,10 @@
 //! back by an independent PLY reader (`ply-rs`).
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Command;
+
+mod common;
+use common::perifrac;
 
 const TINY: &str = r#"[scene]
 name = "tiny"
@@ -25,14 +28,6 @@ velocity = [0, -1, 0]
 [[collider]]
 type = "ground"
 "#;
-
-fn perifrac(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_perifrac"))
-        .args(args)
-        .arg("--quiet")
-        .output()
-        .expect("the binary runs")
-}
 
 fn write_scene(dir: &Path, text: &str) -> String {
     let path = dir.join("scene.toml");

@@ -5,11 +5,14 @@
 //! frame whose last frame matches the last per-frame .glb.
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Command;
 
 use perifrac_cache::manifest::Manifest;
 use perifrac_cache::vtu::TetFrame;
 use perifrac_surface::embedded::surface;
+
+mod common;
+use common::perifrac;
 
 const SCENE: &str = r#"[scene]
 name = "embedded-test"
@@ -40,13 +43,6 @@ velocity = [0.0, 1.0, 0.0]
 surface = "embedded"
 checkpoint_every = 0
 "#;
-
-fn perifrac(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_perifrac"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
 
 /// The Khronos validator's report on `file` (tools/gltf-validator, installed by
 /// scripts/setup.sh).

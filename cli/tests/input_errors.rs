@@ -4,7 +4,10 @@
 //! `--frames N` and what it writes, the memory refusal under `ulimit -v`.
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Command;
+
+mod common;
+use common::{outcome, perifrac};
 
 /// A small cube dropped on the ground (one collider), with the embedded surface (so
 /// the cache has tet frames): 5 frames.
@@ -33,22 +36,6 @@ surface = "embedded"
 checkpoint_every = 0
 preview = false
 "#;
-
-fn perifrac(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_perifrac"))
-        .args(args)
-        .arg("--quiet")
-        .output()
-        .expect("the binary runs")
-}
-
-/// Exit code and stderr.
-fn outcome(out: &Output) -> (Option<i32>, String) {
-    (
-        out.status.code(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
 
 /// The cache of [`SCENE`] in `dir/out`.
 fn cache(dir: &Path) -> String {

@@ -4,13 +4,16 @@
 #![cfg(feature = "gl")]
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Command;
 
 use image::RgbImage;
 use perifrac_render::cache::Cache;
 use perifrac_render::geometry::{FrameGeometry, MESH_STRIDE, Shading};
 use perifrac_render::gl::Renderer;
 use perifrac_render::preview::{PreviewOptions, sequence_view};
+
+mod common;
+use common::perifrac_ok;
 
 /// The demo (assets/scenes/demo.toml: a steel ball at 50 m/s through a glass wall on
 /// the ground), coarse and short: λ = 0.025 m, 2.4 ms in 6 frames, particles only.
@@ -90,26 +93,12 @@ playback_fps = 12
 SURFACE
 "##;
 
-fn perifrac(args: &[&str]) -> Output {
-    let out = Command::new(env!("CARGO_BIN_EXE_perifrac"))
-        .args(args)
-        .arg("--quiet")
-        .output()
-        .expect("the binary runs");
-    assert!(
-        out.status.success(),
-        "perifrac {args:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    out
-}
-
 /// Runs `scene` into `dir/out`.
 fn run(dir: &Path, scene: &str) -> std::path::PathBuf {
     let file = dir.join("scene.toml");
     std::fs::write(&file, scene).unwrap();
     let out = dir.join("out");
-    perifrac(&["run", file.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    perifrac_ok(&["run", file.to_str().unwrap(), "-o", out.to_str().unwrap()]);
     out
 }
 
@@ -221,7 +210,7 @@ fn two_materials_render_in_their_own_colours() {
         let dir = tempfile::tempdir().unwrap();
         let out = run(dir.path(), &TWO_MATERIALS.replace("SURFACE", surface));
         let o = out.to_str().unwrap();
-        perifrac(&["render", o, "--frame", "1", "--size", "320x180"]);
+        perifrac_ok(&["render", o, "--frame", "1", "--size", "320x180"]);
         let image = image::open(out.join("preview/frame_0001.png"))
             .unwrap()
             .to_rgb8();
@@ -232,7 +221,7 @@ fn two_materials_render_in_their_own_colours() {
             "{surface:?}: {b} brick, {s} slate pixels"
         );
         // Coloured by damage instead, neither colour is there.
-        perifrac(&[
+        perifrac_ok(&[
             "render",
             o,
             "--frame",
@@ -267,7 +256,7 @@ fn the_movie_has_every_frame_at_the_playback_rate() {
     assert!(movie.is_file(), "run wrote no movie");
     std::fs::remove_file(&movie).unwrap();
     let o = out.to_str().unwrap();
-    perifrac(&[
+    perifrac_ok(&[
         "render",
         o,
         "--movie",
@@ -300,7 +289,7 @@ fn the_movie_has_every_frame_at_the_playback_rate() {
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scripts/movie-check.sh");
     movie_check(&script, o, frames);
     // Frames rendered again without --movie take the movies they replace away.
-    perifrac(&["render", o, "--size", "64x36"]);
+    perifrac_ok(&["render", o, "--size", "64x36"]);
     assert!(!movie.exists(), "a stale movie of the old frames is left");
 }
 

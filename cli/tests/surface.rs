@@ -5,13 +5,16 @@
 #![cfg(feature = "openvdb")]
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Command;
 
 use perifrac_cache::Layout;
 use perifrac_cache::manifest::{BodyInfo, Manifest};
 use perifrac_cache::ply::ParticleFrame;
 use perifrac_cache::scene::Scene;
 use perifrac_sim::geometry::discretize::discretize;
+
+mod common;
+use common::perifrac;
 
 const SCENE: &str = r#"[scene]
 name = "surface-test"
@@ -32,13 +35,6 @@ resolution = 0.02
 surface = "vdb"
 checkpoint_every = 0
 "#;
-
-fn perifrac(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_perifrac"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
 
 /// `perifrac run SCENE -o OUT EXTRA…`, which must succeed.
 fn run(scene: &Path, out: &Path, extra: &[&str]) {

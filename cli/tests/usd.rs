@@ -12,7 +12,10 @@
 //! this platform (exit code 77).
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Command;
+
+mod common;
+use common::perifrac_ok;
 
 const SCENE: &str = r#"[scene]
 name = "usd-test"
@@ -56,19 +59,6 @@ preview = false
 playback_fps = 25
 "#;
 
-fn perifrac(args: &[&str]) -> Output {
-    let out = Command::new(env!("CARGO_BIN_EXE_perifrac"))
-        .args(args)
-        .output()
-        .expect("the binary runs");
-    assert!(
-        out.status.success(),
-        "perifrac {args:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    out
-}
-
 /// Runs `scripts/dcc-check.sh` on `out` with `options`; returns false when it skipped.
 fn dcc_check(out: &Path, options: &[&str]) -> bool {
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scripts/dcc-check.sh");
@@ -99,7 +89,7 @@ fn cache_usd_opens_in_usd_core_and_blender() {
     std::fs::write(&scene, SCENE).unwrap();
     let out = dir.path().join("out");
     let out_str = out.to_str().unwrap();
-    perifrac(&["run", scene.to_str().unwrap(), "-o", out_str, "--quiet"]);
+    perifrac_ok(&["run", scene.to_str().unwrap(), "-o", out_str, "--quiet"]);
     let usd = std::fs::read(out.join("cache.usd")).expect("run wrote cache.usd");
     assert_eq!(&usd[..8], b"PXR-USDC", "binary usdc");
     let checked = dcc_check(&out, &[]);
@@ -107,8 +97,8 @@ fn cache_usd_opens_in_usd_core_and_blender() {
     // The vdb method's fragments and volumes, written by `export usd`.
     if cfg!(feature = "openvdb") {
         std::fs::remove_file(out.join("cache.usd")).unwrap();
-        perifrac(&["surface", out_str, "--method", "vdb", "--quiet"]);
-        perifrac(&["export", "usd", out_str, "--quiet"]);
+        perifrac_ok(&["surface", out_str, "--method", "vdb", "--quiet"]);
+        perifrac_ok(&["export", "usd", out_str, "--quiet"]);
         assert!(out.join("cache.usd").is_file());
         if checked {
             dcc_check(&out, &[]);
@@ -166,11 +156,11 @@ fn a_mesh_collider_is_in_the_stage_and_the_animated_glb() {
     std::fs::write(&scene, TABLE_SCENE.replace("TABLE", "table.obj")).unwrap();
     let out = dir.path().join("out");
     let out_str = out.to_str().unwrap();
-    perifrac(&["run", scene.to_str().unwrap(), "-o", out_str, "--quiet"]);
+    perifrac_ok(&["run", scene.to_str().unwrap(), "-o", out_str, "--quiet"]);
     // The same bytes with one thread.
     let one = dir.path().join("one");
     let one_str = one.to_str().unwrap();
-    perifrac(&[
+    perifrac_ok(&[
         "run",
         scene.to_str().unwrap(),
         "-o",
@@ -186,10 +176,10 @@ fn a_mesh_collider_is_in_the_stage_and_the_animated_glb() {
     );
     // The stages read the cache's copy of the table: its source may go.
     std::fs::remove_file(&table).unwrap();
-    perifrac(&["surface", out_str, "--method", "embedded", "--quiet"]);
-    perifrac(&["export", "usd", out_str, "--quiet"]);
+    perifrac_ok(&["surface", out_str, "--method", "embedded", "--quiet"]);
+    perifrac_ok(&["export", "usd", out_str, "--quiet"]);
     if cfg!(feature = "gl") {
-        perifrac(&[
+        perifrac_ok(&[
             "render", out_str, "--frame", "6", "--size", "64x48", "--quiet",
         ]);
     }

@@ -5,18 +5,15 @@
 
 use std::path::Path;
 
-use perifrac_sim::model::Model;
 use perifrac_sim::run::{self, Prepared};
 use perifrac_sim::scene::Scene;
+
+mod common;
+use common::{model, momentum};
 
 fn prepare(text: &str) -> Prepared {
     let scene = Scene::parse(text, Path::new("contact-test.toml"), Path::new(".")).expect("scene");
     run::prepare(&scene).expect("prepares")
-}
-
-/// The one model of a prepared scene.
-fn model(p: &Prepared) -> &dyn Model {
-    p.world.parts[0].model.as_ref()
 }
 
 /// Particle spacing l = V^{1/3} of a body: the mean over its particles of (m/ρ)^{1/3}.
@@ -28,18 +25,6 @@ fn spacing(p: &Prepared, density: f64, body: u32) -> f64 {
         .map(|i| (mass[i] / density).cbrt())
         .collect();
     of.iter().sum::<f64>() / of.len() as f64
-}
-
-/// Σ m v over every point.
-fn momentum(p: &Prepared) -> [f64; 3] {
-    let points = model(p).points();
-    let mut total = [0.0; 3];
-    for (m, v) in points.mass.iter().zip(points.velocity) {
-        for a in 0..3 {
-            total[a] += m * v[a];
-        }
-    }
-    total
 }
 
 /// The smallest r − d over pairs of a particle of body `a` and one of body `b`: their

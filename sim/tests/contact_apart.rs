@@ -8,9 +8,11 @@
 
 use std::path::Path;
 
-use perifrac_sim::model::Model;
 use perifrac_sim::run::{self, Prepared};
 use perifrac_sim::scene::Scene;
+
+mod common;
+use common::{model, momentum};
 
 /// The shipped scene's material: E = 1 MPa, ν = 0.45, ρ = 1100 kg/m³.
 const DENSITY: f64 = 1100.0;
@@ -52,22 +54,6 @@ fn spheres(radius: f64, closing: f64, duration: f64) -> Prepared {
     }
     let scene = Scene::parse(&text, &path, path.parent().expect("dir")).expect("scene");
     run::prepare(&scene).expect("prepares")
-}
-
-fn model(p: &Prepared) -> &dyn Model {
-    p.world.parts[0].model.as_ref()
-}
-
-/// Σ m v over every point.
-fn momentum(p: &Prepared) -> [f64; 3] {
-    let points = model(p).points();
-    let mut total = [0.0; 3];
-    for (m, v) in points.mass.iter().zip(points.velocity) {
-        for a in 0..3 {
-            total[a] += m * v[a];
-        }
-    }
-    total
 }
 
 /// What one collision showed.

@@ -40,15 +40,18 @@
 
 use std::collections::BTreeMap;
 
-use rapier3d_f64::na::{Matrix3, Point3, UnitQuaternion, Vector3};
+use rapier3d_f64::na::{Point3, UnitQuaternion, Vector3};
 use rapier3d_f64::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::cache::checkpoint::{Decoder, Encoder};
 use crate::contact::{Collider, ColliderShape};
-use crate::error::Result;
 use crate::scene::RigidSpec;
 use crate::world::Part;
+
+mod checkpoint;
+mod fit;
+
+use fit::{Fit, fit};
 
 /// Above this many points a piece collides as the union of its particles' cubes
 /// instead of their rounded convex hull.
@@ -94,19 +97,6 @@ impl Physics {
             ccd: CCDSolver::new(),
         }
     }
-}
-
-/// What a look at the fragments found of one fragment.
-struct Fit {
-    mass: f64,
-    center: [f64; 3],
-    velocity: [f64; 3],
-    spin: [f64; 3],
-    inertia: Matrix3<f64>,
-    /// Kinetic energy of the motion relative to the rigid fit (J).
-    relative: f64,
-    /// Kinetic energy (J).
-    kinetic: f64,
 }
 
 /// The rigid phase of a world: rapier's bodies and the pieces they carry.
@@ -209,6 +199,11 @@ impl RigidPhase {
     /// Pieces so far.
     pub fn pieces(&self) -> usize {
         self.pieces.len()
+    }
+
+    /// Points in rigid pieces.
+    pub fn frozen_points(&self) -> usize {
+        self.pieces.iter().map(|p| p.points.len()).sum()
     }
 
     /// Whether rapier moves world collider `i` (a dynamic one, mirrored).
@@ -471,105 +466,6 @@ impl RigidPhase {
     pub fn longest_step(&self) -> f64 {
         self.settings.step
     }
-
-    /// Writes the rigid phase (its pieces, the colliders it mirrors, the fragments
-    /// settling, the pieces' last contact forces and rapier's state) into a checkpoint.
-    pub fn save(&self, out: &mut Encoder) {
-        let state = (
-            &self.pieces,
-            &self.mirrors,
-            &self.calm,
-            &self.contact,
-            &self.physics,
-        );
-        let mut bytes = Vec::new();
-        // Writing into memory fails only on a type serde cannot express, which
-        // rapier's state is not: an empty record would then fail the resume, loudly.
-        let _ = ciborium::into_writer(&state, &mut bytes);
-        out.put_u64(bytes.len() as u64);
-        out.put_u32_slice(&bytes_to_words(&bytes));
-    }
-
-    /// Restores what [`RigidPhase::save`] wrote and freezes the pieces' points in
-    /// their models.
-    pub fn restore(&mut self, input: &mut Decoder<'_>, parts: &mut [Part]) -> Result<()> {
-        let len = input.take_u64("rigid phase")? as usize;
-        if len > input.remaining() {
-            return Err(input
-                .error(
-                    "rigid phase",
-                    format!("{len} bytes, more than the file holds"),
-                )
-                .into());
-        }
-        let words = input.take_u32_slice("rigid phase", len.div_ceil(4))?;
-        let bytes = words_to_bytes(&words, len);
-        type State = (
-            Vec<Piece>,
-            Vec<(usize, RigidBodyHandle)>,
-            BTreeMap<(u32, u32), f64>,
-            Vec<([f64; 3], [f64; 3])>,
-            Physics,
-        );
-        let (pieces, mirrors, calm, contact, physics): State =
-            ciborium::from_reader(bytes.as_slice())
-                .map_err(|e| input.error("rigid phase", format!("does not read: {e}")))?;
-        for (k, piece) in pieces.iter().enumerate() {
-            let part = parts.get_mut(piece.part as usize);
-            let n = part.as_ref().map_or(0, |p| p.model.points().position.len());
-            if part.is_none()
-                || piece.points.len() != piece.local.len()
-                || piece.points.iter().any(|&i| i as usize >= n)
-                || physics.bodies.get(piece.body).is_none()
-            {
-                return Err(input
-                    .error(
-                        "rigid phase",
-                        format!("piece {k} names points or a body the scene has not"),
-                    )
-                    .into());
-            }
-            if let Some(part) = part {
-                part.model.freeze(&piece.points);
-            }
-        }
-        if contact.len() != pieces.len()
-            || contact
-                .iter()
-                .flat_map(|(f, t)| f.iter().chain(t))
-                .any(|x| !x.is_finite())
-        {
-            return Err(input
-                .error(
-                    "rigid phase",
-                    "the pieces' contact forces do not match the pieces",
-                )
-                .into());
-        }
-        self.contact = contact;
-        self.pieces = pieces;
-        self.mirrors = mirrors;
-        self.calm = calm;
-        self.physics = physics;
-        Ok(())
-    }
-}
-
-fn bytes_to_words(bytes: &[u8]) -> Vec<u32> {
-    bytes
-        .chunks(4)
-        .map(|c| {
-            let mut w = [0u8; 4];
-            w[..c.len()].copy_from_slice(c);
-            u32::from_le_bytes(w)
-        })
-        .collect()
-}
-
-fn words_to_bytes(words: &[u32], len: usize) -> Vec<u8> {
-    let mut out: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
-    out.truncate(len);
-    out
 }
 
 /// Moves a piece's points to its body's pose: y = c + R r, v = V + ω × R r.
@@ -588,61 +484,5 @@ fn place(piece: &Piece, body: &RigidBody, part: &mut Part) {
             v[1] + w[2] * r[0] - w[0] * r[2],
             v[2] + w[0] * r[1] - w[1] * r[0],
         ];
-    }
-}
-
-/// The best-fit rigid motion of `points` (module doc).
-fn fit(part: &Part, points: &[u32]) -> Fit {
-    let p = part.model.points();
-    let volume = part.model.contact_points().map(|c| c.volume);
-    let mut mass = 0.0;
-    let mut moment = [0.0; 3];
-    let mut momentum = [0.0; 3];
-    let mut kinetic = 0.0;
-    for &i in points {
-        let (m, x, v) = (
-            p.mass[i as usize],
-            p.position[i as usize],
-            p.velocity[i as usize],
-        );
-        mass += m;
-        for k in 0..3 {
-            moment[k] += m * x[k];
-            momentum[k] += m * v[k];
-        }
-        kinetic += 0.5 * m * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    }
-    let center = moment.map(|s| s / mass);
-    let velocity = momentum.map(|s| s / mass);
-    let mut angular = Vector3::zeros();
-    let mut inertia = Matrix3::zeros();
-    for &i in points {
-        let (m, x, v) = (
-            p.mass[i as usize],
-            p.position[i as usize],
-            p.velocity[i as usize],
-        );
-        let r = Vector3::new(x[0] - center[0], x[1] - center[1], x[2] - center[2]);
-        angular += m * r.cross(&vector(v));
-        inertia += m * (Matrix3::identity() * r.norm_squared() - r * r.transpose());
-        if points.len() < 4 {
-            // A point's own inertia, as a cube of its volume: m l²/6.
-            let l2 = volume.map_or(0.0, |v| v[i as usize].cbrt().powi(2));
-            inertia += Matrix3::identity() * (m * l2 / 6.0);
-        }
-    }
-    let spin = inertia
-        .try_inverse()
-        .map_or(Vector3::zeros(), |inv| inv * angular);
-    let rigid = 0.5 * mass * (velocity[0].powi(2) + velocity[1].powi(2) + velocity[2].powi(2))
-        + 0.5 * spin.dot(&(inertia * spin));
-    Fit {
-        mass,
-        center,
-        velocity,
-        spin: array(&spin),
-        inertia,
-        relative: (kinetic - rigid).max(0.0),
-        kinetic,
     }
 }

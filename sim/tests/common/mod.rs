@@ -1,9 +1,12 @@
-//! What the integration tests of one scene through the whole run share: the same
-//! bytes with 1 and 2 threads, and after a stop and a resume.
+//! What the integration tests share: the same bytes with 1 and 2 threads and after a
+//! stop and a resume, and the sums they check a prepared scene's model with.
+// Each test file is its own crate and uses only some of these.
+#![allow(dead_code)]
 
 use std::path::Path;
 
-use perifrac_sim::run::{self, RunOptions};
+use perifrac_sim::model::Model;
+use perifrac_sim::run::{self, Prepared, RunOptions};
 use perifrac_sim::scene::Scene;
 
 /// Asserts that the particle frames 1..=`frames` of caches `a` and `b` are byte for
@@ -59,4 +62,21 @@ pub fn threads_and_resume(s: &Scene, stop_after: usize) -> [tempfile::TempDir; 3
         "a resumed run differs from an uninterrupted one",
     );
     dirs
+}
+
+/// The first model of a prepared scene.
+pub fn model(p: &Prepared) -> &dyn Model {
+    p.world.parts[0].model.as_ref()
+}
+
+/// Σ m v over every point of the first model.
+pub fn momentum(p: &Prepared) -> [f64; 3] {
+    let points = model(p).points();
+    let mut total = [0.0; 3];
+    for (m, v) in points.mass.iter().zip(points.velocity) {
+        for a in 0..3 {
+            total[a] += m * v[a];
+        }
+    }
+    total
 }

@@ -15,120 +15,20 @@ use std::time::Instant;
 use perifrac_math::dot;
 use rayon::prelude::*;
 
-use crate::cache::checkpoint::{Decoder, Encoder};
-use crate::contact::{self, Anchor, Collider, ColliderShape};
+use crate::contact::{self, Anchor, Collider};
 use crate::error::{Result, SimError};
 use crate::model::{Environment, Model, ParticleColumns, Stepping};
 use crate::particle_contact::ParticleContact;
 use crate::rigid::RigidPhase;
 use crate::scene::RigidSpec;
 
-/// A model in the world with its anchors and the integrator's per-point state.
-#[derive(Debug)]
-pub struct Part {
-    /// The model.
-    pub model: Box<dyn Model>,
-    /// Anchored regions; their `particles` index the model's points.
-    pub anchors: Vec<Anchor>,
-    /// Verlet's acceleration at the current positions (saved in checkpoints: after a
-    /// step's contact projection it is not the acceleration of the new positions).
-    acceleration: Vec<[f64; 3]>,
-    /// Whether a point is held by an active anchor.
-    anchored: Vec<bool>,
-}
+mod checkpoint;
+mod clock;
+mod part;
 
-impl Part {
-    /// A model with its anchors.
-    pub fn new(model: Box<dyn Model>, anchors: Vec<Anchor>) -> Part {
-        let n = model.points().position.len();
-        Part {
-            model,
-            anchors,
-            acceleration: vec![[0.0; 3]; n],
-            anchored: vec![false; n],
-        }
-    }
-
-    fn apply_anchors(&mut self, time: f64) {
-        let p = self.model.points_mut();
-        contact::apply_anchors(
-            &self.anchors,
-            time,
-            p.reference,
-            p.position,
-            p.velocity,
-            &mut self.anchored,
-        );
-    }
-
-    /// The accelerations at the current state: internal forces over mass plus
-    /// gravity, the forces on the clamps' ghosts carried to their sources.
-    fn accelerations(&mut self, time: f64, gravity: [f64; 3]) {
-        self.model.accelerations(gravity, &mut self.acceleration);
-        contact::carry_clamp_forces(
-            &self.anchors,
-            time,
-            self.model.points().mass,
-            gravity,
-            &mut self.acceleration,
-        );
-    }
-
-    /// Holds the anchored points at `time` (placing the clamps' ghosts) and computes
-    /// the accelerations at the current positions, as a step does between its drift
-    /// and its second kick; returns them (measurements of the stiffness: tests and
-    /// docs/lattice.md, "Bending").
-    pub fn accelerations_at(&mut self, time: f64, gravity: [f64; 3]) -> &[[f64; 3]] {
-        self.apply_anchors(time);
-        self.model.internal_forces();
-        self.accelerations(time, gravity);
-        &self.acceleration
-    }
-
-    /// Whether point `i` is held by an active anchor.
-    pub fn is_anchored(&self, i: usize) -> bool {
-        self.anchored.get(i).copied().unwrap_or(false)
-    }
-
-    /// |m a · v| summed over the anchored points: the anchors' power.
-    fn anchor_power(&self) -> f64 {
-        if self.anchors.is_empty() {
-            return 0.0;
-        }
-        let p = self.model.points();
-        contact::anchor_power(&self.anchored, p.mass, &self.acceleration, p.velocity)
-    }
-}
-
-/// Velocity Verlet's half kick v ← v + ½Δt a, with the drift y ← y + Δt v after it
-/// when `drift`.
-fn kick(part: &mut Part, dt: f64, drift: bool) {
-    let p = part.model.points_mut();
-    let acc = &part.acceleration;
-    if drift {
-        p.position
-            .par_iter_mut()
-            .zip(p.velocity.par_iter_mut())
-            .zip(acc.par_iter())
-            .with_min_len(8192)
-            .for_each(|((y, v), a)| {
-                for k in 0..3 {
-                    v[k] += 0.5 * dt * a[k];
-                    y[k] += dt * v[k];
-                }
-            });
-    } else {
-        p.velocity
-            .par_iter_mut()
-            .zip(acc.par_iter())
-            .with_min_len(8192)
-            .for_each(|(v, a)| {
-                for k in 0..3 {
-                    v[k] += 0.5 * dt * a[k];
-                }
-            });
-    }
-}
+pub use clock::Clock;
+pub use part::Part;
+use part::kick;
 
 /// Settings of a world that do not change during a run.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -141,25 +41,6 @@ pub struct WorldSettings {
     pub duration: f64,
     /// Growth over the energy budget that counts as a blow-up.
     pub energy_growth: f64,
-}
-
-/// The world's time line: the step `dt` since step `steps` at `time`, and frames of
-/// `steps_per_frame` steps from frame `frame` on (frame `frame` ends at step `steps`).
-/// A run starts on the scene's step from 0; the frame loop starts the clock again from
-/// a frame where the frame rate changes (`[output] schedule`) or once only rigid pieces
-/// move (with the rigid phase's longer step).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct Clock {
-    /// Steps at the start of this clock.
-    pub steps: u64,
-    /// Time at the start of this clock (s).
-    pub time: f64,
-    /// The frame that ends where this clock starts (0 for the scene's start).
-    pub frame: u64,
-    /// Steps a frame.
-    pub steps_per_frame: u64,
-    /// Seconds a frame.
-    pub frame_length: f64,
 }
 
 /// Every model of a scene, the colliders and the clock.
@@ -264,58 +145,6 @@ impl World {
             &self.colliders,
             &anchors,
         )
-    }
-
-    /// The time after `steps` steps on the current clock.
-    pub fn time_after(&self, steps: u64) -> f64 {
-        self.clock.time + (steps - self.clock.steps) as f64 * self.dt
-    }
-
-    /// The step at which `frame` ends on the current clock.
-    pub fn frame_end(&self, frame: usize) -> u64 {
-        let frames = (frame as u64).saturating_sub(1 + self.clock.frame);
-        self.clock
-            .steps
-            .saturating_add(frames.saturating_mul(self.clock.steps_per_frame))
-    }
-
-    /// Whether only rigid pieces are left to move: every point of every model is in
-    /// the rigid phase.
-    pub fn rigid_only(&self) -> bool {
-        self.rigid.is_some()
-            && self.parts.iter().all(|p| {
-                p.model.stepping() == Stepping::Verlet
-                    && p.model.frozen().is_some_and(|f| f.iter().all(|&z| z))
-            })
-    }
-
-    /// At the end of frame `frame`, before a frame of `frame_length` s: starts the
-    /// clock again when the frame rate changes, or when only rigid pieces are left to
-    /// move and the rigid phase's longest step allows fewer steps a frame; returns
-    /// whether it did. A world part way into a frame (resumed mid-frame) keeps its
-    /// clock.
-    pub fn start_clock(&mut self, frame: usize, frame_length: f64) -> bool {
-        if self.steps != self.frame_end(frame) {
-            return false;
-        }
-        let bound = match &self.rigid {
-            Some(rigid) if self.rigid_only() => rigid.longest_step().max(self.step_bound),
-            _ => self.step_bound,
-        };
-        let per_frame = (frame_length / bound).ceil().max(1.0) as u64;
-        let same = frame_length.to_bits() == self.clock.frame_length.to_bits();
-        if same && per_frame >= self.clock.steps_per_frame {
-            return false;
-        }
-        self.clock = Clock {
-            steps: self.steps,
-            time: self.time,
-            frame: frame as u64 - 1,
-            steps_per_frame: per_frame,
-            frame_length,
-        };
-        self.dt = frame_length / per_frame as f64;
-        true
     }
 
     /// One step of every model; returns the number of bonds broken.
@@ -713,181 +542,5 @@ impl World {
         for part in &mut self.parts {
             part.model.reset_stage_times();
         }
-    }
-
-    /// Writes the saved state (models, Verlet's accelerations, colliders, anchor
-    /// work) into a checkpoint payload; the clock goes in the container's header.
-    pub fn save(&self, out: &mut Encoder) {
-        out.put_u64(self.parts.len() as u64);
-        for part in &self.parts {
-            out.put_f64x3_slice(&part.acceleration);
-            part.model.save(out);
-        }
-        out.put_f64(self.anchor_work);
-        let colliders: Vec<[f64; 3]> = self
-            .colliders
-            .iter()
-            .flat_map(|c| [c.center, c.velocity])
-            .collect();
-        out.put_f64x3_slice(&colliders);
-        let c = self.clock;
-        out.put_u64(c.steps);
-        out.put_f64(c.time);
-        out.put_u64(c.frame);
-        out.put_u64(c.steps_per_frame);
-        out.put_f64(self.dt);
-        out.put_f64(c.frame_length);
-        match &self.rigid {
-            Some(rigid) => {
-                out.put_u64(1);
-                rigid.save(out);
-            }
-            None => out.put_u64(0),
-        }
-    }
-
-    /// Restores what [`World::save`] wrote, at `time` after `steps` steps with
-    /// `broken_bonds` bonds broken since the first step (the checkpoint's header):
-    /// every value is checked before use, and the bonds the models restore must
-    /// have broken exactly `broken_bonds` since set-up.
-    pub fn restore(
-        &mut self,
-        input: &mut Decoder<'_>,
-        time: f64,
-        steps: u64,
-        broken_bonds: u64,
-    ) -> Result<()> {
-        let models = input.take_u64("models")?;
-        if models != self.parts.len() as u64 {
-            return Err(input
-                .error(
-                    "models",
-                    format!("{models} where the scene has {}", self.parts.len()),
-                )
-                .into());
-        }
-        let cut_at_setup: u64 = self.parts.iter().map(|p| p.model.broken_bonds()).sum();
-        for part in &mut self.parts {
-            part.acceleration =
-                input.take_finite_f64x3_slice("acceleration", part.acceleration.len())?;
-            part.model.restore(input)?;
-        }
-        let broken: u64 = self.parts.iter().map(|p| p.model.broken_bonds()).sum();
-        if broken - cut_at_setup != broken_bonds {
-            let message = format!(
-                "{} bonds broke since the first step, the header says {broken_bonds}",
-                broken - cut_at_setup
-            );
-            return Err(input.error("bonds", message).into());
-        }
-        self.anchor_work = input.take_finite_f64("anchor work")?;
-        let colliders = input.take_finite_f64x3_slice("colliders", 2 * self.colliders.len())?;
-        let clock = Clock {
-            steps: input.take_u64("clock")?,
-            time: input.take_finite_f64("clock")?,
-            frame: input.take_u64("clock")?,
-            steps_per_frame: input.take_u64("clock")?,
-            frame_length: 0.0,
-        };
-        let dt = input.take_finite_f64("time step")?;
-        let frame_length = input.take_finite_f64("clock")?;
-        let clock = Clock {
-            frame_length,
-            ..clock
-        };
-        if clock.steps > steps || dt <= 0.0 || frame_length < 0.0 {
-            return Err(input
-                .error(
-                    "clock",
-                    format!("{clock:?} with a step of {dt:e} s does not fit {steps} steps"),
-                )
-                .into());
-        }
-        // The world's time is steps × dt from where its clock started, to the bit, and
-        // lies within the scene (which also bounds the collider replay below).
-        let reached = clock.time + (steps - clock.steps) as f64 * dt;
-        if time.to_bits() != reached.to_bits() || time > self.duration + dt {
-            let message = format!(
-                "its time {time:e} s is not {steps} steps of {dt:e} s within the scene's {:e} s",
-                self.duration
-            );
-            return Err(input.error("clock", message).into());
-        }
-        match input.take_u64("rigid phase")? {
-            0 => self.rigid = None,
-            1 => {
-                let Some(settings) = self.rigid_settings.clone() else {
-                    return Err(input
-                        .error(
-                            "rigid phase",
-                            "the scene has no rigid phase ([rigid] enabled = false)",
-                        )
-                        .into());
-                };
-                let mut rigid = RigidPhase::new(settings, &self.colliders);
-                rigid.restore(input, &mut self.parts)?;
-                self.rigid = Some(rigid);
-            }
-            other => {
-                return Err(input
-                    .error("rigid phase", format!("flag {other}, not 0 or 1"))
-                    .into());
-            }
-        }
-        for (i, (c, cv)) in self
-            .colliders
-            .iter_mut()
-            .zip(colliders.chunks_exact(2))
-            .enumerate()
-        {
-            // A kinematic collider's motion is the scene's: replay it to check.
-            if c.mass.is_none() {
-                // Exact to the bit on one clock; within rounding over several.
-                let mut center = c.center;
-                if c.shape != ColliderShape::Ground {
-                    if clock.steps == 0 {
-                        for _ in 0..steps {
-                            for (x, v) in center.iter_mut().zip(c.velocity) {
-                                *x += v * self.dt;
-                            }
-                        }
-                    } else {
-                        for (x, v) in center.iter_mut().zip(c.velocity) {
-                            *x += v * time;
-                        }
-                    }
-                }
-                let off = (0..3)
-                    .map(|k| (cv[0][k] - center[k]).abs())
-                    .fold(0.0, f64::max);
-                let scale = (0..3).map(|k| center[k].abs() + (c.velocity[k] * time).abs());
-                let tolerance = if clock.steps == 0 {
-                    0.0
-                } else {
-                    1e-9 * scale.fold(1e-3, f64::max)
-                };
-                if off > tolerance || cv[1] != c.velocity {
-                    let message = format!(
-                        "kinematic collider {i} is at {:?} moving at {:?}; after {steps} steps \
-                         the scene puts it at {center:?} moving at {:?}",
-                        cv[0], cv[1], c.velocity
-                    );
-                    return Err(input.error("colliders", message).into());
-                }
-            }
-            (c.center, c.velocity) = (cv[0], cv[1]);
-            c.set_time(time);
-        }
-        self.time = time;
-        self.steps = steps;
-        self.clock = clock;
-        self.dt = dt;
-        if let Some(contact) = &mut self.contact {
-            contact.invalidate();
-        }
-        for part in &mut self.parts {
-            contact::mark_anchored(&part.anchors, time, &mut part.anchored);
-        }
-        Ok(())
     }
 }
