@@ -95,6 +95,9 @@ pub struct Fragments {
     /// points damaged) or a small free piece goes rigid, so an intact body at rest
     /// waits for what breaks it.
     pub damaged: Vec<bool>,
+    /// The P-wave speed c_p of each body's material (indexed as
+    /// [`Model::point_bodies`]): how fast a piece of it rings.
+    pub wave_speed: Vec<f64>,
 }
 
 /// How a model's points are advanced in time.

@@ -8,7 +8,7 @@ mod common;
 use std::path::Path;
 
 use perifrac_sim::rigid::RigidPhase;
-use perifrac_sim::run::{self, Prepared, RunOptions};
+use perifrac_sim::run::{self, Prepared, RunOptions, StopRequest};
 use perifrac_sim::scene::Scene;
 
 fn scene(text: &str) -> Scene {
@@ -102,8 +102,13 @@ fn a_vibrating_fragment_keeps_its_momenta_and_loses_only_its_vibration() {
 
 /// A glass plate dropped on the ground: it shatters, its pieces go rigid and land.
 fn plate_drop(duration: f64) -> Scene {
+    plate_drop_at(duration, 10.0)
+}
+
+/// [`plate_drop`] with `fps` frames a second.
+fn plate_drop_at(duration: f64, fps: f64) -> Scene {
     scene(&format!(
-        "[scene]\nduration = {duration}\nfps = 10.0\n{GLASS}critical_compression = 0.01\n\
+        "[scene]\nduration = {duration}\nfps = {fps}\n{GLASS}critical_compression = 0.01\n\
          [[body]]\nname = \"plate\"\nmaterial = \"glass\"\nresolution = 0.02\n\
          shape = {{ type = \"box\", center = [0.0, 0.03, 0.0], size = [0.12, 0.04, 0.12] }}\n\
          velocity = [0.0, -6.0, 0.0]\nangular_velocity = [4.0, 0.0, 3.0]\n\
@@ -143,8 +148,59 @@ fn a_dropped_glass_plate_shatters_and_every_piece_comes_to_rest() {
     );
 }
 
+/// Runs `s` again stopped once `after` steps are taken (at the next stop point) and
+/// resumed: the particle frames of `whole`, the uninterrupted run.
+fn stopped_and_resumed(s: &Scene, whole: &Path, after: u64) {
+    let stopped = tempfile::tempdir().expect("temp dir");
+    let stop = RunOptions {
+        stop: StopRequest::after_steps(after),
+        ..RunOptions::default()
+    };
+    let e = run::run(s, stopped.path(), &stop, &mut |_| {}).expect_err("stops");
+    assert!(e.to_string().contains("stop after"), "{e}");
+    let resume = RunOptions {
+        resume: true,
+        ..RunOptions::default()
+    };
+    let m = run::run(s, stopped.path(), &resume, &mut |_| {}).expect("resumes");
+    assert_eq!(m.status.to_string(), "complete");
+    for f in 1..=m.frames() {
+        let name = format!("particles/{f:04}.ply");
+        let a = std::fs::read(whole.join(&name)).expect("frame");
+        let b = std::fs::read(stopped.path().join(&name)).expect("frame");
+        assert!(a == b, "{name} differs after a stop after {after} steps");
+    }
+}
+
 #[test]
-fn the_rigid_phase_threads_and_resumes_to_the_same_bytes() {
-    // Stopped in the rigid phase (after frame 2 of 3, 0.2 s in).
-    common::threads_and_resume(&plate_drop(0.3), 2);
+fn the_rigid_phase_threads_stops_and_resumes_to_the_same_bytes() {
+    // Stopped in the rigid phase after frame 2 of 3 (0.2 s in), and again part way
+    // through frame 3, once only rigid pieces move.
+    let s = plate_drop(0.3);
+    let [whole, ..] = common::threads_and_resume(&s, 2);
+    let m = perifrac_sim::cache::manifest::Manifest::read(&whole.path().join("manifest.json"))
+        .expect("manifest");
+    stopped_and_resumed(&s, whole.path(), m.steps - 29);
+}
+
+#[test]
+fn a_stop_while_pieces_rest_among_particles_resumes_to_the_same_bytes() {
+    // A jelly cube shattered on the ground: its grains go rigid and rest on the ground
+    // beside pieces still deformable. Rapier's broad phase keeps optimiser counters it
+    // does not save; stopped anywhere, the resumed run optimised its tree otherwise and
+    // differed from frame 3 on (until stops waited for the stop points).
+    let s = scene(
+        "[scene]\nduration = 0.05\nfps = 80\n[materials.jelly]\ndensity = 1000.0\n\
+         youngs_modulus = 1.0e5\npoisson_ratio = 0.3\ncritical_stretch = 0.05\n\
+         [[body]]\nmaterial = \"jelly\"\nresolution = 0.008\nvelocity = [0, -6, 0]\n\
+         shape = { type = \"box\", center = [0, 0.03, 0], size = [0.05, 0.05, 0.05] }\n\
+         [[collider]]\ntype = \"ground\"\n[rigid]\nenabled = true\n\
+         [output]\npreview = false\nusd = false\n",
+    );
+    let whole = tempfile::tempdir().expect("temp dir");
+    let m = run::run(&s, whole.path(), &RunOptions::default(), &mut |_| {}).expect("runs");
+    let frame = m.steps / 4;
+    for after in [frame + 1, 2 * frame + 40] {
+        stopped_and_resumed(&s, whole.path(), after);
+    }
 }

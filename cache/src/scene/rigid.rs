@@ -20,14 +20,18 @@ pub struct RigidSpec {
     #[serde(default = "default_margin")]
     pub margin: f64,
     /// ... and while the kinetic energy of its motion relative to its best-fit rigid
-    /// motion is under this fraction of its kinetic energy (or its relative motion is
-    /// slower than `rest_speed`). Default 0.1.
+    /// motion is under this fraction of its kinetic energy (or that motion's amplitude
+    /// is under `rest_amplitude`). Default 0.1.
     #[serde(default = "default_vibration")]
     pub vibration: f64,
-    /// Root-mean-square speed relative to the best-fit rigid motion under which a
-    /// fragment counts as still whatever its own speed, in m/s. Default 0.05.
-    #[serde(default = "default_rest_speed")]
-    pub rest_speed: f64,
+    /// Amplitude of the motion relative to the best-fit rigid motion, in particle
+    /// spacings, under which a fragment counts as still whatever its own speed: a
+    /// piece standing after an impact rings at its own frequency, and what an artist
+    /// sees of that ringing is its amplitude, v_rms L/(π c_p) for a piece of size L
+    /// and P-wave speed c_p (its fundamental period 2L/c_p), not its speed.
+    /// Default 0.01.
+    #[serde(default = "default_rest_amplitude")]
+    pub rest_amplitude: f64,
     /// How long both conditions must hold, in s. Default 2e-4.
     #[serde(default = "default_settle_time")]
     pub settle_time: f64,
@@ -57,7 +61,7 @@ impl Default for RigidSpec {
             enabled: false,
             margin: default_margin(),
             vibration: default_vibration(),
-            rest_speed: default_rest_speed(),
+            rest_amplitude: default_rest_amplitude(),
             settle_time: default_settle_time(),
             small_fragment: default_small_fragment(),
             check_every: default_check_every(),
@@ -74,8 +78,8 @@ fn default_margin() -> f64 {
 fn default_vibration() -> f64 {
     0.1
 }
-fn default_rest_speed() -> f64 {
-    0.05
+fn default_rest_amplitude() -> f64 {
+    0.01
 }
 fn default_settle_time() -> f64 {
     2e-4

@@ -182,6 +182,7 @@ impl Model for Peridynamics {
             fragment: m.fragments(),
             breaking: m.breaking_ratios(),
             damaged: m.particles.damage.iter().map(|&d| d > 0.0).collect(),
+            wave_speed: m.bodies.iter().map(|b| b.material.p_wave_speed()).collect(),
         })
     }
 

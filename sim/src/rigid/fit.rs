@@ -18,6 +18,20 @@ pub(super) struct Fit {
     pub(super) relative: f64,
     /// Kinetic energy (J).
     pub(super) kinetic: f64,
+    /// Twice the largest distance of a point from the centre (m).
+    pub(super) size: f64,
+    /// The points' mean spacing, V̄^{1/3} (m).
+    pub(super) spacing: f64,
+}
+
+impl Fit {
+    /// The amplitude of the motion relative to the rigid fit, in spacings: its r.m.s.
+    /// speed over the angular frequency of the piece's fundamental, π c_p / L (a free
+    /// piece of size L rings with period 2L/c_p).
+    pub(super) fn amplitude(&self, wave_speed: f64) -> f64 {
+        let speed = (2.0 * self.relative / self.mass).sqrt();
+        speed * self.size / (std::f64::consts::PI * wave_speed) / self.spacing
+    }
 }
 
 /// The best-fit rigid motion of `points` (module doc).
@@ -45,6 +59,8 @@ pub(super) fn fit(part: &Part, points: &[u32]) -> Fit {
     let velocity = momentum.map(|s| s / mass);
     let mut angular = Vector3::zeros();
     let mut inertia = Matrix3::zeros();
+    let mut reach = 0.0f64;
+    let mut spacing = 0.0;
     for &i in points {
         let (m, x, v) = (
             p.mass[i as usize],
@@ -52,6 +68,8 @@ pub(super) fn fit(part: &Part, points: &[u32]) -> Fit {
             p.velocity[i as usize],
         );
         let r = Vector3::new(x[0] - center[0], x[1] - center[1], x[2] - center[2]);
+        reach = reach.max(r.norm());
+        spacing += volume.map_or(0.0, |v| v[i as usize].cbrt()) / points.len() as f64;
         angular += m * r.cross(&vector(v));
         inertia += m * (Matrix3::identity() * r.norm_squared() - r * r.transpose());
         if points.len() < 4 {
@@ -73,5 +91,7 @@ pub(super) fn fit(part: &Part, points: &[u32]) -> Fit {
         inertia,
         relative: (kinetic - rigid).max(0.0),
         kinetic,
+        size: 2.0 * reach,
+        spacing: spacing.max(1e-9),
     }
 }

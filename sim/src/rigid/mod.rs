@@ -10,8 +10,10 @@
 //! intact or only pre-cut body at rest waits for what breaks it) when, for `settle_time`, no intact bond is within `margin` of what
 //! breaks it and
 //! the kinetic energy of its motion relative to its best-fit rigid motion is under
-//! `vibration` of its kinetic energy (or that motion's r.m.s. speed under
-//! `rest_speed`). A fragment that holds an anchored point stays in its model.
+//! `vibration` of its kinetic energy (or that motion's amplitude, its r.m.s. speed
+//! v times L/(π c_p) for a piece of size L and P-wave speed c_p, under
+//! `rest_amplitude` of a spacing: a piece left standing rings at kilohertz, and what
+//! shows of it is how far it moves, not how fast). A fragment that holds an anchored point stays in its model.
 //!
 //! **The switch.** With M = Σ m_i, c = Σ m_i x_i / M, P = Σ m_i v_i, L = Σ m_i
 //! (x_i − c) × v_i and I = Σ m_i (|r_i|² 1 − r_i r_iᵀ), the body starts at c with
@@ -69,6 +71,11 @@ struct Piece {
     local: Vec<[f64; 3]>,
     /// Its rapier body.
     body: RigidBodyHandle,
+    /// Its thinnest size, the particles' mean spacing (m): a step that moves it
+    /// further than half of this turns on rapier's continuous collision detection.
+    thickness: f64,
+    /// Twice its largest distance from the centre of mass (m).
+    size: f64,
 }
 
 /// Rapier's state: what is saved in checkpoints.
@@ -196,6 +203,21 @@ impl RigidPhase {
             .linvel(vector(c.velocity))
     }
 
+    /// Resets what rapier keeps between steps but does not save: the counters of
+    /// parry's BVH optimiser (its `BvhWorkspace`, skipped by serde), which a restored
+    /// broad phase starts from zero. Every run resets them at the same places, the
+    /// world's stop points ([`crate::world::World::at_stop_point`]), by passing the
+    /// broad phase through its serialized form, so a run resumed from any of those
+    /// places continues with the same bytes. The rest of rapier's state round-trips
+    /// exactly (with `enhanced-determinism` its maps keep their insertion order).
+    pub fn reset_workspaces(&mut self) {
+        let mut bytes = Vec::new();
+        ciborium::into_writer(&self.physics.broad_phase, &mut bytes)
+            .expect("rapier's broad phase serializes into memory");
+        self.physics.broad_phase = ciborium::from_reader(bytes.as_slice())
+            .expect("rapier's broad phase reads back what it wrote");
+    }
+
     /// Pieces so far.
     pub fn pieces(&self) -> usize {
         self.pieces.len()
@@ -257,12 +279,11 @@ impl RigidPhase {
                     .map(|&i| fragments.breaking[i as usize])
                     .fold(0.0, f64::max);
                 let fit = fit(part, &points);
+                let wave_speed = fragments.wave_speed[body as usize];
                 let still = small
-                    || (worst < self.settings.margin && {
-                        let rest = 0.5 * fit.mass * self.settings.rest_speed.powi(2);
-                        fit.relative <= self.settings.vibration * fit.kinetic
-                            || fit.relative <= rest
-                    });
+                    || (worst < self.settings.margin
+                        && (fit.relative <= self.settings.vibration * fit.kinetic
+                            || fit.amplitude(wave_speed) <= self.settings.rest_amplitude));
                 if !still {
                     continue;
                 }
@@ -325,7 +346,6 @@ impl RigidPhase {
             .translation(vector(fit.center))
             .linvel(vector(fit.velocity))
             .angvel(vector(fit.spin))
-            .ccd_enabled(true)
             .additional_mass_properties(MassProperties::with_inertia_matrix(
                 Point3::origin(),
                 fit.mass,
@@ -348,6 +368,8 @@ impl RigidPhase {
             points,
             local,
             body: handle,
+            thickness: 2.0 * radius,
+            size: fit.size,
         };
         place(&piece, &self.physics.bodies[handle], part);
         self.pieces.push(piece);
@@ -383,6 +405,18 @@ impl RigidPhase {
             let body = &mut self.physics.bodies[handle];
             if c.mass.is_none() && !matches!(c.shape, ColliderShape::Ground) {
                 body.set_linvel(vector(c.velocity), true);
+            }
+        }
+        // Continuous collision detection where a step moves a piece through half its
+        // thickness: at the deformable phase's microsecond steps none, at the rigid
+        // phase's 1/600 s the fast ones (it is most of rapier's cost with a thousand
+        // grains in flight).
+        for piece in &self.pieces {
+            let body = &mut self.physics.bodies[piece.body];
+            let reach = dt * (body.linvel().norm() + 0.5 * piece.size * body.angvel().norm());
+            let ccd = reach > 0.5 * piece.thickness;
+            if body.is_ccd_enabled() != ccd {
+                body.enable_ccd(ccd);
             }
         }
         let params = IntegrationParameters {

@@ -222,7 +222,7 @@ impl<'a> Frames<'a> {
                 .push(world.colliders.iter().map(|c| c.orientation()).collect());
         }
         let last = frame == frames + 1;
-        let stop = self.stop.reason().filter(|_| !last);
+        let stop = self.stop.reason_after(world.steps).filter(|_| !last);
         let (status, message) = match (&stop, last) {
             (Some(reason), _) => (
                 Status::Interrupted,
@@ -335,18 +335,30 @@ impl<'a> Frames<'a> {
     /// The steps from frame − 1 to `frame` not taken yet (a run resumed from a
     /// checkpoint written during a frame starts part way), then the blow-up check; a
     /// blow-up names the last good frame. A request to stop is looked at before each
-    /// step: its reason is returned with the world between two steps.
+    /// step that is a stop point ([`World::at_stop_point`]): its reason is returned
+    /// with the world between two steps.
     fn advance(&mut self, world: &mut World, frame: usize) -> Result<Option<String>> {
         // A new frame rate, or only rigid pieces left to move: a new clock.
         world.start_clock(frame - 1, self.scene.frame_length(frame));
-        let end = world.frame_end(frame);
+        let mut end = world.frame_end(frame);
+        let start = world.steps;
         let stepped = (|| {
             while world.steps < end {
-                if let Some(reason) = self.stop.reason() {
+                // A stop waits for the next stop point (the rigid phase's; the
+                // frame's start is one).
+                if (world.steps == start || world.at_stop_point())
+                    && let Some(reason) = self.stop.reason_after(world.steps)
+                {
                     return Ok(Some(reason));
                 }
                 self.broken_total += world.step()? as u64;
+                // Everything went rigid part way through the frame: the rest of it
+                // at the rigid phase's step.
+                if world.at_stop_point() && world.start_rigid_clock(frame) {
+                    end = world.frame_end(frame);
+                }
             }
+            world.end_frame();
             world.check_blowup().map(|_| None)
         })();
         match stepped {

@@ -41,13 +41,27 @@ pub struct RunOptions {
 /// watcher): the run looks at it before each step and after each frame. The physics
 /// never sees it.
 #[derive(Debug, Clone, Default)]
-pub struct StopRequest(Arc<Mutex<Option<String>>>);
+pub struct StopRequest {
+    reason: Arc<Mutex<Option<String>>>,
+    /// Stop once this many steps are taken, whatever is asked (a stop reproduced at
+    /// a known step).
+    after_steps: Option<u64>,
+}
 
 impl StopRequest {
+    /// A request that stops the run once `steps` steps are taken (a signal
+    /// reproduced at a known place between two steps: the resume tests).
+    pub fn after_steps(steps: u64) -> StopRequest {
+        StopRequest {
+            after_steps: Some(steps),
+            ..StopRequest::default()
+        }
+    }
+
     /// Asks the run to stop; `reason` (e.g. `SIGTERM`) goes into the manifest and the
     /// error. The first reason stays.
     pub fn request(&self, reason: impl Into<String>) {
-        let mut slot = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        let mut slot = self.reason.lock().unwrap_or_else(|e| e.into_inner());
         if slot.is_none() {
             *slot = Some(reason.into());
         }
@@ -55,7 +69,18 @@ impl StopRequest {
 
     /// The reason, if a stop was asked for.
     pub fn reason(&self) -> Option<String> {
-        self.0.lock().unwrap_or_else(|e| e.into_inner()).clone()
+        self.reason
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .clone()
+    }
+
+    /// The reason to stop a run that has taken `steps` steps, if any.
+    pub fn reason_after(&self, steps: u64) -> Option<String> {
+        match self.after_steps {
+            Some(after) if steps >= after => Some(format!("a stop after {after} steps")),
+            _ => self.reason(),
+        }
     }
 }
 

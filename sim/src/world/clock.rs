@@ -77,4 +77,37 @@ impl World {
         self.dt = frame_length / per_frame as f64;
         true
     }
+
+    /// Part way through frame `frame`, once only rigid pieces are left to move:
+    /// starts the clock again for the rest of the frame, its remaining time over as
+    /// few steps as the rigid phase's longest step allows (the frame's end is where
+    /// it was, to rounding); the frame's end then starts the frame rate's own clock
+    /// ([`World::start_clock`]). Returns whether it did: not when the step would not
+    /// grow.
+    pub fn start_rigid_clock(&mut self, frame: usize) -> bool {
+        let Some(rigid) = &self.rigid else {
+            return false;
+        };
+        let bound = rigid.longest_step().max(self.step_bound);
+        let end = self.frame_end(frame);
+        if bound <= self.dt || end <= self.steps || !self.rigid_only() {
+            return false;
+        }
+        let remaining = self.time_after(end) - self.time;
+        let steps = (remaining / bound).ceil().max(1.0) as u64;
+        if steps >= end - self.steps {
+            return false;
+        }
+        // Frame `frame` ends `steps` steps on: the clock's frame is the one before it
+        // less one, as for a clock started at that frame's start.
+        self.clock = Clock {
+            steps: self.steps,
+            time: self.time,
+            frame: frame as u64 - 2,
+            steps_per_frame: steps,
+            frame_length: remaining,
+        };
+        self.dt = remaining / steps as f64;
+        true
+    }
 }

@@ -269,8 +269,36 @@ impl World {
         if self.steps % 16 == 0 {
             self.check_blowup()?;
         }
+        self.reset_at_stop_point();
         self.other_time += t0.elapsed().as_secs_f64() - model_time - contact_time;
         Ok(broken)
+    }
+
+    /// Whether a run may stop (and checkpoint) here: always without a rigid phase;
+    /// with one, only every `check_every` steps and at frame ends
+    /// ([`World::end_frame`]), where every run resets rapier's unsaved workspaces
+    /// ([`RigidPhase::reset_workspaces`]), so that a run resumed there continues as
+    /// one that never stopped.
+    pub fn at_stop_point(&self) -> bool {
+        match (&self.rigid, &self.rigid_settings) {
+            (Some(_), Some(settings)) => self.steps % settings.check_every as u64 == 0,
+            _ => true,
+        }
+    }
+
+    /// At a frame's end (a stop point whatever the step): resets rapier's unsaved
+    /// workspaces.
+    pub fn end_frame(&mut self) {
+        if let Some(rigid) = &mut self.rigid {
+            rigid.reset_workspaces();
+        }
+    }
+
+    /// After a step: at a stop point, resets rapier's unsaved workspaces.
+    fn reset_at_stop_point(&mut self) {
+        if self.rigid.is_some() && self.at_stop_point() {
+            self.end_frame();
+        }
     }
 
     /// A step when only rigid pieces move: rapier's, the other colliders moved as the
@@ -292,6 +320,7 @@ impl World {
         if self.steps % 16 == 0 {
             self.check_blowup()?;
         }
+        self.reset_at_stop_point();
         self.other_time += t0.elapsed().as_secs_f64();
         Ok(0)
     }

@@ -452,7 +452,11 @@ fn rigid(scene: &Scene) -> Check {
         r.vibration,
         "the vibration (a fraction of the fragment's kinetic energy)",
     )?;
-    positive(&p("rest_speed"), r.rest_speed, "the rest speed in m/s")?;
+    positive(
+        &p("rest_amplitude"),
+        r.rest_amplitude,
+        "the rest amplitude in particle spacings",
+    )?;
     positive(&p("settle_time"), r.settle_time, "the settle time in s")?;
     positive(&p("step"), r.step, "the rigid phase's longest step in s")?;
     if r.check_every == 0 {
