@@ -140,7 +140,25 @@ fn a_dropped_glass_plate_shatters_and_every_piece_comes_to_rest() {
         "{fragments} fragments; {} steps; fastest particle {fastest:.2e} m/s; lowest {lowest:.4} m",
         manifest.steps
     );
+    // No two pieces overlap by more than λ/2: particles of different fragments are at
+    // least λ/2 apart (their cubes of side λ overlap by at most half a side).
+    let lambda = 0.02f32;
+    let mut closest = f32::MAX;
+    for (i, (x, fi)) in frame.position.iter().zip(&frame.fragment).enumerate() {
+        for (y, fj) in frame.position[i + 1..].iter().zip(&frame.fragment[i + 1..]) {
+            if fi != fj {
+                let d = (0..3).map(|k| (x[k] - y[k]).powi(2)).sum::<f32>().sqrt();
+                closest = closest.min(d);
+            }
+        }
+    }
+    println!("closest particles of two pieces: {:.3} λ", closest / lambda);
     assert!(fragments > 2, "the plate shatters");
+    assert!(
+        closest >= 0.5 * lambda,
+        "pieces overlap by more than λ/2: particles {:.3} λ apart",
+        closest / lambda
+    );
     assert!(fastest < 0.05, "every piece at rest: {fastest} m/s");
     assert!(
         lowest > -0.0075,
@@ -203,4 +221,50 @@ fn a_stop_while_pieces_rest_among_particles_resumes_to_the_same_bytes() {
     for after in [frame + 1, 2 * frame + 40] {
         stopped_and_resumed(&s, whole.path(), after);
     }
+}
+
+#[test]
+fn a_rigid_piece_striking_a_deformable_wall_breaks_bonds_in_it() {
+    // A glass pellet (small, `small_fragment` above its particle count: rigid at the
+    // first look, 150 µs before it arrives) shot at 40 m/s into a brittle plate: the
+    // rigid pellet cracks the plate.
+    let text = format!(
+        "[scene]\nduration = 0.0005\nfps = 10000\ngravity = [0, 0, 0]\n{GLASS}\
+         [materials.brittle]\ndensity = 1200.0\nyoungs_modulus = 3.0e9\n\
+         poisson_ratio = 0.3\ncritical_stretch = 0.002\n\
+         [[body]]\nname = \"pellet\"\nmaterial = \"glass\"\nresolution = 0.01\n\
+         lattice = \"aligned\"\nvelocity = [0, 0, 40]\n\
+         shape = {{ type = \"box\", center = [0, 0, -0.016], size = [0.02, 0.02, 0.02] }}\n\
+         [[body]]\nname = \"plate\"\nmaterial = \"brittle\"\nresolution = 0.01\n\
+         shape = {{ type = \"box\", center = [0, 0, 0.01], size = [0.08, 0.08, 0.02] }}\n\
+         [rigid]\nenabled = true\ncheck_every = 4\nsmall_fragment = 500\n\
+         [output]\npreview = false\nusd = false\n"
+    );
+    let mut p = run::prepare(&scene(&text)).expect("prepares");
+    let pellet = p.world.parts[0]
+        .model
+        .point_bodies()
+        .iter()
+        .filter(|&&b| b == 0)
+        .count();
+    let (mut rigid_at_impact, mut broken) = (None, 0);
+    while p.world.time < 0.0005 {
+        p.world.step().expect("steps");
+        broken = p.world.parts[0].model.broken_bonds();
+        if broken > 0 && rigid_at_impact.is_none() {
+            rigid_at_impact = Some(p.world.rigid.as_ref().map_or(0, |r| r.frozen_points()));
+            println!("first broken bond at {:e} s", p.world.time);
+        }
+    }
+    println!("{rigid_at_impact:?} rigid points at the first broken bond; {broken} broken");
+    assert!(pellet < 500, "{pellet} particles in the pellet");
+    assert_eq!(
+        rigid_at_impact,
+        Some(pellet),
+        "the rigid pellet breaks the first bond"
+    );
+    assert!(
+        broken > 20,
+        "the rigid pellet cracks the plate: {broken} bonds"
+    );
 }
