@@ -150,7 +150,6 @@ fn run_writes_split_tets_and_valid_animated_crack_surfaces() {
         scene.to_str().unwrap(),
         "-o",
         out_dir.to_str().unwrap(),
-        "--quiet",
     ]);
     assert!(
         out.status.success(),
@@ -267,16 +266,9 @@ fn surface_embedded_without_tets_is_an_input_error() {
         out_dir.to_str().unwrap(),
         "--frames",
         "1",
-        "--quiet",
     ]);
     assert!(out.status.success());
-    let out = perifrac(&[
-        "surface",
-        out_dir.to_str().unwrap(),
-        "--method",
-        "embedded",
-        "--quiet",
-    ]);
+    let out = perifrac(&["surface", out_dir.to_str().unwrap(), "--method", "embedded"]);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{stderr}");
     assert!(stderr.contains("tets/0001.vtu is missing"), "{stderr}");
@@ -326,13 +318,7 @@ fn the_demo_split_mesh_has_no_inverted_tet_and_no_crack_needle() {
     let path = dir.path().join("demo.toml");
     std::fs::write(&path, scene).unwrap();
     let out = dir.path().join("out");
-    let run = perifrac(&[
-        "run",
-        path.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--quiet",
-    ]);
+    let run = perifrac(&["run", path.to_str().unwrap(), "-o", out.to_str().unwrap()]);
     assert!(
         run.status.success(),
         "{}",
@@ -461,13 +447,7 @@ fn animated_glb_shows_at_each_frame_only_that_frames_surface() {
     let scene = dir.path().join("scene.toml");
     std::fs::write(&scene, FRACTURING).unwrap();
     let out = dir.path().join("out");
-    let run = perifrac(&[
-        "run",
-        scene.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--quiet",
-    ]);
+    let run = perifrac(&["run", scene.to_str().unwrap(), "-o", out.to_str().unwrap()]);
     assert!(
         run.status.success(),
         "{}",

@@ -117,13 +117,7 @@ fn validate(file: &Path) -> serde_json::Value {
 fn surface_writes_valid_glb_vdb_and_debris_files() {
     let dir = tempfile::tempdir().unwrap();
     write_cache(dir.path());
-    let out = perifrac(&[
-        "surface",
-        dir.path().to_str().unwrap(),
-        "--method",
-        "vdb",
-        "--quiet",
-    ]);
+    let out = perifrac(&["surface", dir.path().to_str().unwrap(), "--method", "vdb"]);
     assert!(
         out.status.success(),
         "{}",
@@ -170,7 +164,7 @@ fn a_frame_with_nan_fails_with_a_message() {
     let mut frame = ParticleFrame::read(&layout.particles(2)).unwrap();
     frame.position[7][2] = f32::NAN;
     frame.write(&layout.particles(2)).unwrap();
-    let out = perifrac(&["surface", dir.path().to_str().unwrap(), "--quiet"]);
+    let out = perifrac(&["surface", dir.path().to_str().unwrap()]);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{stderr}");
     assert!(
@@ -185,7 +179,7 @@ fn run_surfaces_when_the_scene_asks() {
     let scene = dir.path().join("scene.toml");
     std::fs::write(&scene, SCENE).unwrap();
     let out_dir = dir.path().join("out");
-    run(&scene, &out_dir, &["--frames", "1", "--quiet"]);
+    run(&scene, &out_dir, &["--frames", "1"]);
     let manifest = Manifest::read(&out_dir.join("manifest.json")).unwrap();
     for f in 1..=manifest.frame_times.len() {
         for file in [format!("vdb/{f:04}.vdb"), format!("surface/{f:04}.glb")] {
@@ -227,7 +221,7 @@ checkpoint_every = 0
     )
     .unwrap();
     let out_dir = dir.path().join("out");
-    run(&scene, &out_dir, &["--quiet"]);
+    run(&scene, &out_dir, &[]);
     let manifest = Manifest::read(&out_dir.join("manifest.json")).unwrap();
     assert_eq!(manifest.bodies[0].mean_edge, 0.0);
     assert!((manifest.bodies[0].particle_spacing - 0.005).abs() < 1e-15);

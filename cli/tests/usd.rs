@@ -89,7 +89,7 @@ fn cache_usd_opens_in_usd_core_and_blender() {
     std::fs::write(&scene, SCENE).unwrap();
     let out = dir.path().join("out");
     let out_str = out.to_str().unwrap();
-    perifrac_ok(&["run", scene.to_str().unwrap(), "-o", out_str, "--quiet"]);
+    perifrac_ok(&["run", scene.to_str().unwrap(), "-o", out_str]);
     let usd = std::fs::read(out.join("cache.usd")).expect("run wrote cache.usd");
     assert_eq!(&usd[..8], b"PXR-USDC", "binary usdc");
     let checked = dcc_check(&out, &[]);
@@ -97,8 +97,8 @@ fn cache_usd_opens_in_usd_core_and_blender() {
     // The vdb method's fragments and volumes, written by `export usd`.
     if cfg!(feature = "openvdb") {
         std::fs::remove_file(out.join("cache.usd")).unwrap();
-        perifrac_ok(&["surface", out_str, "--method", "vdb", "--quiet"]);
-        perifrac_ok(&["export", "usd", out_str, "--quiet"]);
+        perifrac_ok(&["surface", out_str, "--method", "vdb"]);
+        perifrac_ok(&["export", "usd", out_str]);
         assert!(out.join("cache.usd").is_file());
         if checked {
             dcc_check(&out, &[]);
@@ -156,7 +156,7 @@ fn a_mesh_collider_is_in_the_stage_and_the_animated_glb() {
     std::fs::write(&scene, TABLE_SCENE.replace("TABLE", "table.obj")).unwrap();
     let out = dir.path().join("out");
     let out_str = out.to_str().unwrap();
-    perifrac_ok(&["run", scene.to_str().unwrap(), "-o", out_str, "--quiet"]);
+    perifrac_ok(&["run", scene.to_str().unwrap(), "-o", out_str]);
     // The same bytes with one thread.
     let one = dir.path().join("one");
     let one_str = one.to_str().unwrap();
@@ -165,7 +165,6 @@ fn a_mesh_collider_is_in_the_stage_and_the_animated_glb() {
         scene.to_str().unwrap(),
         "-o",
         one_str,
-        "--quiet",
         "--threads",
         "1",
     ]);
@@ -176,12 +175,10 @@ fn a_mesh_collider_is_in_the_stage_and_the_animated_glb() {
     );
     // The stages read the cache's copy of the table: its source may go.
     std::fs::remove_file(&table).unwrap();
-    perifrac_ok(&["surface", out_str, "--method", "embedded", "--quiet"]);
-    perifrac_ok(&["export", "usd", out_str, "--quiet"]);
+    perifrac_ok(&["surface", out_str, "--method", "embedded"]);
+    perifrac_ok(&["export", "usd", out_str]);
     if cfg!(feature = "gl") {
-        perifrac_ok(&[
-            "render", out_str, "--frame", "6", "--size", "64x48", "--quiet",
-        ]);
+        perifrac_ok(&["render", out_str, "--frame", "6", "--size", "64x48"]);
     }
     let mesh = perifrac_cache::collider::ColliderMesh::read(&out.join("colliders/mesh_1.ply"))
         .expect("the run wrote the table's geometry");
