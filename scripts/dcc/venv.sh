@@ -16,11 +16,14 @@ python="${PYTHON:-python3}"
 if [ ! -x "$venv/bin/python" ]; then
   "$python" -m venv "$venv" >&2
 fi
-if ! "$venv/bin/python" -c "import pxr, meshio, numpy" 2>/dev/null; then
+imports() { "$venv/bin/python" -c "import pxr, meshio, numpy" 2>/dev/null; }
+if ! imports; then
   if ! "$venv/bin/pip" install -q usd-core meshio numpy >&2; then
     echo "SKIPPED: pip could not install usd-core/meshio on this platform" >&2
     exit 77
   fi
+  # Installed but not importing (a library inside a wheel gone): install them afresh.
+  imports || "$venv/bin/pip" install -q --force-reinstall usd-core meshio numpy >&2
 fi
 if [ "${1:-}" = "--bpy" ] && ! "$venv/bin/python" -c "import bpy" 2>/dev/null; then
   if ! "$venv/bin/pip" install -q bpy >&2; then
