@@ -10,6 +10,9 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
+mod common;
+use common::perifrac;
+
 /// A jelly cube dropped on the ground: 21 frames of 2,250 particles, long
 /// enough (a second or two) to be stopped in the middle.
 const SCENE: &str = r#"[scene]
@@ -43,14 +46,6 @@ const FRAMES: usize = 21;
 
 fn binary() -> Command {
     Command::new(env!("CARGO_BIN_EXE_perifrac"))
-}
-
-fn perifrac(args: &[&str]) -> Output {
-    binary()
-        .args(args)
-        .arg("--quiet")
-        .output()
-        .expect("the binary runs")
 }
 
 fn text(o: &Output) -> String {

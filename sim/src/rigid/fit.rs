@@ -42,12 +42,12 @@ pub(super) fn fit(part: &Part, points: &[u32]) -> Fit {
     let mut moment = [0.0; 3];
     let mut momentum = [0.0; 3];
     let mut kinetic = 0.0;
+    let point = |i: u32| {
+        let i = i as usize;
+        (p.mass[i], p.position[i], p.velocity[i])
+    };
     for &i in points {
-        let (m, x, v) = (
-            p.mass[i as usize],
-            p.position[i as usize],
-            p.velocity[i as usize],
-        );
+        let (m, x, v) = point(i);
         mass += m;
         for k in 0..3 {
             moment[k] += m * x[k];
@@ -62,14 +62,10 @@ pub(super) fn fit(part: &Part, points: &[u32]) -> Fit {
     let mut reach = 0.0f64;
     let mut spacing = 0.0;
     for &i in points {
-        let (m, x, v) = (
-            p.mass[i as usize],
-            p.position[i as usize],
-            p.velocity[i as usize],
-        );
+        let (m, x, v) = point(i);
         let r = Vector3::new(x[0] - center[0], x[1] - center[1], x[2] - center[2]);
         reach = reach.max(r.norm());
-        spacing += volume.map_or(0.0, |v| v[i as usize].cbrt()) / points.len() as f64;
+        spacing += volume.map_or(0.0, |v| v[i as usize].cbrt().max(1e-9));
         angular += m * r.cross(&vector(v));
         inertia += m * (Matrix3::identity() * r.norm_squared() - r * r.transpose());
         if points.len() < 4 {
@@ -92,6 +88,6 @@ pub(super) fn fit(part: &Part, points: &[u32]) -> Fit {
         relative: (kinetic - rigid).max(0.0),
         kinetic,
         size: 2.0 * reach,
-        spacing: spacing.max(1e-9),
+        spacing: (spacing / points.len() as f64).max(1e-9),
     }
 }

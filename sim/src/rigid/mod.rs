@@ -319,7 +319,7 @@ impl RigidPhase {
                 .map_or(0.0, |v| v[i as usize].cbrt())
                 .max(1e-9)
         };
-        let radius = 0.5 * points.iter().map(|&i| spacing(i)).sum::<f64>() / points.len() as f64;
+        let radius = 0.5 * fit.spacing;
         let balls = || {
             let shapes = local
                 .iter()
@@ -368,7 +368,7 @@ impl RigidPhase {
             points,
             local,
             body: handle,
-            thickness: 2.0 * radius,
+            thickness: fit.spacing,
             size: fit.size,
         };
         place(&piece, &self.physics.bodies[handle], part);

@@ -62,19 +62,12 @@ impl World {
             Some(rigid) if self.rigid_only() => rigid.longest_step().max(self.step_bound),
             _ => self.step_bound,
         };
-        let per_frame = (frame_length / bound).ceil().max(1.0) as u64;
+        let per_frame = steps_within(frame_length, bound);
         let same = frame_length.to_bits() == self.clock.frame_length.to_bits();
         if same && per_frame >= self.clock.steps_per_frame {
             return false;
         }
-        self.clock = Clock {
-            steps: self.steps,
-            time: self.time,
-            frame: frame as u64 - 1,
-            steps_per_frame: per_frame,
-            frame_length,
-        };
-        self.dt = frame_length / per_frame as f64;
+        self.restart_clock(frame as u64 - 1, per_frame, frame_length);
         true
     }
 
@@ -94,20 +87,31 @@ impl World {
             return false;
         }
         let remaining = self.time_after(end) - self.time;
-        let steps = (remaining / bound).ceil().max(1.0) as u64;
+        let steps = steps_within(remaining, bound);
         if steps >= end - self.steps {
             return false;
         }
         // Frame `frame` ends `steps` steps on: the clock's frame is the one before it
         // less one, as for a clock started at that frame's start.
+        self.restart_clock(frame as u64 - 2, steps, remaining);
+        true
+    }
+
+    /// Starts the clock here, frames of `frame_length` s in `steps_per_frame` steps
+    /// from the end of frame `frame` + 1 on.
+    fn restart_clock(&mut self, frame: u64, steps_per_frame: u64, frame_length: f64) {
         self.clock = Clock {
             steps: self.steps,
             time: self.time,
-            frame: frame as u64 - 2,
-            steps_per_frame: steps,
-            frame_length: remaining,
+            frame,
+            steps_per_frame,
+            frame_length,
         };
-        self.dt = remaining / steps as f64;
-        true
+        self.dt = frame_length / steps_per_frame as f64;
     }
+}
+
+/// The fewest steps no longer than `bound` that make up `length` s (at least one).
+fn steps_within(length: f64, bound: f64) -> u64 {
+    (length / bound).ceil().max(1.0) as u64
 }

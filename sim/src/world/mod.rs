@@ -287,17 +287,21 @@ impl World {
     }
 
     /// At a frame's end (a stop point whatever the step): resets rapier's unsaved
-    /// workspaces.
+    /// workspaces, unless the frame's last step ended at a stop point and did.
     pub fn end_frame(&mut self) {
-        if let Some(rigid) = &mut self.rigid {
+        if !self.at_stop_point()
+            && let Some(rigid) = &mut self.rigid
+        {
             rigid.reset_workspaces();
         }
     }
 
     /// After a step: at a stop point, resets rapier's unsaved workspaces.
     fn reset_at_stop_point(&mut self) {
-        if self.rigid.is_some() && self.at_stop_point() {
-            self.end_frame();
+        if self.at_stop_point()
+            && let Some(rigid) = &mut self.rigid
+        {
+            rigid.reset_workspaces();
         }
     }
 
