@@ -17,6 +17,10 @@ packages=(
   # surfaceless platform (no display), and OSMesa as the fallback. Both are loaded at
   # run time, so a missing library is reported by name instead of failing to start.
   libegl1 libegl-mesa0 libgl1-mesa-dri libegl-dev libosmesa6-dev
+  # ffmpeg: `perifrac render --movie` encodes the H.264 MP4 with it when it is on the
+  # PATH (a separate program, not linked), and the tests read the MP4 back with its
+  # ffprobe.
+  ffmpeg
   # node runs the Khronos glTF validator (npm package gltf-validator) in the tests.
   nodejs
 )

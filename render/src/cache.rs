@@ -16,7 +16,7 @@ use perifrac_cache::scene::{ColliderSpec, Scene};
 use rayon::prelude::*;
 
 use crate::RenderError;
-use crate::camera::{AZIMUTH, Bounds};
+use crate::camera::{AZIMUTH, Bounds, Subject};
 use crate::geometry::{self, FrameGeometry, Shading};
 use crate::paint;
 
@@ -326,18 +326,23 @@ impl Cache {
         Ok(g)
     }
 
-    /// The bounds the camera frames and the sequence's value ranges for `color_by`.
+    /// What the camera frames, its bounds, and the sequence's value ranges for
+    /// `color_by`.
     ///
-    /// The bounds are robust, to frame the action and not the far debris: the particles
+    /// The subject is robust, to frame the action and not the far debris: the particles
     /// of every frame (or the surface's vertices where a frame has no particles), up
-    /// to [`SAMPLES_PER_FRAME`] of each, evenly strided, pooled over the whole shot,
-    /// without the [`FRAMING_TAIL`] farthest on each side of each axis (the 1st to the
-    /// 99th percentile, a 98 % range), grown by half a particle; the colliders (the
-    /// projectile) of every frame are added whole.
-    pub fn sequence_bounds(&self, color_by: ColorBy) -> Result<(Bounds, Ranges), RenderError> {
+    /// to [`SAMPLES_PER_FRAME`] of each, evenly strided, pooled over the whole shot, of
+    /// which [`FRAMING_TAIL`] may fall outside each edge of the image, grown by half a
+    /// particle; the colliders (the projectile) of every frame are framed whole. The
+    /// bounds (for the shadow and the clip planes) are the samples' 1st to 99th
+    /// percentile on each axis and the colliders.
+    pub fn sequence_framing(
+        &self,
+        color_by: ColorBy,
+    ) -> Result<(Subject, Bounds, Ranges), RenderError> {
         // Every frame's result is kept and the first error in frame order reported, so
         // the message does not depend on which thread failed first.
-        type FrameBounds = (Bounds, Vec<[f32; 3]>, Ranges);
+        type FrameBounds = (Vec<[f32; 3]>, Vec<[f32; 3]>, Ranges);
         let per_frame: Vec<Result<FrameBounds, RenderError>> = self
             .frames
             .par_iter()
@@ -349,19 +354,14 @@ impl Cache {
                 };
                 let mut g = FrameGeometry::default();
                 self.push_colliders(frame, &mut g);
-                let colliders = g.bounds();
+                let colliders = strided(&mesh_positions(&g));
                 let mut samples = Vec::new();
                 if self.uses_surface(frame, color_by) {
                     let mut s = FrameGeometry::default();
                     ranges.quantity =
                         read_glb(&self.layout.surface(frame), color_by, &ranges, &mut s)?;
                     if !self.layout.particles(frame).is_file() {
-                        let vertices: Vec<[f32; 3]> = s
-                            .mesh_vertices
-                            .chunks_exact(geometry::MESH_STRIDE)
-                            .map(|v| [v[0], v[1], v[2]])
-                            .collect();
-                        samples = strided(&vertices);
+                        samples = strided(&mesh_positions(&s));
                     }
                 }
                 if self.layout.particles(frame).is_file() {
@@ -390,29 +390,39 @@ impl Cache {
             })
             .collect();
         let per_frame: Vec<FrameBounds> = per_frame.into_iter().collect::<Result<_, _>>()?;
-        let mut bounds = Bounds::EMPTY;
+        let mut whole = Vec::new();
         let mut samples = Vec::new();
         let mut ranges = Ranges {
             plastic_max: 0.0,
             temperature: (f32::INFINITY, f32::NEG_INFINITY),
             quantity: NO_RANGE,
         };
-        for (b, s, r) in per_frame {
-            bounds = bounds.union(&b);
+        for (c, s, r) in per_frame {
+            whole.extend(c);
             samples.extend(s);
             ranges.plastic_max = ranges.plastic_max.max(r.plastic_max);
             ranges.temperature.0 = ranges.temperature.0.min(r.temperature.0);
             ranges.temperature.1 = ranges.temperature.1.max(r.temperature.1);
             ranges.quantity = widen(ranges.quantity, &r.quantity);
         }
-        let bounds = bounds.union(&percentile_bounds(&samples, FRAMING_TAIL, self.radius(0.0)));
+        let pad = self.radius(0.0);
+        let mut bounds = percentile_bounds(&samples, FRAMING_TAIL, pad);
+        for &p in &whole {
+            bounds.add(p);
+        }
+        let subject = Subject {
+            samples,
+            pad,
+            tail: FRAMING_TAIL,
+            whole,
+        };
         if !ranges.temperature.0.is_finite() {
             ranges.temperature = (0.0, 1.0);
         }
         if ranges.quantity[0] > ranges.quantity[1] {
             ranges.quantity = [0.0, 0.0];
         }
-        Ok((bounds, ranges))
+        Ok((subject, bounds, ranges))
     }
 }
 
@@ -449,9 +459,17 @@ fn view_azimuth(scene: &Scene) -> f32 {
 /// particles keeps the pooled sample of a long shot small).
 pub const SAMPLES_PER_FRAME: usize = 4096;
 
-/// The fraction of the pooled sample the framing leaves out on each side of each axis:
-/// 1 %, so the bounds span the 1st to the 99th percentile.
+/// The fraction of the pooled sample the framing may leave outside each edge of the
+/// image (and the bounds leave out on each side of each axis): 1 %.
 pub const FRAMING_TAIL: f32 = 0.01;
+
+/// The positions of the mesh vertices of `g`.
+fn mesh_positions(g: &FrameGeometry) -> Vec<[f32; 3]> {
+    g.mesh_vertices
+        .chunks_exact(geometry::MESH_STRIDE)
+        .map(|v| [v[0], v[1], v[2]])
+        .collect()
+}
 
 /// At most [`SAMPLES_PER_FRAME`] of `points`, evenly strided from the first.
 fn strided(points: &[[f32; 3]]) -> Vec<[f32; 3]> {

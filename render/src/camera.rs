@@ -108,54 +108,47 @@ impl Camera {
         }
     }
 
-    /// Frames `bounds` from `azimuth` at [`ELEVATION`] as tightly as the box allows:
-    /// the camera looks at the box's centre from the nearest distance at which all
-    /// eight corners project inside [`FIT_FILL`] of the image's half-width and
-    /// half-height. A box fills the image where [`Camera::framing`]'s bounding sphere
-    /// leaves it small in the middle.
-    pub fn fit(bounds: &Bounds, aspect: f32, azimuth: f32) -> Camera {
-        if bounds.is_empty() {
-            return Camera::framing(bounds, aspect, azimuth);
-        }
-        let distance = fit_distance(bounds, aspect, view_direction(azimuth));
-        Camera::at_distance(bounds, aspect, azimuth, distance)
-    }
-
-    /// The camera looking at the centre of `bounds` from `azimuth` at [`ELEVATION`],
-    /// `distance` away.
-    fn at_distance(bounds: &Bounds, aspect: f32, azimuth: f32, distance: f32) -> Camera {
-        let (center, radius) = (bounds.center(), bounds.radius().max(1e-3));
-        Camera {
-            eye: add(center, scale(view_direction(azimuth), distance)),
-            target: center,
-            fov_y: FOV_Y,
-            aspect,
-            near: (distance - 2.0 * radius).max(distance * 0.02),
-            far: distance + 60.0 * radius,
+    /// Frames `subject` from `azimuth` at [`ELEVATION`] as tightly as it allows: the
+    /// nearest eye from which the subject projects inside [`FIT_FILL`] of the image,
+    /// centred on its projection (see [`Subject`]). `bounds` (the subject's box) sets
+    /// the look-at depth and the clip planes. An empty subject falls back to
+    /// [`Camera::framing`].
+    pub fn fit(subject: &Subject, bounds: &Bounds, aspect: f32, azimuth: f32) -> Camera {
+        match FrustumFit::new(subject, aspect, azimuth) {
+            Some(fit) => fit.camera(fit.depth, bounds, aspect),
+            None => Camera::framing(bounds, aspect, azimuth),
         }
     }
 
-    /// `views` cameras around the vertical axis through the bounds' centre, the first
-    /// at `azimuth`, all at one distance: the largest that [`Camera::fit`] needs over
-    /// the views, so the subject keeps its size as it turns.
-    pub fn turntable(bounds: &Bounds, aspect: f32, azimuth: f32, views: usize) -> Vec<Camera> {
+    /// `views` cameras around the vertical axis, the first at `azimuth`, each centred
+    /// on the subject as [`Camera::fit`] centres it, all at one depth: the largest that
+    /// a view needs, so the subject keeps its size as it turns.
+    pub fn turntable(
+        subject: &Subject,
+        bounds: &Bounds,
+        aspect: f32,
+        azimuth: f32,
+        views: usize,
+    ) -> Vec<Camera> {
         let azimuths: Vec<f32> = (0..views)
             .map(|i| azimuth + std::f32::consts::TAU * i as f32 / views as f32)
             .collect();
-        if bounds.is_empty() {
-            return azimuths
+        let fits: Option<Vec<FrustumFit>> = azimuths
+            .iter()
+            .map(|&a| FrustumFit::new(subject, aspect, a))
+            .collect();
+        match fits {
+            Some(fits) => {
+                let depth = fits.iter().map(|f| f.depth).fold(f32::MIN, f32::max);
+                fits.iter()
+                    .map(|f| f.camera(depth, bounds, aspect))
+                    .collect()
+            }
+            None => azimuths
                 .into_iter()
                 .map(|a| Camera::framing(bounds, aspect, a))
-                .collect();
+                .collect(),
         }
-        let distance = azimuths
-            .iter()
-            .map(|&a| fit_distance(bounds, aspect, view_direction(a)))
-            .fold(0.0, f32::max);
-        azimuths
-            .into_iter()
-            .map(|a| Camera::at_distance(bounds, aspect, a, distance))
-            .collect()
     }
 
     /// Unit vector from the target to the eye.
@@ -225,40 +218,127 @@ fn view_direction(azimuth: f32) -> [f32; 3] {
     ]
 }
 
-/// The smallest distance from the centre of `bounds` along `back` (unit, towards the
-/// eye) at which every corner of the box projects within [`FIT_FILL`] of the image:
-/// a corner at (x, y, z) in the camera's right, up and backward axes about the centre
-/// is in view when |x| ≤ FIT_FILL · tan(fov_x / 2) · (D − z), and likewise for y.
-fn fit_distance(bounds: &Bounds, aspect: f32, back: [f32; 3]) -> f32 {
-    let right = normalize(cross([0.0, 1.0, 0.0], back));
-    let up = cross(back, right);
-    let tan_y = FIT_FILL * (0.5 * FOV_Y).tan();
-    let tan_x = aspect * tan_y;
-    let center = bounds.center();
-    let mut distance = 1e-3f32;
-    for i in 0..8 {
-        let corner = [
-            if i & 1 == 0 {
-                bounds.min[0]
-            } else {
-                bounds.max[0]
-            },
-            if i & 2 == 0 {
-                bounds.min[1]
-            } else {
-                bounds.max[1]
-            },
-            if i & 4 == 0 {
-                bounds.min[2]
-            } else {
-                bounds.max[2]
-            },
-        ];
-        let d = sub(corner, center);
-        let (x, y, z) = (dot(d, right), dot(d, up), dot(d, back));
-        distance = distance.max(z + x.abs() / tan_x).max(z + y.abs() / tan_y);
+/// What a camera frames: sample points of the bodies, of which the framing may leave
+/// a small fraction out of the picture (far debris), and points it keeps whole (the
+/// colliders, the projectile's path).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Subject {
+    /// Points of the bodies (particles or surface vertices), pooled over the shot.
+    pub samples: Vec<[f32; 3]>,
+    /// How far the bodies reach past their sample points (half a particle).
+    pub pad: f32,
+    /// The fraction of `samples` that may fall outside each edge of the image.
+    pub tail: f32,
+    /// Points always in the picture.
+    pub whole: Vec<[f32; 3]>,
+}
+
+impl Subject {
+    /// A subject of `points`, all of them in the picture.
+    pub fn whole(points: Vec<[f32; 3]>) -> Subject {
+        Subject {
+            whole: points,
+            ..Subject::default()
+        }
     }
-    distance
+
+    /// How far the subject reaches along `n`: the largest `p · n` of the whole points
+    /// and of the samples without their `tail` (plus the pad). `None` for a subject
+    /// with no finite point.
+    fn support(&self, n: [f32; 3]) -> Option<f32> {
+        let finite = |p: &&[f32; 3]| p.iter().all(|v| v.is_finite());
+        let whole = self
+            .whole
+            .iter()
+            .filter(finite)
+            .map(|&p| dot(p, n))
+            .reduce(f32::max);
+        let mut values: Vec<f32> = self
+            .samples
+            .iter()
+            .filter(finite)
+            .map(|&p| dot(p, n))
+            .collect();
+        let sampled = (!values.is_empty()).then(|| {
+            let cut = ((values.len() as f32 * self.tail) as usize).min((values.len() - 1) / 2);
+            let last = values.len() - 1 - cut;
+            *values.select_nth_unstable_by(last, f32::total_cmp).1 + self.pad * norm(n)
+        });
+        match (whole, sampled) {
+            (Some(a), Some(b)) => Some(a.max(b)),
+            (a, b) => a.or(b),
+        }
+    }
+}
+
+/// The tightest eye for a subject seen along a fixed direction, in the camera's axes.
+///
+/// A point p is in view when it lies inside the four planes of the frustum narrowed to
+/// [`FIT_FILL`]. With t = FIT_FILL · tan(fov / 2) on each axis, the right plane's
+/// condition (p − e) · (r + tₓ b) ≤ 0 reads e · (r + tₓ b) ≥ h₊ₓ, where h₊ₓ is the
+/// subject's support along r + tₓ b, and likewise for the left, top and bottom planes.
+/// Writing e = eᵣ r + eᵤ u + e_b b, the right and left planes give
+/// e_b ≥ (h₊ₓ + h₋ₓ) / (2 tₓ) and centre eᵣ = (h₊ₓ − h₋ₓ) / 2; the top and bottom the
+/// same in y. The nearest eye takes the larger depth; on the axis that sets it the
+/// subject touches both edges, on the other it sits in the middle.
+struct FrustumFit {
+    right: [f32; 3],
+    up: [f32; 3],
+    back: [f32; 3],
+    /// eᵣ and eᵤ.
+    offset: [f32; 2],
+    /// e_b, the least depth along `back` that keeps the subject in view.
+    depth: f32,
+}
+
+impl FrustumFit {
+    fn new(subject: &Subject, aspect: f32, azimuth: f32) -> Option<FrustumFit> {
+        let back = view_direction(azimuth);
+        let right = normalize(cross([0.0, 1.0, 0.0], back));
+        let up = cross(back, right);
+        let tan_y = FIT_FILL * (0.5 * FOV_Y).tan();
+        let tan_x = aspect * tan_y;
+        let reach = |axis: [f32; 3], t: f32| -> Option<(f32, f32)> {
+            let plus = subject.support(add(axis, scale(back, t)))?;
+            let minus = subject.support(add(scale(axis, -1.0), scale(back, t)))?;
+            Some(((plus + minus) / (2.0 * t), 0.5 * (plus - minus)))
+        };
+        let (depth_x, e_r) = reach(right, tan_x)?;
+        let (depth_y, e_u) = reach(up, tan_y)?;
+        Some(FrustumFit {
+            right,
+            up,
+            back,
+            offset: [e_r, e_u],
+            depth: depth_x.max(depth_y),
+        })
+    }
+
+    /// The camera at `depth` (at least [`FrustumFit::depth`]) looking along −`back`
+    /// at the point of its axis level with the centre of `bounds`.
+    fn camera(&self, depth: f32, bounds: &Bounds, aspect: f32) -> Camera {
+        let eye = add(
+            add(
+                scale(self.right, self.offset[0]),
+                scale(self.up, self.offset[1]),
+            ),
+            scale(self.back, depth),
+        );
+        let (center, radius) = if bounds.is_empty() {
+            (scale(self.back, depth - 1.0), 1.0)
+        } else {
+            (bounds.center(), bounds.radius().max(1e-3))
+        };
+        let distance = dot(sub(eye, center), self.back).max(1e-3);
+        Camera {
+            eye,
+            target: sub(eye, scale(self.back, distance)),
+            fov_y: FOV_Y,
+            aspect,
+            near: (distance - 2.0 * radius).max(distance * 0.02),
+            far: distance + 60.0 * radius,
+        }
+    }
 }
 
 /// Directions towards the three studio lights (unit, world space).
@@ -325,79 +405,130 @@ mod tests {
         }
     }
 
+    fn corners(b: &Bounds) -> Vec<[f32; 3]> {
+        (0..8)
+            .map(|i| {
+                std::array::from_fn(|k| {
+                    if i & (1 << k) == 0 {
+                        b.min[k]
+                    } else {
+                        b.max[k]
+                    }
+                })
+            })
+            .collect()
+    }
+
+    /// Where `p` lands in normalized device coordinates.
+    fn ndc(cam: &Camera, p: [f32; 3]) -> [f32; 3] {
+        let c = transform(&cam.view_projection(), p);
+        [c[0] / c[3], c[1] / c[3], c[2] / c[3]]
+    }
+
     #[test]
     fn framing_keeps_the_bounds_in_view() {
+        let b = bounds();
         for aspect in [0.5, 4.0 / 3.0, 16.0 / 9.0, 3.0] {
-            for cam in Camera::turntable(&bounds(), aspect, AZIMUTH, 7) {
-                let vp = cam.view_projection();
-                let b = bounds();
-                for i in 0..8 {
-                    let p = [
-                        if i & 1 == 0 { b.min[0] } else { b.max[0] },
-                        if i & 2 == 0 { b.min[1] } else { b.max[1] },
-                        if i & 4 == 0 { b.min[2] } else { b.max[2] },
-                    ];
-                    let c = transform(&vp, p);
-                    for k in 0..3 {
-                        assert!((c[k] / c[3]).abs() < 1.0, "{aspect} {p:?} {c:?}");
+            let cam = Camera::framing(&b, aspect, AZIMUTH);
+            for p in corners(&b) {
+                assert!(ndc(&cam, p).iter().all(|v| v.abs() < 1.0), "{aspect} {p:?}");
+            }
+            // The centre projects to the middle of the image.
+            let c = ndc(&cam, b.center());
+            assert!(c[0].abs() < 1e-5 && c[1].abs() < 1e-5);
+        }
+    }
+
+    #[test]
+    fn fit_touches_both_edges_of_its_limiting_axis_and_centres_the_other() {
+        let b = bounds();
+        let subject = Subject::whole(corners(&b));
+        for aspect in [0.5, 4.0 / 3.0, 16.0 / 9.0, 3.0] {
+            for azimuth in [0.0, AZIMUTH, 2.0, 4.0] {
+                let cam = Camera::fit(&subject, &b, aspect, azimuth);
+                let (mut lo, mut hi) = ([f32::MAX; 2], [f32::MIN; 2]);
+                for p in corners(&b) {
+                    let c = ndc(&cam, p);
+                    assert!(c.iter().all(|v| v.abs() < 1.0), "{aspect} {p:?} {c:?}");
+                    for k in 0..2 {
+                        lo[k] = lo[k].min(c[k]);
+                        hi[k] = hi[k].max(c[k]);
                     }
                 }
-                // The centre projects to the middle of the image.
-                let c = transform(&vp, b.center());
-                assert!((c[0] / c[3]).abs() < 1e-5 && (c[1] / c[3]).abs() < 1e-5);
+                // One axis spans exactly ±FIT_FILL; the other lies within it, about
+                // the middle.
+                let limiting = (0..2)
+                    .find(|&k| (hi[k] - FIT_FILL).abs() < 1e-3 && (lo[k] + FIT_FILL).abs() < 1e-3);
+                let k = limiting.unwrap_or_else(|| panic!("{aspect} {azimuth}: {lo:?} {hi:?}"));
+                let other = 1 - k;
+                assert!(hi[other] <= FIT_FILL + 1e-4 && lo[other] >= -FIT_FILL - 1e-4);
+                assert!(
+                    (hi[other] + lo[other]).abs() < 0.25 * (hi[other] - lo[other]),
+                    "{aspect} {azimuth}: {lo:?} {hi:?}"
+                );
+                // Closer than the bounding sphere's framing.
+                let sphere = Camera::framing(&b, aspect, azimuth);
+                assert!(norm(sub(cam.eye, b.center())) < norm(sub(sphere.eye, b.center())));
             }
         }
     }
 
     #[test]
-    fn fit_keeps_the_box_in_view_and_fills_it() {
-        let b = bounds();
-        for aspect in [0.5, 4.0 / 3.0, 16.0 / 9.0, 3.0] {
-            for cam in Camera::turntable(&b, aspect, AZIMUTH, 5)
-                .into_iter()
-                .chain([Camera::fit(&b, aspect, AZIMUTH)])
-            {
-                let vp = cam.view_projection();
-                // Every corner in view; the largest |x| or |y| reaches FIT_FILL.
-                let mut largest = 0.0f32;
-                for i in 0..8 {
-                    let p = [
-                        if i & 1 == 0 { b.min[0] } else { b.max[0] },
-                        if i & 2 == 0 { b.min[1] } else { b.max[1] },
-                        if i & 4 == 0 { b.min[2] } else { b.max[2] },
-                    ];
-                    let c = transform(&vp, p);
-                    for k in 0..3 {
-                        assert!((c[k] / c[3]).abs() < 1.0, "{aspect} {p:?} {c:?}");
-                    }
-                    largest = largest.max((c[0] / c[3]).abs()).max((c[1] / c[3]).abs());
-                }
-                // Turntable views share the distance the widest view needs.
-                assert!(
-                    largest > 0.5,
-                    "{aspect}: the box reaches {largest} of the image"
-                );
-            }
-            // Closer than the bounding sphere's framing.
-            let fit = Camera::fit(&b, aspect, AZIMUTH);
-            let sphere = Camera::framing(&b, aspect, AZIMUTH);
-            assert!(norm(sub(fit.eye, fit.target)) < norm(sub(sphere.eye, sphere.target)));
+    fn fit_leaves_out_far_debris_but_keeps_whole_points() {
+        // 1000 points on a unit square and 5 debris points far to the right.
+        let mut samples: Vec<[f32; 3]> = (0..1000)
+            .map(|i| [(i % 40) as f32 / 40.0, (i / 40) as f32 / 25.0, 0.0])
+            .collect();
+        samples.extend((0..5).map(|i| [20.0 + i as f32, 0.5, 0.0]));
+        samples.push([f32::NAN, 0.0, 0.0]);
+        let b = Bounds {
+            min: [0.0; 3],
+            max: [1.0, 1.0, 0.0],
+        };
+        let subject = Subject {
+            samples,
+            tail: 0.01,
+            ..Subject::default()
+        };
+        let cam = Camera::fit(&subject, &b, 1.5, 0.0);
+        for p in &subject.samples[..1000] {
+            let c = ndc(&cam, *p);
+            assert!(c.iter().all(|v| v.abs() < 1.0), "{p:?}: {c:?}");
         }
-        // The single view reaches FIT_FILL exactly on its limiting side.
-        let cam = Camera::fit(&b, 16.0 / 9.0, AZIMUTH);
-        let vp = cam.view_projection();
-        let reach = (0..8)
-            .map(|i| {
-                let p = [
-                    if i & 1 == 0 { b.min[0] } else { b.max[0] },
-                    if i & 2 == 0 { b.min[1] } else { b.max[1] },
-                    if i & 4 == 0 { b.min[2] } else { b.max[2] },
-                ];
-                let c = transform(&vp, p);
-                (c[0] / c[3]).abs().max((c[1] / c[3]).abs())
-            })
-            .fold(0.0f32, f32::max);
-        assert!((reach - FIT_FILL).abs() < 1e-3, "{reach}");
+        assert!(
+            ndc(&cam, [20.0, 0.5, 0.0])[0] > 1.0,
+            "the debris is left out"
+        );
+        // A whole point far out is kept in the picture.
+        let mut kept = subject.clone();
+        kept.whole.push([20.0, 0.5, 0.0]);
+        let cam = Camera::fit(&kept, &b, 1.5, 0.0);
+        assert!(ndc(&cam, [20.0, 0.5, 0.0])[0] < 1.0);
+        // Nothing to frame: the bounding sphere's view.
+        let empty = Subject::default();
+        assert_eq!(
+            Camera::fit(&empty, &b, 1.5, 0.0),
+            Camera::framing(&b, 1.5, 0.0)
+        );
+    }
+
+    #[test]
+    fn turntable_views_share_one_depth_and_keep_the_subject_in_view() {
+        let b = bounds();
+        let subject = Subject::whole(corners(&b));
+        let views = Camera::turntable(&subject, &b, 16.0 / 9.0, AZIMUTH, 7);
+        assert_eq!(views.len(), 7);
+        let depth = |c: &Camera| dot(c.eye, c.backward());
+        for cam in &views {
+            assert!((depth(cam) - depth(&views[0])).abs() < 1e-4);
+            for p in corners(&b) {
+                assert!(ndc(cam, p).iter().all(|v| v.abs() < 1.0));
+            }
+        }
+        assert_eq!(
+            views[0].backward(),
+            Camera::fit(&subject, &b, 16.0 / 9.0, AZIMUTH).backward()
+        );
     }
 
     #[test]

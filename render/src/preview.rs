@@ -15,7 +15,7 @@ use image::RgbImage;
 
 use crate::RenderError;
 use crate::cache::{Cache, ColorBy, Ranges};
-use crate::camera::{Bounds, Camera};
+use crate::camera::{Bounds, Camera, Subject};
 use crate::gl::{Backend, PassTimes, Renderer, View};
 use crate::{movie, sheet};
 
@@ -115,7 +115,7 @@ pub fn render_cache(
             ),
         });
     }
-    let (view, ranges) = sequence_view(&cache, options)?;
+    let (view, subject, ranges) = sequence_view(&cache, options)?;
     let (camera, bounds, ground) = (view.camera, view.bounds, view.ground);
     let aspect = options.width as f32 / options.height as f32;
     let azimuth = options.azimuth.unwrap_or_else(|| cache.view_azimuth());
@@ -148,7 +148,7 @@ pub fn render_cache(
     let turntable_frame = options
         .frame
         .unwrap_or(cache.frames[cache.frames.len() - 1]);
-    for (i, camera) in Camera::turntable(&bounds, aspect, azimuth, options.turntable)
+    for (i, camera) in Camera::turntable(&subject, &bounds, aspect, azimuth, options.turntable)
         .into_iter()
         .enumerate()
     {
@@ -223,14 +223,14 @@ fn write_movies(
     Ok(())
 }
 
-/// The one view of a sequence's frames ([`Camera::fit`] on the robust bounds of
-/// [`Cache::sequence_bounds`], from `options.azimuth` or [`Cache::view_azimuth`]) and
-/// the sequence's value ranges for `options.color_by`.
+/// The one view of a sequence's frames ([`Camera::fit`] on the robust subject of
+/// [`Cache::sequence_framing`], from `options.azimuth` or [`Cache::view_azimuth`]), the
+/// subject it frames, and the sequence's value ranges for `options.color_by`.
 pub fn sequence_view(
     cache: &Cache,
     options: &PreviewOptions,
-) -> Result<(View, Ranges), RenderError> {
-    let (bounds, ranges) = cache.sequence_bounds(options.color_by)?;
+) -> Result<(View, Subject, Ranges), RenderError> {
+    let (subject, bounds, ranges) = cache.sequence_framing(options.color_by)?;
     let aspect = options.width as f32 / options.height as f32;
     let azimuth = options.azimuth.unwrap_or_else(|| cache.view_azimuth());
     let ground = cache.ground().unwrap_or(if bounds.is_empty() {
@@ -239,12 +239,12 @@ pub fn sequence_view(
         bounds.min[1]
     });
     let view = View {
-        camera: Camera::fit(&bounds, aspect, azimuth),
+        camera: Camera::fit(&subject, &bounds, aspect, azimuth),
         bounds,
         ground,
         key_strength: 1.0,
     };
-    Ok((view, ranges))
+    Ok((view, subject, ranges))
 }
 
 struct Collected {
