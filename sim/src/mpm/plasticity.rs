@@ -213,7 +213,8 @@ pub fn radial_return(
     }
 }
 
-/// The simplified Mie–Grüneisen equation of state (Eq. 7.4).
+/// The simplified Mie–Grüneisen equation of state (Eq. 7.4, with the sign of its
+/// denominator corrected; see [`MieGruneisen::pressure`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MieGruneisen {
     /// Reference density ρ₀ (kg/m³).
@@ -227,15 +228,30 @@ pub struct MieGruneisen {
     pub gamma: f64,
 }
 
+/// The smallest value the Hugoniot's denominator base 1 − (S − 1)ζ is allowed: it
+/// vanishes at the compression limit ρ/ρ₀ = S/(S − 1) of a linear u_s–u_p relation,
+/// where the pressure would diverge and then change sign. Held at 0.1, the pressure
+/// goes on rising (as ζ²) past ζ = 0.9/(S − 1), far beyond any compression a shot
+/// reaches (ρ/ρ₀ ≈ 9.2 for S = 1.1, 2.8 for copper's S = 1.49).
+const HUGONIOT_DENOMINATOR_MIN: f64 = 0.1;
+
 impl MieGruneisen {
-    /// The pressure p(J, e) with ζ = 1/J − 1 (Eq. 7.4): in compression (ζ ≥ 0)
-    /// ρ₀c₀²ζ[1 + (1 − γ/2)ζ]/[1 + (S − 1)ζ]² + γ(e − e⁰), in tension ρ₀c₀²ζ + γ(e − e⁰);
+    /// The pressure p(J, e) with ζ = 1/J − 1: in compression (ζ ≥ 0)
+    /// ρ₀c₀²ζ[1 + (1 − γ/2)ζ]/[1 − (S − 1)ζ]² + γ(e − e⁰), in tension ρ₀c₀²ζ + γ(e − e⁰);
     /// `energy_change` is e − e⁰ (J/m³).
+    ///
+    /// The thesis prints the denominator as [1 + (S − 1)ζ]² (Eq. 7.4). The Hugoniot of
+    /// u_s = c₀ + S u_p is p_H = ρ₀c₀²η/(1 − Sη)² with η = 1 − J = ζ/(1 + ζ), that is
+    /// ρ₀c₀²ζ(1 + ζ)/[1 − (S − 1)ζ]², the standard Mie–Grüneisen form (Steinberg 1996;
+    /// LS-DYNA's `*EOS_GRUNEISEN`) that Eq. 7.4 abbreviates: the minus sign. The
+    /// thesis' plus softens compression instead of stiffening it: a copper flyer plate
+    /// at 1 km/s then sends its shock at 0.87 of the Hugoniot's speed, and at 1.0 with
+    /// the minus (`tests/shock.rs`, docs/mpm.md).
     pub fn pressure(&self, j: f64, energy_change: f64) -> f64 {
         let zeta = 1.0 / j - 1.0;
         let k = self.density * self.sound_speed * self.sound_speed;
         let cold = if zeta >= 0.0 {
-            let d = 1.0 + (self.slope - 1.0) * zeta;
+            let d = (1.0 - (self.slope - 1.0) * zeta).max(HUGONIOT_DENOMINATOR_MIN);
             k * zeta * (1.0 + (1.0 - 0.5 * self.gamma) * zeta) / (d * d)
         } else {
             k * zeta

@@ -439,10 +439,24 @@ fn mie_gruneisen_pressure_matches_hand_worked_values() {
         slope: 1.1,
         gamma: 1.6,
     };
-    // J = 0.8: ζ = 0.25; ρ₀c₀² = 1e7; 1e7 · 0.25 · (1 + 0.2 · 0.25) / (1 + 0.1 · 0.25)²
-    // = 1e7 · 0.2625 / 1.050625 = 2 498 512.790 Pa; plus γ Δe = 1.6 · 1000.
+    // J = 0.8: ζ = 0.25; ρ₀c₀² = 1e7; 1e7 · 0.25 · (1 + 0.2 · 0.25) / (1 − 0.1 · 0.25)²
+    // = 1e7 · 0.2625 / 0.950625 = 2 761 341.223 Pa; plus γ Δe = 1.6 · 1000.
     let p = eos.pressure(0.8, 1000.0);
-    assert!((p - (2_498_512.790_005_95 + 1600.0)).abs() < 1e-3, "{p}");
+    assert!((p - (2_761_341.222_879_684 + 1600.0)).abs() < 1e-3, "{p}");
+    // With γ = 0 the pressure is the Hugoniot of u_s = c₀ + S u_p, ρ₀c₀²η/(1 − Sη)²
+    // with η = 1 − J (the thesis' printed plus sign gives 0.957 of it here).
+    let cold = plasticity::MieGruneisen { gamma: 0.0, ..eos };
+    let eta: f64 = 0.1;
+    let hugoniot = 1e7 * eta / (1.0 - 1.1 * eta).powi(2);
+    let p = cold.pressure(1.0 - eta, 0.0);
+    assert!((p / hugoniot - 1.0).abs() < 1e-12, "{p} {hugoniot}");
+    // Past the compression limit ρ/ρ₀ = S/(S − 1) the pressure keeps rising.
+    let limit = 1.0 / 1.1 * 0.1;
+    let (a, b) = (
+        eos.pressure(limit * 1.5, 0.0),
+        eos.pressure(limit * 0.5, 0.0),
+    );
+    assert!(a.is_finite() && b > a && a > 0.0, "{a} {b}");
     // J = 1.25: ζ = −0.2, p = 1e7 · (−0.2) = −2e6 Pa.
     assert!((eos.pressure(1.25, 0.0) + 2e6).abs() < 1e-6);
     assert_eq!(eos.pressure(1.0, 0.0), 0.0);
@@ -509,14 +523,14 @@ fn the_shock_model_replaces_the_pressure_by_mie_gruneisen() {
         }),
         plasticity: Plasticity::None,
     };
-    // Uniform compression J = 0.8: no shear, σ = −p I with p = 2 498 512.790 + 1.6 e.
+    // Uniform compression J = 0.8: no shear, σ = −p I with p = 2 761 341.223 + 1.6 e.
     let s = 0.8f64.cbrt();
     let f = [[s, 0.0, 0.0], [0.0, s, 0.0], [0.0, 0.0, s]];
     let tau = material.kirchhoff(&f, 1000.0);
     for (a, row) in tau.iter().enumerate() {
         let sigma = row[a] / 0.8;
         assert!(
-            (sigma + 2_498_512.790_005_95 + 1600.0).abs() < 1e-3,
+            (sigma + 2_761_341.222_879_684 + 1600.0).abs() < 1e-3,
             "{sigma}"
         );
     }
