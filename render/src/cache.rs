@@ -331,9 +331,9 @@ impl Cache {
     ///
     /// The subject is robust, to frame the action and not the far debris: the particles
     /// of every frame (or the surface's vertices where a frame has no particles), up
-    /// to [`SAMPLES_PER_FRAME`] of each, evenly strided, pooled over the whole shot, of
-    /// which [`FRAMING_TAIL`] may fall outside each edge of the image, grown by half a
-    /// particle; the colliders (the projectile) of every frame are framed whole. The
+    /// to [`SAMPLES_PER_FRAME`] of each, evenly strided, pooled over the whole shot,
+    /// grown by half a particle, without far outliers (beyond the [`FRAMING_TAIL`]
+    /// quantile along an edge by more than a quarter of the spread: `Subject::support`); the colliders (the projectile) of every frame are framed whole. The
     /// bounds (for the shadow and the clip planes) are the samples' 1st to 99th
     /// percentile on each axis and the colliders.
     pub fn sequence_framing(

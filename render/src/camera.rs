@@ -227,7 +227,8 @@ pub struct Subject {
     pub samples: Vec<[f32; 3]>,
     /// How far the bodies reach past their sample points (half a particle).
     pub pad: f32,
-    /// The fraction of `samples` that may fall outside each edge of the image.
+    /// The fraction of `samples` whose quantile along each edge's normal sets how far
+    /// out a sample counts as part of the subject (see [`Subject::support`]).
     pub tail: f32,
     /// Points always in the picture.
     pub whole: Vec<[f32; 3]>,
@@ -243,8 +244,13 @@ impl Subject {
     }
 
     /// How far the subject reaches along `n`: the largest `p · n` of the whole points
-    /// and of the samples without their `tail` (plus the pad). `None` for a subject
-    /// with no finite point.
+    /// and of the samples (plus the pad), leaving out far outliers. `None` for a
+    /// subject with no finite point.
+    ///
+    /// A sample is an outlier when it lies beyond the `tail` quantile along `n` by more
+    /// than [`OUTLIER_SPREAD`] of the samples' spread between the two `tail` quantiles:
+    /// a grain flung far off is left out, while the feet of a figure or the edge of a
+    /// sheet, attached to the subject but fewer than `tail` of its points, stay in.
     fn support(&self, n: [f32; 3]) -> Option<f32> {
         let finite = |p: &&[f32; 3]| p.iter().all(|v| v.is_finite());
         let whole = self
@@ -262,7 +268,15 @@ impl Subject {
         let sampled = (!values.is_empty()).then(|| {
             let cut = ((values.len() as f32 * self.tail) as usize).min((values.len() - 1) / 2);
             let last = values.len() - 1 - cut;
-            *values.select_nth_unstable_by(last, f32::total_cmp).1 + self.pad * norm(n)
+            let high = *values.select_nth_unstable_by(last, f32::total_cmp).1;
+            let low = *values.select_nth_unstable_by(cut, f32::total_cmp).1;
+            let reach = high + OUTLIER_SPREAD * (high - low);
+            let kept = values
+                .iter()
+                .copied()
+                .filter(|&v| v <= reach)
+                .fold(high, f32::max);
+            kept + self.pad * norm(n)
         });
         match (whole, sampled) {
             (Some(a), Some(b)) => Some(a.max(b)),
@@ -270,6 +284,10 @@ impl Subject {
         }
     }
 }
+
+/// How far beyond its `tail` quantile, as a fraction of the spread between the two
+/// quantiles, a sample still counts as part of the subject (see [`Subject::support`]).
+pub const OUTLIER_SPREAD: f32 = 0.25;
 
 /// The tightest eye for a subject seen along a fixed direction, in the camera's axes.
 ///
@@ -485,13 +503,20 @@ mod tests {
             min: [0.0; 3],
             max: [1.0, 1.0, 0.0],
         };
-        let subject = Subject {
+        let mut subject = Subject {
             samples,
             tail: 0.01,
             ..Subject::default()
         };
+        // A foot of 4 points just past the body (under 1 % of the points) stays in.
+        subject
+            .samples
+            .extend((0..4).map(|i| [1.15, 0.1 * i as f32, 0.0]));
         let cam = Camera::fit(&subject, &b, 1.5, 0.0);
-        for p in &subject.samples[..1000] {
+        for p in subject.samples[..1000]
+            .iter()
+            .chain(&subject.samples[1006..])
+        {
             let c = ndc(&cam, *p);
             assert!(c.iter().all(|v| v.abs() < 1.0), "{p:?}: {c:?}");
         }
