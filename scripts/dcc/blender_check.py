@@ -174,6 +174,8 @@ def crack_look(scene, out, frames):
     mesh = ev.to_mesh()
     names = set(mesh.attributes.keys())
     check("crack" in names, f"frame {frame}: the surface has no face attribute crack ({sorted(names)})")
+    check("damage" in names and mesh.attributes["damage"].domain == "POINT",
+          f"frame {frame}: the surface has no vertex attribute damage ({sorted(names)})")
     flag = np.empty(len(mesh.polygons), dtype=np.int32)
     mesh.attributes["crack"].data.foreach_get("value", flag)
     expected = np.repeat([0, 1], [surface_faces, crack_faces])
@@ -208,8 +210,9 @@ def crack_look(scene, out, frames):
         check(err < 1e-6, f"frame {frame}: material {material.name}'s colour ({source.attribute_name}) is off the "
               f"crack colour on crack faces, the surface colour elsewhere, by {err}")
     ev.to_mesh_clear()
-    print(f"blender usd: frame {frame}: the face attribute crack marks the {crack_faces} crack faces; the "
-          f"materials {sorted(materials)} colour them from the attribute displayColor (the crack colour there)")
+    print(f"blender usd: frame {frame}: the face attribute crack marks the {crack_faces} crack faces (and the "
+          f"vertices carry damage); the materials {sorted(materials)} colour them from the attribute "
+          f"displayColor (the crack colour there)")
 
 
 def camera_rays(scene, camera, width, height):
