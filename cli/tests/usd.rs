@@ -1,11 +1,15 @@
 //! `cache.usd` end to end: `perifrac run` on a small scene like the demo's (a block
-//! with a pre-broken crack pulled apart, a ground, a sphere collider flying past, the
+//! torn in two between two anchors, a ground, a sphere collider flying past, the
 //! embedded surface), then `perifrac surface --method vdb` and `perifrac export usd` on
 //! the same cache; after each, `scripts/dcc-check.sh` opens the cache with Pixar's
 //! usd-core (validator, every time sample against the PLY and glTF files, tets.pvd
-//! through meshio) and with Blender (PyPI bpy: USD and glTF import, and a Workbench
+//! through meshio) and with Blender (PyPI bpy: USD and glTF import, a Workbench
 //! render of the last frame, which crashed Blender while the writer compressed the
-//! ground quad's four indices). A second scene drops a block on a moving, turning
+//! ground quad's four indices, and a Cycles render of the surface in which the crack
+//! faces must have the crack colour). The block has no crack at frame 1, as in the
+//! demo: Blender binds the `GeomSubset` materials once, at import, so crack faces
+//! that open later were the surface's colour until the looks read the per-face
+//! primvar `displayColor`. A second scene drops a block on a moving, turning
 //! table that is a mesh collider: its geometry (`colliders/mesh_1.ply`) must be in
 //! `cache.usd` and `surface/animated.glb`, posed as the manifest says, with the block
 //! resting on its top. The Python side skips, loudly, only where pip has no wheel for
@@ -27,16 +31,15 @@ gravity = [0.0, 0.0, 0.0]
 density = 1000.0
 bulk_modulus = 1e5
 shear_modulus = 1e5
+critical_stretch = 0.05
 
 [[body]]
 material = "m"
 shape = { type = "box", center = [0.0, 0.0, 0.0], size = [0.1, 0.1, 0.1] }
 resolution = 0.025
 
-[[body.crack]]
-point = [0.0, 0.003, 0.0]
-normal = [0.0, 1.0, 0.0]
-region = { type = "box", center = [0.0, 0.0, 0.0], size = [1.0, 1.0, 1.0] }
+[[body.anchor]]
+region = { type = "box", center = [0.0, -0.05, 0.0], size = [0.2, 0.03, 0.2] }
 
 [[body.anchor]]
 region = { type = "box", center = [0.0, 0.05, 0.0], size = [0.2, 0.03, 0.2] }

@@ -8,7 +8,10 @@ and checks what they would see:
   surface/NNNN.glb within 1e-6 m; the point cloud carries `damage` and `fragment` and its
   points at frame N match particles/NNNN.ply; points, meshes, volumes and colliders are in
   one coordinate system (the y-up cache turned z-up by one rotation, as glTF imports are).
-  Frame N renders in Workbench (64x48) to an image that is not empty.
+  Frame N renders in Workbench (64x48) to an image that is not empty. At the frame with the
+  most crack faces (embedded method), the surface rendered alone in Cycles (128x96) shows
+  crack-coloured pixels, and its crack faces (the face attribute `crack`) take the crack
+  colour from the attribute `displayColor` that its materials read.
   Every collider is an object named after it (`ground`, `sphere_N`...; `shape` before).
   Each mesh collider (colliders/mesh_N.ply) is a mesh object with the PLY's vertices, posed
   at frames 1 and N as manifest.json says; with --rests-on-colliders, the lowest particle of
@@ -31,7 +34,7 @@ import numpy as np
 from mathutils import Matrix
 
 sys.path.insert(0, str(Path(__file__).parent))
-from usd_check import check, posed_collider, read_collider, read_glb, read_ply  # noqa: E402
+from usd_check import check, posed_collider, read_collider, read_glb, read_glb_crack, read_ply  # noqa: E402
 
 RESTS = "--rests-on-colliders" in sys.argv
 
@@ -141,6 +144,195 @@ def render(scene, frame):
           f"colour spread {spread:.3f})")
     print(f"blender usd: frame {frame} renders in Workbench (64x48: {covered:.0%} of the pixels "
           f"drawn, colour spread {spread:.3f})")
+
+
+def crack_look(scene, out, frames):
+    """At the frame with the most crack faces (per surface/NNNN.glb), the imported surface's
+    crack faces carry the crack look, as Blender renders them: a Cycles render of the surface
+    (crack_render) shows crack-coloured pixels; the face attribute `crack` (from the primvar)
+    marks the crack faces; every material of the surface takes its Base Color from the colour
+    attribute `displayColor` (an Attribute node, from the UsdPrimvarReader_float3), which is
+    the crack material's colour on crack faces and the surface material's elsewhere.
+    Blender applies GeomSubsets once, at import, so without the primvar the faces that crack
+    after frame 1 stay the surface's colour: the render of such a cache had no crack colour."""
+    counts = [read_glb_crack(out / "surface" / f"{k:04}.glb")[1:] for k in range(1, frames + 1)]
+    frame = max(range(1, frames + 1), key=lambda k: (counts[k - 1][1], k))
+    surface_faces, crack_faces = counts[frame - 1]
+    if crack_faces == 0:
+        print("blender usd: no frame has crack faces; the crack look is not checked")
+        return
+    obj = scene.objects["Surface"]
+    crack_render(scene, obj, frame, surface_faces, crack_faces)
+    scene.frame_set(frame)
+    materials = {slot.material.name: slot.material for slot in obj.material_slots if slot.material}
+    check({"surface", "crack"} <= set(materials), f"the surface's materials are {sorted(materials)}")
+    colour = {name: np.array(materials[name].diffuse_color[:3]) for name in ("surface", "crack")}
+    check(np.abs(colour["crack"] - colour["surface"]).max() > 0.1,
+          f"the crack and surface materials have one colour {colour['crack']}")
+    # The attributes of the evaluated mesh (the mesh cache modifier's, at this frame).
+    ev = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    mesh = ev.to_mesh()
+    names = set(mesh.attributes.keys())
+    check("crack" in names, f"frame {frame}: the surface has no face attribute crack ({sorted(names)})")
+    check("damage" in names and mesh.attributes["damage"].domain == "POINT",
+          f"frame {frame}: the surface has no vertex attribute damage ({sorted(names)})")
+    flag = np.empty(len(mesh.polygons), dtype=np.int32)
+    mesh.attributes["crack"].data.foreach_get("value", flag)
+    expected = np.repeat([0, 1], [surface_faces, crack_faces])
+    check(np.array_equal(flag, expected),
+          f"frame {frame}: the face attribute crack marks {int(flag.sum())} of {len(flag)} faces, "
+          f"the .glb has {crack_faces} crack faces of {surface_faces + crack_faces}")
+    for material in materials.values():
+        nodes = material.node_tree.nodes if material.node_tree else []
+        bsdf = next((n for n in nodes if n.bl_idname == "ShaderNodeBsdfPrincipled"), None)
+        check(bsdf is not None, f"material {material.name} has no Principled BSDF")
+        base = bsdf.inputs["Base Color"]
+        source = base.links[0].from_node if base.is_linked else None
+        check(source is not None and source.bl_idname == "ShaderNodeAttribute",
+              f"material {material.name}: its Base Color is {'a constant' if source is None else source.bl_idname}, "
+              f"not read from an attribute of the mesh")
+        check(source.attribute_name in names,
+              f"material {material.name} reads the attribute {source.attribute_name!r}, which the mesh lacks")
+        attribute = mesh.attributes[source.attribute_name]
+        values = np.empty(len(attribute.data) * 4)
+        attribute.data.foreach_get("color", values)
+        values = values.reshape(-1, 4)[:, :3]
+        # Per corner (Blender's domain for USD's uniform colours): the face of each corner.
+        if attribute.domain == "CORNER":
+            corners = np.empty(len(mesh.polygons), dtype=np.int64)
+            mesh.polygons.foreach_get("loop_total", corners)
+            per_face_flag = np.repeat(flag, corners)
+        else:
+            check(attribute.domain == "FACE", f"attribute {attribute.name} on the {attribute.domain} domain")
+            per_face_flag = flag
+        want = np.where(per_face_flag[:, None] == 1, colour["crack"], colour["surface"])
+        err = float(np.abs(values - want).max())
+        check(err < 1e-6, f"frame {frame}: material {material.name}'s colour ({source.attribute_name}) is off the "
+              f"crack colour on crack faces, the surface colour elsewhere, by {err}")
+    ev.to_mesh_clear()
+    print(f"blender usd: frame {frame}: the face attribute crack marks the {crack_faces} crack faces (and the "
+          f"vertices carry damage); the materials {sorted(materials)} colour them from the attribute "
+          f"displayColor (the crack colour there)")
+
+
+def camera_rays(scene, camera, width, height):
+    """(origin, directions (height, width, 3)) of the rays through the pixel centres of
+    `camera`, rows from the bottom as in Blender's images."""
+    frame = [np.array(v) for v in camera.data.view_frame(scene=scene)]
+    top_right, bottom_right, bottom_left, top_left = frame
+    u = (np.arange(width) + 0.5) / width
+    v = (np.arange(height) + 0.5) / height
+    bottom = bottom_left[None, :] + u[:, None] * (bottom_right - bottom_left)[None, :]
+    top = top_left[None, :] + u[:, None] * (top_right - top_left)[None, :]
+    local = bottom[None, :, :] + v[:, None, None] * (top - bottom)[None, :, :]
+    m = np.array(camera.matrix_world)
+    return m[:3, 3], local @ m[:3, :3].T
+
+
+def faces_seen(scene, obj, camera, width, height):
+    """The face of `obj` (evaluated) each pixel centre of `camera` sees, -1 for none
+    (rows from the bottom)."""
+    from mathutils import Vector
+    from mathutils.bvhtree import BVHTree
+
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    tree = BVHTree.FromObject(obj, depsgraph)
+    inverse = np.array(obj.matrix_world.inverted())
+    origin, directions = camera_rays(scene, camera, width, height)
+    origin = Vector(inverse[:3, :3] @ origin + inverse[:3, 3])
+    directions = directions @ inverse[:3, :3].T
+    seen = np.full((height, width), -1)
+    for j in range(height):
+        for i in range(width):
+            hit = tree.ray_cast(origin, Vector(directions[j, i]))
+            if hit[2] is not None:
+                seen[j, i] = hit[2]
+    return seen
+
+
+def crack_render(scene, obj, frame, surface_faces, crack_faces):
+    """Renders `obj` alone at `frame` in Cycles (128x96, 16 samples, seed 0, a white sky),
+    from the side of it (of four) that shows the most crack faces, and checks the pixels
+    whose neighbourhood sees only crack faces (by ray casts; the faces after the first
+    `surface_faces`) have the crack colour, and those that see only original faces do not.
+    Cracks enclosed by the surface cannot show: then this is said, not checked."""
+    from mathutils import Vector
+
+    scene.frame_set(frame)
+    hidden = {o.name: o.hide_render for o in scene.objects}
+    for o in scene.objects:
+        o.hide_render = o is not obj
+    corners = [obj.matrix_world @ Vector(c) for c in obj.bound_box]
+    centre = sum(corners, Vector()) / len(corners)
+    size = max(max((c - centre).length for c in corners), 0.05)
+    camera = bpy.data.objects.new("crack_camera", bpy.data.cameras.new("crack_camera"))
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    width, height = 128, 96
+
+    def aim(side):
+        camera.location = centre + Vector(side).normalized() * size * 3
+        camera.rotation_euler = (centre - camera.location).to_track_quat("-Z", "Y").to_euler()
+        bpy.context.view_layer.update()
+
+    sides = [(1.0, -1.5, 0.5), (-1.0, -1.5, 0.5), (-1.0, 1.5, 0.5), (1.0, 1.5, 0.5)]
+    best = []
+    for side in sides:
+        aim(side)
+        best.append(((faces_seen(scene, obj, camera, 32, 24) >= surface_faces).sum(), side))
+    aim(max(best)[1])
+    seen = faces_seen(scene, obj, camera, width, height)
+    world = bpy.data.worlds.new("crack_sky")
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    scene.world = world
+    scene.render.engine = "CYCLES"
+    scene.cycles.device = "CPU"
+    scene.cycles.samples = 16
+    scene.cycles.seed = 0
+    scene.cycles.use_denoising = False
+    scene.render.resolution_x, scene.render.resolution_y = width, height
+    scene.render.resolution_percentage = 100
+    scene.render.film_transparent = True
+    scene.view_settings.view_transform = "Standard"
+    with tempfile.TemporaryDirectory() as folder:
+        scene.render.filepath = str(Path(folder) / "crack.png")
+        bpy.ops.render.render(write_still=True)
+        image = bpy.data.images.load(scene.render.filepath)
+        pixels = np.array(image.pixels[:]).reshape(height, width, 4)
+        bpy.data.images.remove(image)
+    for o in scene.objects:
+        o.hide_render = hidden.get(o.name, o.hide_render)
+    # A pixel is a crack pixel when it and its eight neighbours see crack faces (so
+    # the filter's blend across edges stays out), a surface pixel likewise.
+    crack = seen >= surface_faces
+    original = (seen >= 0) & ~crack
+    inner = (slice(1, -1), slice(1, -1))
+
+    def all_around(mask):
+        out = np.zeros_like(mask)
+        out[inner] = np.all([np.roll(np.roll(mask, dj, 0), di, 1)[inner]
+                             for dj in (-1, 0, 1) for di in (-1, 0, 1)], axis=0)
+        return out
+
+    rgb = pixels[:, :, :3]
+    # Hue, not brightness: (r - b) / r is ~0.4 for the ochre crack colour and ~0 for the
+    # grey surface colour however lit (sRGB values).
+    warmth = (rgb[:, :, 0] - rgb[:, :, 2]) / np.maximum(rgb[:, :, 0], 1e-6)
+    crack_pixels, surface_pixels = all_around(crack), all_around(original)
+    if crack_pixels.sum() < 10:
+        print(f"blender usd: frame {frame}: the {crack_faces} crack faces are hidden by the surface from "
+              f"every side ({int(crack_pixels.sum())} pixels); their colour is not checked in a render")
+        return
+    warm = float((warmth[crack_pixels] > 0.2).mean())
+    grey = float((warmth[surface_pixels] < 0.08).mean())
+    check(warm > 0.9,
+          f"frame {frame}: of the {int(crack_pixels.sum())} pixels of the Cycles render that show crack "
+          f"faces, {warm:.0%} have the crack colour: the crack faces do not carry the crack look")
+    check(grey > 0.9, f"frame {frame}: of the {int(surface_pixels.sum())} pixels that show the original "
+          f"surface, {grey:.0%} have its colour")
+    print(f"blender usd: frame {frame} renders in Cycles (128x96) with the crack look: {warm:.0%} of the "
+          f"{int(crack_pixels.sum())} pixels that show crack faces have the crack colour, {grey:.0%} of the "
+          f"{int(surface_pixels.sum())} that show the surface its colour")
 
 
 def main(out):
@@ -253,6 +445,8 @@ def main(out):
         print(f"blender usd: volume {vol.name} reads {path} (sequence: {vol.data.is_sequence})")
     print(f"blender usd: {len(scene.objects)} objects in one coordinate system")
     render(scene, frames)
+    if "Surface" in objects:
+        crack_look(scene, out, frames)
 
     animated = out / "surface" / "animated.glb"
     if animated.exists():

@@ -19,7 +19,7 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import numpy as np
-from pxr import Usd, UsdGeom, UsdUtils, UsdVol, Vt
+from pxr import Usd, UsdGeom, UsdShade, UsdUtils, UsdVol, Vt
 
 
 def read_ply(path):
@@ -110,18 +110,79 @@ def read_glb(path):
     return meshes
 
 
-def read_glb_crack(path):
-    """(mesh name, surface triangles, crack triangles) of a one-mesh .glb."""
+def read_glb_face_counts(path):
+    """[(mesh name, surface triangles, crack triangles)] of a .glb."""
     data = path.read_bytes()
     json_len = struct.unpack_from("<I", data, 12)[0]
     doc = json.loads(data[20 : 20 + json_len])
     materials = [m.get("name") for m in doc.get("materials", [])]
-    [mesh] = doc["meshes"]
-    counts = {"surface": 0, "crack": 0}
-    for prim in mesh["primitives"]:
-        crack_prim = "material" in prim and materials[prim["material"]] == "crack"
-        counts["crack" if crack_prim else "surface"] += doc["accessors"][prim["indices"]]["count"] // 3
-    return mesh.get("name", ""), counts["surface"], counts["crack"]
+    meshes = []
+    for mesh in doc["meshes"]:
+        counts = {"surface": 0, "crack": 0}
+        for prim in mesh["primitives"]:
+            crack_prim = "material" in prim and materials[prim["material"]] == "crack"
+            counts["crack" if crack_prim else "surface"] += doc["accessors"][prim["indices"]]["count"] // 3
+        meshes.append((mesh.get("name", ""), counts["surface"], counts["crack"]))
+    return meshes
+
+
+def read_glb_crack(path):
+    """(mesh name, surface triangles, crack triangles) of a one-mesh .glb."""
+    [mesh] = read_glb_face_counts(path)
+    return mesh
+
+
+def read_glb_colours(path):
+    """{material name: base colour (r, g, b)} of a .glb."""
+    data = path.read_bytes()
+    json_len = struct.unpack_from("<I", data, 12)[0]
+    doc = json.loads(data[20 : 20 + json_len])
+    return {m.get("name"): np.array(m["pbrMetallicRoughness"]["baseColorFactor"][:3], "f4")
+            for m in doc.get("materials", [])}
+
+
+def check_looks(stage, colours):
+    """Each of /World/Looks/surface and /World/Looks/crack: a UsdPreviewSurface whose
+    diffuseColor reads the primvar displayColor (a UsdPrimvarReader_float3, falling back to
+    the look's colour, the .glb material's) and keeps that colour as its value."""
+    for name in ("surface", "crack"):
+        material = UsdShade.Material(stage.GetPrimAtPath(f"/World/Looks/{name}"))
+        check(material, f"no material /World/Looks/{name}")
+        shader = material.ComputeSurfaceSource()[0]
+        check(shader and shader.GetIdAttr().Get() == "UsdPreviewSurface",
+              f"Looks/{name}: the surface is not a UsdPreviewSurface")
+        diffuse = shader.GetInput("diffuseColor")
+        # The vdb method's .glb files have no materials: the look's own colour then.
+        colours.setdefault(name, np.array(diffuse.Get(), "f4"))
+        check(np.allclose(diffuse.Get(), colours[name], atol=1e-6, rtol=0),
+              f"Looks/{name}: diffuseColor {diffuse.Get()} is not the .glb's {colours[name]}")
+        sources = diffuse.GetConnectedSources()[0]
+        check(len(sources) == 1, f"Looks/{name}: diffuseColor is not connected to a primvar reader")
+        reader = UsdShade.Shader(sources[0].source.GetPrim())
+        check(reader.GetIdAttr().Get() == "UsdPrimvarReader_float3"
+              and reader.GetInput("varname").Get() == "displayColor"
+              and np.allclose(reader.GetInput("fallback").Get(), colours[name], atol=1e-6, rtol=0),
+              f"Looks/{name}: diffuseColor comes from {reader.GetPath()}, not a UsdPrimvarReader_float3 "
+              f"of displayColor falling back to the look's colour")
+    print("looks: surface and crack read the primvar displayColor (UsdPrimvarReader_float3)")
+
+
+def check_face_looks(mesh, k, surface_faces, crack_faces, colours, what):
+    """The per-face primvars of `mesh` at frame k: crack = 0 on the first `surface_faces`
+    faces and 1 on the `crack_faces` after them; displayColor the .glb's surface and crack
+    colours on them."""
+    pv = UsdGeom.PrimvarsAPI(mesh)
+    flag, colour = pv.GetPrimvar("crack"), pv.GetPrimvar("displayColor")
+    check(flag.GetInterpolation() == "uniform" and colour.GetInterpolation() == "uniform",
+          f"{what}: primvars crack and displayColor are not per face (uniform)")
+    expected = np.repeat([0, 1], [surface_faces, crack_faces])
+    check(np.array_equal(np.array(flag.Get(k)), expected),
+          f"frame {k}: {what}'s primvar crack is not 1 on its {crack_faces} crack faces only")
+    got = np.array(colour.ComputeFlattened(k), "f4").reshape(-1, 3)
+    want = np.where(expected[:, None] == 1, colours["crack"], colours["surface"])
+    check(got.shape == want.shape and np.allclose(got, want, atol=1e-6, rtol=0),
+          f"frame {k}: {what}'s displayColor is not the crack colour on crack faces, the surface "
+          f"colour elsewhere")
 
 
 def check(condition, message):
@@ -216,6 +277,9 @@ def main(out):
 
     # Surfaces.
     surface = stage.GetPrimAtPath("/World/Surface")
+    if surface or stage.GetPrimAtPath("/World/Fragments"):
+        colours = read_glb_colours(out / "surface" / "0001.glb")
+        check_looks(stage, colours)
     if surface:
         mesh = UsdGeom.Mesh(surface)
         subsets = UsdGeom.Subset.GetGeomSubsets(mesh)
@@ -236,13 +300,17 @@ def main(out):
                   f"frame {k}: the subsets are not a partition of the {len(tris)} faces")
             crack = UsdGeom.Subset(stage.GetPrimAtPath("/World/Surface/crack"))
             crack_faces = np.array(crack.GetIndicesAttr().Get(k), dtype=int)
-            _, _, crack_tris = read_glb_crack(out / "surface" / f"{k:04}.glb")
+            _, surface_tris, crack_tris = read_glb_crack(out / "surface" / f"{k:04}.glb")
             check(len(crack_faces) == crack_tris, f"frame {k}: {len(crack_faces)} crack faces, the .glb has {crack_tris}")
-        print(f"embedded surface: {frames} frames equal surface/NNNN.glb, subsets valid")
+            check_face_looks(mesh, k, surface_tris, crack_tris, colours, "the surface")
+        print(f"embedded surface: {frames} frames equal surface/NNNN.glb, subsets valid; per face, "
+              f"the primvar crack marks the crack faces and displayColor gives them the crack colour")
     fragments = stage.GetPrimAtPath("/World/Fragments")
     if fragments:
         for k in range(1, frames + 1):
             glb = {name.replace(" ", "_"): (p, t) for name, p, t in read_glb(out / "surface" / f"{k:04}.glb")}
+            faces = {name.replace(" ", "_"): (surface, crack)
+                     for name, surface, crack in read_glb_face_counts(out / "surface" / f"{k:04}.glb")}
             for child in fragments.GetChildren():
                 visible = UsdGeom.Imageable(child).ComputeVisibility(k) != UsdGeom.Tokens.invisible
                 check(visible == (child.GetName() in glb), f"frame {k}: visibility of {child.GetName()}")
@@ -250,7 +318,9 @@ def main(out):
                     p, t = glb[child.GetName()]
                     m = UsdGeom.Mesh(child)
                     check(np.array_equal(np.array(m.GetPointsAttr().Get(k), "f4"), p), f"frame {k}: {child.GetName()}")
-        print(f"fragments: {len(fragments.GetChildren())} meshes equal surface/NNNN.glb")
+                    check_face_looks(m, k, *faces[child.GetName()], colours, child.GetName())
+        print(f"fragments: {len(fragments.GetChildren())} meshes equal surface/NNNN.glb, with the "
+              f"per-face primvars crack and displayColor")
     volume = stage.GetPrimAtPath("/World/Volume")
     if volume:
         vol = UsdVol.Volume(volume)

@@ -166,28 +166,29 @@ impl Layer {
     }
 
     /// Attribute `name` of type `type_name` connected to the property `source`
-    /// (a shader output).
+    /// (a shader output), with a `default` value for readers that do not follow
+    /// connections (Blender's viewport colour of a material).
     pub fn connection(
         &mut self,
         prim: &str,
         name: &str,
         type_name: &str,
         source: &str,
+        default: Option<Value>,
     ) -> Result<(), String> {
         let op = ListOp {
             explicit: true,
             explicit_items: vec![path(source)?],
             ..ListOp::default()
         };
-        self.property(
-            prim,
-            name,
-            SpecType::Attribute,
-            vec![
-                (FieldKey::TypeName.as_str(), Value::token(type_name)),
-                (FieldKey::ConnectionPaths.as_str(), Value::PathListOp(op)),
-            ],
-        )
+        let mut fields = vec![
+            (FieldKey::TypeName.as_str(), Value::token(type_name)),
+            (FieldKey::ConnectionPaths.as_str(), Value::PathListOp(op)),
+        ];
+        if let Some(value) = default {
+            fields.push((FieldKey::Default.as_str(), value));
+        }
+        self.property(prim, name, SpecType::Attribute, fields)
     }
 
     /// Relationship `name` of `prim` targeting `targets`.

@@ -14,11 +14,11 @@
 //! | prim | type | from |
 //! |---|---|---|
 //! | `Particles` | `Points`: `points`, `velocities` (playback), `widths`, `ids`, primvars `damage`, `plastic`, `fragment`, `material`, `simulation_velocity` and a model's extra columns | `particles/NNNN.ply` |
-//! | `Surface` | `Mesh` with time-sampled topology, `normals`, primvar `damage`; `GeomSubset`s `surface` and `crack` (family `materialBind`) | `surface/NNNN.glb` (embedded method) |
+//! | `Surface` | `Mesh` with time-sampled topology, `normals`, primvars `damage` (vertex), `crack` and `displayColor` (per face); `GeomSubset`s `surface` and `crack` (family `materialBind`) | `surface/NNNN.glb` (embedded method) |
 //! | `Fragments/fragment_N` | one `Mesh` a fragment, `visibility` time-sampled where a frame lacks it | `surface/NNNN.glb` (vdb method) |
 //! | `Volume` | `Volume` with `OpenVDBAsset` fields `surface` and `v`, `filePath` time-sampled | `vdb/NNNN.vdb` |
 //! | `Colliders/ground` (`ground_N` when there are several), `sphere_N`, `box_N`, `mesh_N` (N: the scene index) | `Xform` with time-sampled `xformOp:translate` (and `xformOp:orient` where the manifest has rotations), a `Sphere`, `Cube`, ground `Mesh` or the mesh collider's `Mesh` child of the same name | `scene.toml`, `manifest.json`, `colliders/mesh_N.ply` |
-//! | `Looks/surface`, `Looks/crack` | `Material` with a `UsdPreviewSurface` | the glTF materials' colours |
+//! | `Looks/surface`, `Looks/crack` | `Material` with a `UsdPreviewSurface` whose colour is the meshes' `displayColor` | the glTF materials' colours |
 //!
 //! Velocities: `velocities` are in metres per second of *playback* (the simulation
 //! velocity × playback_fps / simulation fps), what renderers' motion blur and USD's
@@ -234,6 +234,18 @@ fn identifier(name: &str) -> String {
 
 /// `/World/Looks` with a preview material for the original surface and one for the
 /// crack faces; returns their paths.
+///
+/// Both read their diffuse colour from the meshes' per-face primvar `displayColor`
+/// (a `UsdPrimvarReader_float3`, falling back to the material's own colour), which
+/// [`mesh_samples`] makes [`SURFACE_LOOK`]'s colour on original faces and
+/// [`CRACK_LOOK`]'s on crack faces, frame by frame. So a crack face shows the crack
+/// colour whichever of the two materials it is bound to: through the `GeomSubset`s in
+/// the tools that play their time-sampled indices, and in Blender, which applies
+/// subsets once, at import (frame 1, before any crack opens), but imports the
+/// primvar reader as an Attribute node and `displayColor` as a colour attribute that
+/// its mesh cache updates every frame. `inputs:diffuseColor` keeps the material's
+/// colour as a value too, for readers that do not follow connections (Blender's
+/// viewport colour).
 fn looks(stage: &mut Layer, world: &str) -> Result<[String; 2], String> {
     let scope = stage.def(world, "Looks", "Scope")?;
     let mut paths = [String::new(), String::new()];
@@ -242,6 +254,33 @@ fn looks(stage: &mut Layer, world: &str) -> Result<[String; 2], String> {
         .enumerate()
     {
         let material = stage.def(&scope, name, "Material")?;
+        let [r, g, b] = colour;
+        let reader = stage.def(&material, "DisplayColor", "Shader")?;
+        stage.attribute(
+            &reader,
+            "info:id",
+            "token",
+            true,
+            Value::token("UsdPrimvarReader_float3"),
+            vec![],
+        )?;
+        stage.attribute(
+            &reader,
+            "inputs:varname",
+            "string",
+            false,
+            Value::String("displayColor".into()),
+            vec![],
+        )?;
+        stage.attribute(
+            &reader,
+            "inputs:fallback",
+            "float3",
+            false,
+            Value::Vec3f(gf::vec3f(r, g, b)),
+            vec![],
+        )?;
+        stage.declare(&reader, "outputs:result", "float3")?;
         let shader = stage.def(&material, "PreviewSurface", "Shader")?;
         stage.attribute(
             &shader,
@@ -251,14 +290,12 @@ fn looks(stage: &mut Layer, world: &str) -> Result<[String; 2], String> {
             Value::token("UsdPreviewSurface"),
             vec![],
         )?;
-        let [r, g, b] = colour;
-        stage.attribute(
+        stage.connection(
             &shader,
             "inputs:diffuseColor",
             "color3f",
-            false,
-            Value::Vec3f(gf::vec3f(r, g, b)),
-            vec![],
+            &format!("{reader}.outputs:result"),
+            Some(Value::Vec3f(gf::vec3f(r, g, b))),
         )?;
         stage.attribute(
             &shader,
@@ -282,6 +319,7 @@ fn looks(stage: &mut Layer, world: &str) -> Result<[String; 2], String> {
             "outputs:surface",
             "token",
             &format!("{shader}.outputs:surface"),
+            None,
         )?;
         paths[slot] = material;
     }
@@ -455,29 +493,42 @@ fn mesh_samples(mesh: &SurfaceMesh, time: f64, samples: &mut [Samples]) -> usize
         .chain(&mesh.crack_indices)
         .map(|&i| i as i32)
         .collect();
+    // Per face: the crack flag, and the colour the looks read (see [`looks`]), an
+    // indexed primvar whose indices are the flag: colour 0 the surface's, 1 the crack's.
+    let crack: Vec<i32> = (0..triangles).map(|t| i32::from(t >= surface)).collect();
     let values = [
         vec3f(&mesh.positions),
         Value::IntVec(vec![3; triangles]),
         Value::IntVec(indices),
         vec3f(&mesh.normals),
         extent(&mesh.positions, 0.0),
+        vec3f(&[SURFACE_LOOK.0, CRACK_LOOK.0]),
+        Value::IntVec(crack.clone()),
+        Value::IntVec(crack),
     ];
     for (column, value) in samples.iter_mut().zip(values) {
         column.push((time, value));
     }
     if !mesh.damage.is_empty() {
-        samples[5].push((time, Value::FloatVec(mesh.damage.clone())));
+        samples[MESH_ATTRIBUTES.len() - 1].push((time, Value::FloatVec(mesh.damage.clone())));
     }
     surface
 }
 
-/// Name, USD type and metadata of the time-sampled attributes of a `Mesh` prim.
-const MESH_ATTRIBUTES: [(&str, &str); 6] = [
+/// Name and USD type of the time-sampled attributes of a `Mesh` prim, in the order
+/// [`mesh_samples`] fills them (`primvars:damage` last: only surfaces that carry it).
+/// `primvars:displayColor` and `primvars:crack` are per face (interpolation
+/// `uniform`): the colour of the face's look (indexed: the two looks' colours, and
+/// per face the index of its look), and 1 on crack faces, 0 on the original surface.
+const MESH_ATTRIBUTES: [(&str, &str); 9] = [
     ("points", "point3f[]"),
     ("faceVertexCounts", "int[]"),
     ("faceVertexIndices", "int[]"),
     ("normals", "normal3f[]"),
     ("extent", "float3[]"),
+    ("primvars:displayColor", "color3f[]"),
+    ("primvars:displayColor:indices", "int[]"),
+    ("primvars:crack", "int[]"),
     ("primvars:damage", "float[]"),
 ];
 
@@ -500,6 +551,9 @@ fn define_mesh(
     for ((attribute, type_name), samples) in MESH_ATTRIBUTES.iter().zip(samples) {
         let metadata = match *attribute {
             "normals" | "primvars:damage" => vertex(),
+            "primvars:displayColor" | "primvars:crack" => {
+                vec![("interpolation", Value::token("uniform"))]
+            }
             _ => vec![],
         };
         stage.animated(&prim, attribute, type_name, samples, metadata)?;
@@ -962,6 +1016,13 @@ mod tests {
         };
         // [x, y, z, w] in the manifest, (w, x, y, z) in USD.
         assert_eq!(samples[1].1, Value::Quatd(gf::quatd(0.8, 0.6, 0.0, 0.0)));
+        // The looks read the per-face colour primvar (Blender follows it per frame).
+        let varname =
+            openusd::sdf::Path::new("/World/Looks/crack/DisplayColor.inputs:varname").unwrap();
+        assert_eq!(
+            *field(&varname, "default"),
+            Value::String("displayColor".into())
+        );
         // The same cache gives the same bytes.
         let first = std::fs::read(layout.usd()).unwrap();
         write_stage(&layout).unwrap();
