@@ -504,7 +504,34 @@ pub fn check(path: &Path) -> Result<(), Failure> {
         prepared.world.step()
     })?;
     print_contact(&prepared.world);
+    print_rigid(&prepared.world, &scene);
     Ok(())
+}
+
+/// Whether the rigid phase is on for a scene with a breaking body, and, when it is off
+/// and the run is long, that it would shorten it (docs/rigid.md).
+fn print_rigid(world: &perifrac_sim::world::World, scene: &Scene) {
+    let breaks = world.parts.iter().any(|p| {
+        p.model
+            .fragments()
+            .is_some_and(|f| f.breaking.iter().any(|&b| b >= 0.0))
+    });
+    if !breaks {
+        return;
+    }
+    if world.rigid_settings.is_some() {
+        println!(
+            "  rigid phase: on (fragments that stop breaking go to rapier; the estimate \
+             above is for every step at dt, an upper bound once only rigid pieces move)"
+        );
+    } else if scene.scene.duration >= 0.1 {
+        println!(
+            "  rigid phase: off, for a shot of {:.2} s. `[rigid] enabled = true` hands \
+             fragments that stop breaking to rapier and grows the step once only rigid \
+             pieces move (docs/rigid.md: the demo shot's 2 s in 6,960 steps)",
+            scene.scene.duration
+        );
+    }
 }
 
 /// `perifrac check` of a scene with MPM bodies: the model seeds their particles
@@ -567,7 +594,21 @@ fn print_cost(
     steps_per_frame: usize,
     mut step: impl FnMut() -> perifrac_sim::error::Result<usize>,
 ) -> Result<(), Failure> {
-    let steps_total = steps_per_frame * scene.frame_count();
+    // Each segment of the frame schedule at its own steps a frame (the first at the
+    // run's `steps_per_frame`).
+    let segments = scene.frame_segments();
+    let steps_total: usize = segments
+        .iter()
+        .enumerate()
+        .map(|(k, &(frames, length))| {
+            let per_frame = if k == 0 {
+                steps_per_frame
+            } else {
+                (length / dt).ceil() as usize
+            };
+            frames * per_frame
+        })
+        .sum();
     let t = Instant::now();
     let probe = 3;
     for _ in 0..probe {
@@ -578,11 +619,18 @@ fn print_cost(
         "  stable dt: {:.3e} s (limited at particle {}); dt used: {:.3e} s",
         stable_dt.0, stable_dt.1, dt
     );
-    println!(
-        "  steps:     {} frames × {} = {steps_total}",
-        scene.frame_count(),
-        steps_per_frame
-    );
+    if segments.len() == 1 {
+        println!(
+            "  steps:     {} frames × {steps_per_frame} = {steps_total}",
+            scene.frame_count(),
+        );
+    } else {
+        println!(
+            "  steps:     {} frames in {} segments of the schedule = {steps_total}",
+            scene.frame_count(),
+            segments.len()
+        );
+    }
     println!(
         "  estimate:  {:.4} s a step, {:.0} s for the run on {} threads",
         per_step,

@@ -5,7 +5,11 @@
 //!
 //! **When.** Every `check_every` steps the world looks at each model that can break
 //! ([`crate::model::Model::fragments`]): a fragment (a connected component of intact bonds, as the
-//! cache numbers them) of at most `small_fragment` points goes rigid at once; a larger
+//! cache numbers them) of at most `small_fragment` points goes rigid, whatever its
+//! motion: at once when it is a whole body (a pellet), and when it broke off a larger
+//! body once nothing else deformable is left (with the last larger piece: until then
+//! it moves as particles, bond-free and cheap, where as a rapier body it would be
+//! stepped at the deformable bodies' microsecond step; see docs/rigid.md); a larger
 //! one that broke off (less than its whole body, and a point of it lost a bond: an
 //! intact or only pre-cut body at rest waits for what breaks it) when, for `settle_time`, no intact bond is within `margin` of what
 //! breaks it and
@@ -47,6 +51,7 @@ use rapier3d_f64::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::contact::{Collider, ColliderShape};
+use crate::model::Stepping;
 use crate::scene::RigidSpec;
 use crate::world::Part;
 
@@ -144,14 +149,19 @@ fn array(v: &Vector3<f64>) -> [f64; 3] {
 
 impl RigidPhase {
     /// An empty rigid phase with the scene's colliders mirrored in rapier.
-    pub fn new(settings: RigidSpec, colliders: &[Collider]) -> RigidPhase {
+    /// `calm`: the fragments settling before it existed ([`RigidPhase::take_calm`]).
+    pub fn new(
+        settings: RigidSpec,
+        colliders: &[Collider],
+        calm: BTreeMap<(u32, u32), f64>,
+    ) -> RigidPhase {
         let mut phase = RigidPhase {
             settings,
             physics: Physics::new(),
             pipeline: PhysicsPipeline::new(),
             pieces: Vec::new(),
             mirrors: Vec::new(),
-            calm: BTreeMap::new(),
+            calm,
             contact: Vec::new(),
             time: 0.0,
         };
@@ -228,6 +238,13 @@ impl RigidPhase {
         self.pieces.iter().map(|p| p.points.len()).sum()
     }
 
+    /// The fragments settling, (part, smallest point) → since when: what a world
+    /// keeps of a phase that handed nothing over yet, so that a fragment's
+    /// `settle_time` runs on across the looks.
+    pub fn take_calm(&mut self) -> BTreeMap<(u32, u32), f64> {
+        std::mem::take(&mut self.calm)
+    }
+
     /// Whether rapier moves world collider `i` (a dynamic one, mirrored).
     pub fn moves_collider(&self, i: usize, colliders: &[Collider]) -> bool {
         colliders[i].mass.is_some() && self.mirrors.iter().any(|&(c, _)| c == i)
@@ -238,6 +255,8 @@ impl RigidPhase {
     pub fn look(&mut self, parts: &mut [Part], time: f64) -> usize {
         let mut handed = 0;
         let mut seen = BTreeMap::new();
+        // Small fragments wait here until nothing else deformable is left.
+        let mut small_ones: Vec<(usize, Vec<u32>)> = Vec::new();
         for (p, part) in parts.iter_mut().enumerate() {
             let Some(fragments) = part.model.fragments() else {
                 continue;
@@ -267,11 +286,22 @@ impl RigidPhase {
                     continue;
                 }
                 let key = (p as u32, points[0]);
-                let small = points.len() <= self.settings.small_fragment;
                 let body = part.model.point_bodies()[points[0] as usize];
-                let broke_off = points.len() < body_points[&body]
-                    && points.iter().any(|&i| fragments.damaged[i as usize]);
-                if !small && !broke_off {
+                let whole_body = points.len() == body_points[&body];
+                if points.len() <= self.settings.small_fragment {
+                    if whole_body {
+                        // A small body of its own (a pellet): rigid at once.
+                        let fit = fit(part, &points);
+                        self.hand_over(p, part, points, &fit);
+                        handed += 1;
+                    } else {
+                        small_ones.push((p, points));
+                    }
+                    continue;
+                }
+                let broke_off =
+                    !whole_body && points.iter().any(|&i| fragments.damaged[i as usize]);
+                if !broke_off {
                     continue;
                 }
                 let worst = points
@@ -280,16 +310,15 @@ impl RigidPhase {
                     .fold(0.0, f64::max);
                 let fit = fit(part, &points);
                 let wave_speed = fragments.wave_speed[body as usize];
-                let still = small
-                    || (worst < self.settings.margin
-                        && (fit.relative <= self.settings.vibration * fit.kinetic
-                            || fit.amplitude(wave_speed) <= self.settings.rest_amplitude));
+                let still = worst < self.settings.margin
+                    && (fit.relative <= self.settings.vibration * fit.kinetic
+                        || fit.amplitude(wave_speed) <= self.settings.rest_amplitude);
                 if !still {
                     continue;
                 }
                 let since = *self.calm.get(&key).unwrap_or(&time);
                 seen.insert(key, since);
-                if small || time - since >= self.settings.settle_time {
+                if time - since >= self.settings.settle_time {
                     self.hand_over(p, part, points, &fit);
                     seen.remove(&key);
                     handed += 1;
@@ -297,6 +326,19 @@ impl RigidPhase {
             }
         }
         self.calm = seen;
+        // The small fragments go when they are all that is left to deform: every
+        // point of every model is rigid or in one of them, and every model is one the
+        // world steps (so that the step can grow).
+        let total: usize = parts.iter().map(|p| p.model.points().mass.len()).sum();
+        let waiting: usize = small_ones.iter().map(|(_, points)| points.len()).sum();
+        let all_verlet = parts.iter().all(|p| p.model.stepping() == Stepping::Verlet);
+        if all_verlet && self.frozen_points() + waiting == total {
+            for (p, points) in small_ones {
+                let fit = fit(&parts[p], &points);
+                self.hand_over(p, &mut parts[p], points, &fit);
+                handed += 1;
+            }
+        }
         handed
     }
 

@@ -1,6 +1,8 @@
 //! The world in a checkpoint: what [`World::save`] writes and [`World::restore`]
 //! checks and reads back (the container and its header are `perifrac-cache`'s).
 
+use std::collections::BTreeMap;
+
 use super::{Clock, World};
 use crate::cache::checkpoint::{Decoder, Encoder};
 use crate::contact::{self, ColliderShape};
@@ -35,7 +37,17 @@ impl World {
                 out.put_u64(1);
                 rigid.save(out);
             }
-            None => out.put_u64(0),
+            // Before the first hand-off: the fragments settling, if any.
+            None if self.settling.is_empty() => out.put_u64(0),
+            None => {
+                out.put_u64(2);
+                out.put_u64(self.settling.len() as u64);
+                for (&(part, point), &since) in &self.settling {
+                    out.put_u32(part);
+                    out.put_u32(point);
+                    out.put_f64(since);
+                }
+            }
         }
     }
 
@@ -107,7 +119,14 @@ impl World {
             return Err(input.error("clock", message).into());
         }
         match input.take_u64("rigid phase")? {
-            0 => self.rigid = None,
+            0 => {
+                self.rigid = None;
+                self.settling.clear();
+            }
+            2 if self.rigid_settings.is_some() => {
+                self.rigid = None;
+                self.settling = self.restore_settling(input, time)?;
+            }
             1 => {
                 let Some(settings) = self.rigid_settings.clone() else {
                     return Err(input
@@ -117,13 +136,17 @@ impl World {
                         )
                         .into());
                 };
-                let mut rigid = RigidPhase::new(settings, &self.colliders);
+                let mut rigid = RigidPhase::new(settings, &self.colliders, BTreeMap::new());
                 rigid.restore(input, &mut self.parts)?;
                 self.rigid = Some(rigid);
+                self.settling.clear();
             }
             other => {
                 return Err(input
-                    .error("rigid phase", format!("flag {other}, not 0 or 1"))
+                    .error(
+                        "rigid phase",
+                        format!("flag {other}, not 0, 1 or 2 (2 only with [rigid] enabled)"),
+                    )
                     .into());
             }
         }
@@ -182,5 +205,41 @@ impl World {
             contact::mark_anchored(&part.anchors, time, &mut part.anchored);
         }
         Ok(())
+    }
+
+    /// Reads the fragments settling before the first hand-off ([`World::settling`]):
+    /// each names a point of a part the scene has and started settling by `time`.
+    fn restore_settling(
+        &self,
+        input: &mut Decoder<'_>,
+        time: f64,
+    ) -> Result<BTreeMap<(u32, u32), f64>> {
+        let n = input.take_u64("fragments settling")?;
+        if n.saturating_mul(16) > input.remaining() as u64 {
+            return Err(input
+                .error(
+                    "fragments settling",
+                    format!("{n} entries, more than the file holds"),
+                )
+                .into());
+        }
+        let mut settling = BTreeMap::new();
+        for _ in 0..n {
+            let part = input.take_u32("fragments settling")?;
+            let point = input.take_u32("fragments settling")?;
+            let since = input.take_f64("fragments settling")?;
+            let known = self
+                .parts
+                .get(part as usize)
+                .is_some_and(|p| (point as usize) < p.model.points().mass.len());
+            if !known || !since.is_finite() || since > time {
+                let message = format!(
+                    "part {part}, point {point} since {since:e} s: not in the scene by then"
+                );
+                return Err(input.error("fragments settling", message).into());
+            }
+            settling.insert((part, point), since);
+        }
+        Ok(settling)
     }
 }

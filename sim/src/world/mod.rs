@@ -10,6 +10,7 @@
 //! Every model shares the world's time step: the smallest of their stable steps.
 
 use std::any::Any;
+use std::collections::BTreeMap;
 use std::time::Instant;
 
 use perifrac_math::dot;
@@ -74,6 +75,9 @@ pub struct World {
     pub rigid_settings: Option<RigidSpec>,
     /// The rigid phase, from the first hand-off on.
     pub rigid: Option<RigidPhase>,
+    /// Before the first hand-off, the fragments settling ([`RigidPhase::take_calm`]):
+    /// their `settle_time` runs on across the looks.
+    pub settling: BTreeMap<(u32, u32), f64>,
     /// The scene's length (s): a checkpoint's clock lies within it.
     duration: f64,
     /// Energy scale for blow-up detection (J).
@@ -100,6 +104,7 @@ impl World {
             contact: None,
             rigid_settings: None,
             rigid: None,
+            settling: BTreeMap::new(),
             duration: settings.duration,
             energy_budget: 0.0,
             energy_growth: settings.energy_growth,
@@ -251,9 +256,10 @@ impl World {
         if let Some(settings) = &self.rigid_settings
             && (self.steps + 1) % settings.check_every as u64 == 0
         {
-            let rigid = self
-                .rigid
-                .get_or_insert_with(|| RigidPhase::new(settings.clone(), &self.colliders));
+            let rigid = self.rigid.get_or_insert_with(|| {
+                let calm = std::mem::take(&mut self.settling);
+                RigidPhase::new(settings.clone(), &self.colliders, calm)
+            });
             let handed = rigid.look(&mut self.parts, time);
             if handed > 0
                 && let Some(contact) = &self.contact
@@ -261,7 +267,9 @@ impl World {
                 rigid.gather_contact(&self.parts, |p| contact.force(p));
             }
             if rigid.pieces() == 0 {
-                // Nothing went rigid yet: the world stays as it was without it.
+                // Nothing went rigid yet: the world stays as it was without it, but
+                // for the fragments settling.
+                self.settling = rigid.take_calm();
                 self.rigid = None;
             }
         }
