@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
-# Peak memory of `perifrac export usd` against the number of frames (docs/usd.md):
-# a 6,702-particle block (peridynamics, a ground and a moving sphere) run for 31
-# frames, then the same cache made 300 and 3,000 frames long by repeating its
-# particle files (hard links) and manifest entries, each exported under
-# /usr/bin/time -v. Usage: scripts/usd-memory.sh [PERIFRAC_BINARY ...]
+# Peak memory of `perifrac export usd` against the frames and the particles
+# (docs/usd.md): a peridynamics block (a ground and a moving sphere) of 6,702
+# particles (0.1 m) and of 43,410 (0.2 m) run for 31 frames, then the same cache made
+# 300 and 3,000 frames long (the large block: 300) by repeating its particle files
+# (hard links) and manifest entries, each exported under /usr/bin/time -v by each
+# binary in turn. Usage: scripts/usd-memory.sh [PERIFRAC_BINARY ...]
 set -euo pipefail
 bins=("$@")
 [ ${#bins[@]} -gt 0 ] || bins=(target/release/perifrac)
@@ -24,7 +25,7 @@ critical_stretch = 0.05
 
 [[body]]
 material = "m"
-shape = { type = "box", center = [0.0, 0.0, 0.0], size = [0.1, 0.1, 0.1] }
+shape = { type = "box", center = [0.0, 0.0, 0.0], size = [SIZE, SIZE, SIZE] }
 resolution = 0.0125
 
 [[collider]]
@@ -42,10 +43,15 @@ preview = false
 usd = false
 checkpoint_every = 0
 TOML
-"${bins[0]}" run "$dir/block.toml" -o "$dir/base" --quiet >/dev/null 2>&1 || "${bins[0]}" run "$dir/block.toml" -o "$dir/base"
-base_frames=$(ls "$dir/base/particles" | wc -l)
 printf '| frames | particles | binary | stage + clips (MB) | peak RSS (MiB) | seconds |\n|---|---|---|---|---|---|\n'
-for frames in 30 300 3000; do
+for case in 0.1:30,300,3000 0.2:30,300; do
+edge=${case%%:*}
+lengths=${case#*:}
+sed "s/SIZE/$edge/g" "$dir/block.toml" > "$dir/block_$edge.toml"
+rm -rf "$dir/base"
+"${bins[0]}" run "$dir/block_$edge.toml" -o "$dir/base" --quiet >/dev/null
+base_frames=$(ls "$dir/base/particles" | wc -l)
+for frames in ${lengths//,/ }; do
   out="$dir/f$frames"
   mkdir -p "$out/particles"
   cp "$dir/base/scene.toml" "$out/"
@@ -74,4 +80,6 @@ PY
     printf '| %s | %s | %s | %.0f | %.0f | %s |\n' "$frames" "$particles" "$bin" "$(echo "$size / 1000000" | bc -l)" "$(echo "$rss / 1024" | bc -l)" "$wall"
     rm -rf "$out/usd" "$out/cache.usd"
   done
+  rm -rf "$out"
+done
 done

@@ -164,21 +164,22 @@ pub fn write_stage(layout: &Layout) -> Result<UsdReport, UsdError> {
     }
     std::fs::create_dir_all(&clips).map_err(|e| CacheError::io(&clips, e))?;
     // Rayon's workers take one frame at a time: at most a frame a thread is in memory.
-    let written: Vec<FrameSummary> = (1..=frames)
+    // The reduction keeps the frames' order (it is associative, not commutative).
+    let written = (1..=frames)
         .into_par_iter()
         .map(|frame| clip.write(frame))
-        .collect::<Result<_, _>>()?;
+        .try_reduce(Written::default, |a, b| Ok(a.merge(b)))?;
     let authored = start.elapsed().as_secs_f64();
 
     let playback_fps = scene.output.playback_fps;
     let mut stage = Layer::new(stage_metadata(&manifest, playback_fps));
     let world = stage.def("/", "World", "Xform").map_err(encode)?;
     let looks = looks(&mut stage, &world).map_err(encode)?;
-    let declared = declared(&written);
+    let declared = &written.prims;
     let mut report = UsdReport {
         frames,
-        particles: written.last().map_or(0, |w| w.particles),
-        bytes: written.iter().map(|w| w.bytes).sum(),
+        particles: written.frames.last().map_or(0, |w| w.particles),
+        bytes: written.bytes,
         ..UsdReport::default()
     };
     let attributes = |prim: &str| {
@@ -201,7 +202,7 @@ pub fn write_stage(layout: &Layout) -> Result<UsdReport, UsdError> {
             embedded_surface(&mut stage, &world, &attributes, &looks).map_err(encode)?
         }
         Some(Method::Fragments) => {
-            fragments(&mut stage, &world, &written, &attributes, &looks).map_err(encode)?
+            fragments(&mut stage, &world, &written.frames, &attributes, &looks).map_err(encode)?
         }
         None => 0,
     };
@@ -212,7 +213,7 @@ pub fn write_stage(layout: &Layout) -> Result<UsdReport, UsdError> {
     let meshes = mesh_colliders(layout, &scene, Some(&manifest))?;
     report.colliders = colliders(&mut stage, &world, &scene, &manifest, &meshes).map_err(encode)?;
     let manifest_path = layout.usd_clip_manifest();
-    let manifest_bytes = clip_manifest(&declared).map_err(|message| UsdError::Encode {
+    let manifest_bytes = clip_manifest(declared).map_err(|message| UsdError::Encode {
         path: manifest_path.clone(),
         message,
     })?;
@@ -249,14 +250,54 @@ type Declared = (String, &'static str);
 /// One attribute's value in a frame's clip: name, USD type and value.
 type Sample = (String, &'static str, Value);
 
-/// What writing one frame's clip left to the stage: the attributes it authored,
-/// prim by prim (the prim's path below `/World`), the particle count, the vdb
-/// method's mesh names, and the clip's size in bytes.
+/// What one frame's clip leaves to the stage: its particle count and the vdb
+/// method's mesh names.
 struct FrameSummary {
-    prims: Vec<(String, Vec<Declared>)>,
     particles: usize,
     names: Vec<String>,
+}
+
+/// What the clips of a run of frames wrote: the attributes they authored, prim by
+/// prim (the prim's path below `/World`) in the order they first appeared, each
+/// frame's [`FrameSummary`] in frame order, and the clips' size in bytes. Frames are
+/// merged as they are written, so what is kept grows with the distinct attributes,
+/// not with the frames.
+#[derive(Default)]
+struct Written {
+    prims: Vec<(String, Vec<Declared>)>,
+    /// Where each prim is in `prims`.
+    index: std::collections::HashMap<String, usize>,
+    frames: Vec<FrameSummary>,
     bytes: usize,
+}
+
+impl Written {
+    /// Adds `attributes` of `prim` that are not there yet.
+    fn declare(&mut self, prim: String, attributes: Vec<Declared>) {
+        let index = match self.index.get(&prim) {
+            Some(&index) => index,
+            None => {
+                self.index.insert(prim.clone(), self.prims.len());
+                self.prims.push((prim, Vec::new()));
+                self.prims.len() - 1
+            }
+        };
+        for attribute in attributes {
+            if !self.prims[index].1.contains(&attribute) {
+                self.prims[index].1.push(attribute);
+            }
+        }
+    }
+
+    /// These frames followed by `later`'s.
+    fn merge(mut self, later: Written) -> Written {
+        for (prim, attributes) in later.prims {
+            self.declare(prim, attributes);
+        }
+        self.frames.extend(later.frames);
+        self.bytes += later.bytes;
+        self
+    }
 }
 
 /// What every frame's clip is made of.
@@ -275,7 +316,7 @@ struct ClipFrames<'a> {
 impl ClipFrames<'_> {
     /// Reads frame `frame`'s particle and surface files and writes their time samples
     /// as the clip `usd/NNNN.usdc`.
-    fn write(&self, frame: usize) -> Result<FrameSummary, UsdError> {
+    fn write(&self, frame: usize) -> Result<Written, UsdError> {
         let mut prims: Vec<(String, Vec<Sample>)> = Vec::new();
         let mut particles = 0;
         let mut names = Vec::new();
@@ -346,19 +387,15 @@ impl ClipFrames<'_> {
             message,
         })?;
         perifrac_cache::write_atomic(&path, &bytes)?;
-        let prims = prims
-            .into_iter()
-            .map(|(prim, samples)| {
-                let attributes = samples.into_iter().map(|(n, t, _)| (n, t)).collect();
-                (prim, attributes)
-            })
-            .collect();
-        Ok(FrameSummary {
-            prims,
-            particles,
-            names,
+        let mut written = Written {
+            frames: vec![FrameSummary { particles, names }],
             bytes: bytes.len(),
-        })
+            ..Written::default()
+        };
+        for (prim, samples) in prims {
+            written.declare(prim, samples.into_iter().map(|(n, t, _)| (n, t)).collect());
+        }
+        Ok(written)
     }
 }
 
@@ -390,27 +427,6 @@ fn clip_layer(prims: &[(String, Vec<Sample>)], time: f64) -> Result<Vec<u8>, Str
         }
     }
     layer.into_usdc()
-}
-
-/// The attributes the clips authored, prim by prim, in the order they first
-/// appeared.
-fn declared(written: &[FrameSummary]) -> Vec<(String, Vec<Declared>)> {
-    let mut all: Vec<(String, Vec<Declared>)> = Vec::new();
-    for (prim, attributes) in written.iter().flat_map(|w| &w.prims) {
-        let index = match all.iter().position(|(p, _)| p == prim) {
-            Some(index) => index,
-            None => {
-                all.push((prim.clone(), Vec::new()));
-                all.len() - 1
-            }
-        };
-        for attribute in attributes {
-            if !all[index].1.contains(attribute) {
-                all[index].1.push(attribute.clone());
-            }
-        }
-    }
-    all
 }
 
 /// The clip manifest, `usd/manifest.usdc`: the attributes the clips give values to,
