@@ -477,6 +477,8 @@ mod tests {
         assert!(layout.debris(3).ends_with("surface/0003_debris.ply"));
         assert!(layout.tets_collection().ends_with("tets/tets.pvd"));
         assert!(layout.usd().ends_with("cache.usd"));
+        assert!(layout.usd_clip(4).ends_with("usd/0004.usdc"));
+        assert!(layout.usd_clip_manifest().ends_with("usd/manifest.usdc"));
         assert!(layout.collider_mesh(2).ends_with("colliders/mesh_2.ply"));
         assert!(layout.turntable(2).ends_with("preview/turntable_002.png"));
         layout.create().expect("create");
@@ -487,8 +489,13 @@ mod tests {
         assert_eq!(layout.particle_frames(), vec![1, 3]);
         assert!(layout.surface_frames().is_empty());
         assert!(layout.holds_cache());
+        // The stage goes with its clips: one without the other would read no frames.
+        std::fs::create_dir_all(layout.usd_dir()).expect("usd/");
+        write_atomic(&layout.usd_clip(1), b"x").expect("write");
+        write_atomic(&layout.usd(), b"x").expect("write");
         layout.clear().expect("clear");
         assert!(!layout.holds_cache() && layout.root.exists());
+        assert!(!layout.usd().exists() && !layout.usd_dir().exists());
     }
 
     #[test]
