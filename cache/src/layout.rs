@@ -109,6 +109,23 @@ impl Layout {
         self.root.join("cache.usd")
     }
 
+    /// `usd/`, the value clips of `cache.usd`: one layer a frame and the clip manifest.
+    pub fn usd_dir(&self) -> PathBuf {
+        self.root.join("usd")
+    }
+
+    /// `usd/NNNN.usdc`, the value clip of `cache.usd` holding frame `frame`'s time
+    /// samples.
+    pub fn usd_clip(&self, frame: usize) -> PathBuf {
+        self.usd_dir().join(frame_file(frame, "usdc"))
+    }
+
+    /// `usd/manifest.usdc`, the clip manifest of `cache.usd` (the attributes its value
+    /// clips give).
+    pub fn usd_clip_manifest(&self) -> PathBuf {
+        self.usd_dir().join("manifest.usdc")
+    }
+
     /// `surface/`.
     pub fn surface_dir(&self) -> PathBuf {
         self.root.join("surface")
@@ -207,9 +224,10 @@ impl Layout {
         self.manifest().exists() || !self.particle_frames().is_empty() || self.checkpoint().exists()
     }
 
-    /// Removes the cache in the directory: the manifest, the resolved scene and the
-    /// `particles/`, `tets/`, `sheet/`, `colliders/`, `surface/`, `vdb/`, `preview/` and
-    /// `checkpoint/` directories (nothing else). `perifrac run --force` calls it before
+    /// Removes the cache in the directory: the manifest, the resolved scene, `cache.usd`
+    /// (whose clips are in `usd/`) and the
+    /// `particles/`, `tets/`, `sheet/`, `colliders/`, `surface/`, `vdb/`, `preview/`,
+    /// `checkpoint/` and `usd/` directories (nothing else). `perifrac run --force` calls it before
     /// a new run.
     pub fn clear(&self) -> Result<()> {
         for dir in self.directories() {
@@ -220,7 +238,7 @@ impl Layout {
                 _ => {}
             }
         }
-        for file in [self.manifest(), self.scene()] {
+        for file in [self.manifest(), self.scene(), self.usd()] {
             match std::fs::remove_file(&file) {
                 Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
                     return Err(CacheError::io(&file, e));
@@ -232,7 +250,7 @@ impl Layout {
     }
 
     /// Every directory of the layout below the root.
-    fn directories(&self) -> [PathBuf; 8] {
+    fn directories(&self) -> [PathBuf; 9] {
         [
             self.particles_dir(),
             self.tets_dir(),
@@ -242,6 +260,7 @@ impl Layout {
             self.vdb_dir(),
             self.preview_dir(),
             self.checkpoint_dir(),
+            self.usd_dir(),
         ]
     }
 
@@ -458,6 +477,8 @@ mod tests {
         assert!(layout.debris(3).ends_with("surface/0003_debris.ply"));
         assert!(layout.tets_collection().ends_with("tets/tets.pvd"));
         assert!(layout.usd().ends_with("cache.usd"));
+        assert!(layout.usd_clip(4).ends_with("usd/0004.usdc"));
+        assert!(layout.usd_clip_manifest().ends_with("usd/manifest.usdc"));
         assert!(layout.collider_mesh(2).ends_with("colliders/mesh_2.ply"));
         assert!(layout.turntable(2).ends_with("preview/turntable_002.png"));
         layout.create().expect("create");
@@ -468,8 +489,13 @@ mod tests {
         assert_eq!(layout.particle_frames(), vec![1, 3]);
         assert!(layout.surface_frames().is_empty());
         assert!(layout.holds_cache());
+        // The stage goes with its clips: one without the other would read no frames.
+        std::fs::create_dir_all(layout.usd_dir()).expect("usd/");
+        write_atomic(&layout.usd_clip(1), b"x").expect("write");
+        write_atomic(&layout.usd(), b"x").expect("write");
         layout.clear().expect("clear");
         assert!(!layout.holds_cache() && layout.root.exists());
+        assert!(!layout.usd().exists() && !layout.usd_dir().exists());
     }
 
     #[test]

@@ -1,6 +1,6 @@
 //! `perifrac export usd OUT`, and the USD export `perifrac run` runs last when the
-//! scene's `[output] usd` asks for it: the whole cache as `OUT/cache.usd`
-//! (`perifrac_usd::write_stage`).
+//! scene's `[output] usd` asks for it: the whole cache as `OUT/cache.usd` and its
+//! value clips `OUT/usd/` (`perifrac_usd::write_stage`).
 
 use std::path::Path;
 
@@ -29,12 +29,15 @@ pub fn usd(out: &Path, quiet: bool) -> Result<f64, Failure> {
         )));
     }
     let report = perifrac_usd::write_stage(&layout)?;
+    // The clips are cache files `perifrac verify` checks, as the surfaces are.
+    layout.record_outputs(&[layout.usd_dir()])?;
     let (author, encode) = report.seconds;
     if !quiet {
         eprintln!(
-            "wrote {} ({:.1} MB, {} frames: {} particles, {} meshes{}, {} colliders) in {:.2} s \
-             (reading and authoring {:.2} s, encoding and writing {:.2} s)",
+            "wrote {} with its clips {} ({:.1} MB, {} frames: {} particles, {} meshes{}, {} \
+             colliders) in {:.2} s (the frames' clips {:.2} s, the stage {:.2} s)",
             layout.usd().display(),
+            layout.usd_dir().join("NNNN.usdc").display(),
             report.bytes as f64 / 1e6,
             report.frames,
             report.particles,

@@ -52,14 +52,35 @@ impl Layer {
     /// Defines prim `name` of type `type_name` under `parent` (`"/"` for the root) and
     /// returns its path.
     pub fn def(&mut self, parent: &str, name: &str, type_name: &str) -> Result<String, String> {
+        self.prim(parent, name, Some(type_name))
+    }
+
+    /// An `over` of prim `name` under `parent` (an opinion on a prim another layer
+    /// defines, as a value clip's prims are) and returns its path.
+    pub fn over(&mut self, parent: &str, name: &str) -> Result<String, String> {
+        self.prim(parent, name, None)
+    }
+
+    /// A `def` of type `type_name`, or an `over` without one.
+    fn prim(
+        &mut self,
+        parent: &str,
+        name: &str,
+        type_name: Option<&str>,
+    ) -> Result<String, String> {
         let text = match parent {
             "/" => format!("/{name}"),
             _ => format!("{parent}/{name}"),
         };
         let prim = path(&text)?;
         let spec = self.data.create_spec(prim.clone(), SpecType::Prim);
-        spec.add(FieldKey::Specifier, Value::Specifier(Specifier::Def));
-        spec.add(FieldKey::TypeName, Value::token(type_name));
+        match type_name {
+            Some(type_name) => {
+                spec.add(FieldKey::Specifier, Value::Specifier(Specifier::Def));
+                spec.add(FieldKey::TypeName, Value::token(type_name));
+            }
+            None => spec.add(FieldKey::Specifier, Value::Specifier(Specifier::Over)),
+        }
         self.prims
             .get_mut(&path(parent)?)
             .ok_or_else(|| format!("prim {parent} was not defined before its child {name}"))?
@@ -138,9 +159,17 @@ impl Layer {
         self.property(prim, name, SpecType::Attribute, fields)
     }
 
-    /// Attribute `name` of type `type_name` without a value (a shader output).
-    pub fn declare(&mut self, prim: &str, name: &str, type_name: &str) -> Result<(), String> {
-        let fields = vec![(FieldKey::TypeName.as_str(), Value::token(type_name))];
+    /// Attribute `name` of type `type_name` without a value (a shader output, or an
+    /// attribute whose time samples value clips give), with `metadata`.
+    pub fn declare(
+        &mut self,
+        prim: &str,
+        name: &str,
+        type_name: &str,
+        metadata: Vec<(&str, Value)>,
+    ) -> Result<(), String> {
+        let mut fields = vec![(FieldKey::TypeName.as_str(), Value::token(type_name))];
+        fields.extend(metadata);
         self.property(prim, name, SpecType::Attribute, fields)
     }
 

@@ -3,6 +3,11 @@
 //! Import), Blender (File → Import → USD), Maya and Omniverse read it natively.
 //! docs/usd.md describes the stage; [`write_stage`] writes it.
 //!
+//! Frame by frame: the particles' and surfaces' time samples of frame k are in the
+//! value clip `OUT/usd/NNNN.usdc`, which `cache.usd` names in `/World`'s `clips`
+//! metadata (clip manifest `OUT/usd/manifest.usdc`), so the export holds a frame a
+//! worker thread whatever the cache's length; USD composes the clips into one stage.
+//!
 //! Time: cache frame k is time code k, and `timeCodesPerSecond` = `framesPerSecond`
 //! = `[output] playback_fps`, so frame k plays at (k − 1)/playback_fps s
 //! ([`perifrac_cache::playback_time`]); the simulation time of every frame is in the
@@ -92,9 +97,10 @@ pub struct UsdReport {
     pub volume: bool,
     /// Colliders.
     pub colliders: usize,
-    /// Size of `cache.usd` in bytes.
+    /// Size in bytes of `cache.usd` and its clips (`usd/`).
     pub bytes: usize,
-    /// Wall-clock seconds: reading the cache and authoring, then encoding and writing.
+    /// Wall-clock seconds: the frames (reading them, writing their clips), then the
+    /// stage (`cache.usd` and the clip manifest).
     pub seconds: (f64, f64),
 }
 
@@ -104,6 +110,13 @@ const CRACK_LOOK: ([f32; 3], f32) = ([0.85, 0.45, 0.3], 0.9);
 
 /// Writes `cache.usd` for the cache at `layout` from its `scene.toml`,
 /// `manifest.json`, particle, surface and `.vdb` files.
+///
+/// Frame by frame: each frame's time samples (particles, surfaces) go to a layer of
+/// their own, `usd/NNNN.usdc`, written and dropped before the next frames are read,
+/// and `cache.usd` ties them together as USD value clips (the `clips` metadata of
+/// `/World`, with the clip manifest `usd/manifest.usdc`), so the export holds a few
+/// frames at a time however long the cache. `cache.usd` and the old clips are
+/// removed first, so a failed export leaves no stage that reads stale frames.
 pub fn write_stage(layout: &Layout) -> Result<UsdReport, UsdError> {
     let start = Instant::now();
     let scene = Scene::load_cached(&layout.scene())?;
@@ -120,40 +133,380 @@ pub fn write_stage(layout: &Layout) -> Result<UsdReport, UsdError> {
         path: target.clone(),
         message,
     };
+    let surface = if layout.surface(1).is_file() {
+        let first = perifrac_render::cache::read_surfaces(&layout.surface(1))?;
+        // The vdb method names its meshes `fragment N`; the embedded method writes one
+        // mesh a frame (whichever method last surfaced the cache wrote the files).
+        let vdb = !first.is_empty() && first.iter().all(|m| m.name.starts_with("fragment "));
+        Some(if vdb {
+            Method::Fragments
+        } else {
+            Method::Embedded
+        })
+    } else {
+        None
+    };
+    let clip = ClipFrames {
+        layout,
+        frames,
+        particles: layout.particles(1).is_file(),
+        surface,
+        widths: scene.bodies.iter().map(|b| b.resolution as f32).collect(),
+        velocity_scale: (scene.output.playback_fps / manifest.fps) as f32,
+    };
+    remove(&target)?;
+    let clips = layout.usd_dir();
+    match std::fs::remove_dir_all(&clips) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+            return Err(CacheError::io(&clips, e).into());
+        }
+        _ => {}
+    }
+    std::fs::create_dir_all(&clips).map_err(|e| CacheError::io(&clips, e))?;
+    // Rayon's workers take one frame at a time: at most a frame a thread is in memory.
+    // The reduction keeps the frames' order (it is associative, not commutative).
+    let written = (1..=frames)
+        .into_par_iter()
+        .map(|frame| clip.write(frame))
+        .try_reduce(Written::default, |a, b| Ok(a.merge(b)))?;
+    let authored = start.elapsed().as_secs_f64();
+
     let playback_fps = scene.output.playback_fps;
     let mut stage = Layer::new(stage_metadata(&manifest, playback_fps));
     let world = stage.def("/", "World", "Xform").map_err(encode)?;
     let looks = looks(&mut stage, &world).map_err(encode)?;
+    let declared = &written.prims;
     let mut report = UsdReport {
         frames,
+        particles: written.frames.last().map_or(0, |w| w.particles),
+        bytes: written.bytes,
         ..UsdReport::default()
     };
-    if layout.particles(1).is_file() {
-        report.particles = particles(&mut stage, &world, layout, &scene, &manifest)?;
+    let attributes = |prim: &str| {
+        declared
+            .iter()
+            .find(|(p, _)| p == prim)
+            .map_or(&[][..], |(_, a)| a.as_slice())
+    };
+    if clip.particles {
+        particles(
+            &mut stage,
+            &world,
+            attributes("Particles"),
+            clip.velocity_scale,
+        )
+        .map_err(encode)?;
     }
-    if layout.surface(1).is_file() {
-        let meshes = surface_frames(layout, frames)?;
-        // The vdb method names its meshes `fragment N`; the embedded method writes one
-        // mesh a frame (whichever method last surfaced the cache wrote the files).
-        let vdb = meshes[0].iter().all(|m| m.name.starts_with("fragment "));
-        report.meshes = if vdb && !meshes[0].is_empty() {
-            fragments(&mut stage, &world, layout, &meshes, &looks)?
-        } else {
-            embedded_surface(&mut stage, &world, layout, &meshes, &looks)?
-        };
-    }
+    report.meshes = match surface {
+        Some(Method::Embedded) => {
+            embedded_surface(&mut stage, &world, &attributes, &looks).map_err(encode)?
+        }
+        Some(Method::Fragments) => {
+            fragments(&mut stage, &world, &written.frames, &attributes, &looks).map_err(encode)?
+        }
+        None => 0,
+    };
     if layout.vdb(1).is_file() {
         volume(&mut stage, &world, layout, frames).map_err(encode)?;
         report.volume = true;
     }
     let meshes = mesh_colliders(layout, &scene, Some(&manifest))?;
     report.colliders = colliders(&mut stage, &world, &scene, &manifest, &meshes).map_err(encode)?;
-    let authored = start.elapsed().as_secs_f64();
+    let manifest_path = layout.usd_clip_manifest();
+    let manifest_bytes = clip_manifest(declared).map_err(|message| UsdError::Encode {
+        path: manifest_path.clone(),
+        message,
+    })?;
+    perifrac_cache::write_atomic(&manifest_path, &manifest_bytes)?;
+    stage
+        .prim_metadata(&world, "clips", clips_metadata(layout, frames))
+        .map_err(encode)?;
     let bytes = stage.into_usdc().map_err(encode)?;
     perifrac_cache::write_atomic(&target, &bytes)?;
-    report.bytes = bytes.len();
+    report.bytes += bytes.len() + manifest_bytes.len();
     report.seconds = (authored, start.elapsed().as_secs_f64() - authored);
     Ok(report)
+}
+
+/// Removes `path` if it is there.
+fn remove(path: &std::path::Path) -> Result<(), UsdError> {
+    match std::fs::remove_file(path) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(CacheError::io(path, e).into()),
+        _ => Ok(()),
+    }
+}
+
+/// How the cache was surfaced: one mesh a frame with crack faces, or the vdb
+/// method's fragments.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Method {
+    Embedded,
+    Fragments,
+}
+
+/// An attribute whose time samples the clips give: name and USD type.
+type Declared = (String, &'static str);
+
+/// One attribute's value in a frame's clip: name, USD type and value.
+type Sample = (String, &'static str, Value);
+
+/// What one frame's clip leaves to the stage: its particle count and the vdb
+/// method's mesh names.
+struct FrameSummary {
+    particles: usize,
+    names: Vec<String>,
+}
+
+/// What the clips of a run of frames wrote: the attributes they authored, prim by
+/// prim (the prim's path below `/World`) in the order they first appeared, each
+/// frame's [`FrameSummary`] in frame order, and the clips' size in bytes. Frames are
+/// merged as they are written, so what is kept grows with the distinct attributes,
+/// not with the frames.
+#[derive(Default)]
+struct Written {
+    prims: Vec<(String, Vec<Declared>)>,
+    /// Where each prim is in `prims`.
+    index: std::collections::HashMap<String, usize>,
+    frames: Vec<FrameSummary>,
+    bytes: usize,
+}
+
+impl Written {
+    /// Adds `attributes` of `prim` that are not there yet.
+    fn declare(&mut self, prim: String, attributes: Vec<Declared>) {
+        let index = match self.index.get(&prim) {
+            Some(&index) => index,
+            None => {
+                self.index.insert(prim.clone(), self.prims.len());
+                self.prims.push((prim, Vec::new()));
+                self.prims.len() - 1
+            }
+        };
+        for attribute in attributes {
+            if !self.prims[index].1.contains(&attribute) {
+                self.prims[index].1.push(attribute);
+            }
+        }
+    }
+
+    /// These frames followed by `later`'s.
+    fn merge(mut self, later: Written) -> Written {
+        for (prim, attributes) in later.prims {
+            self.declare(prim, attributes);
+        }
+        self.frames.extend(later.frames);
+        self.bytes += later.bytes;
+        self
+    }
+}
+
+/// What every frame's clip is made of.
+struct ClipFrames<'a> {
+    layout: &'a Layout,
+    frames: usize,
+    /// Whether the cache has particle files.
+    particles: bool,
+    surface: Option<Method>,
+    /// Each body's λ, the width of a particle without a volume.
+    widths: Vec<f32>,
+    /// Playback over simulation fps.
+    velocity_scale: f32,
+}
+
+impl ClipFrames<'_> {
+    /// Reads frame `frame`'s particle and surface files and writes their time samples
+    /// as the clip `usd/NNNN.usdc`.
+    fn write(&self, frame: usize) -> Result<Written, UsdError> {
+        let mut prims: Vec<(String, Vec<Sample>)> = Vec::new();
+        let mut particles = 0;
+        let mut names = Vec::new();
+        if self.particles {
+            let path = self.layout.particles(frame);
+            if !path.is_file() {
+                return Err(UsdError::Input {
+                    path,
+                    message: format!(
+                        "missing, but the manifest lists {} frames: the cache is \
+                         incomplete; run the scene again (or --resume it)",
+                        self.frames
+                    ),
+                });
+            }
+            let p = ParticleFrame::read(&path)?;
+            particles = p.len();
+            prims.push((
+                "Particles".into(),
+                particle_samples(&p, &self.widths, self.velocity_scale),
+            ));
+        }
+        if let Some(method) = self.surface {
+            let path = self.layout.surface(frame);
+            if !path.is_file() {
+                return Err(UsdError::Input {
+                    path,
+                    message: "missing: surface the cache again with `perifrac surface OUT`".into(),
+                });
+            }
+            let meshes = perifrac_render::cache::read_surfaces(&path)?;
+            match method {
+                Method::Embedded => {
+                    let [mesh] = meshes.as_slice() else {
+                        return Err(UsdError::Input {
+                            path,
+                            message: format!(
+                                "{} meshes; the embedded method writes one a frame: surface \
+                                 the cache again with `perifrac surface OUT --method embedded`",
+                                meshes.len()
+                            ),
+                        });
+                    };
+                    let (samples, surface) = mesh_samples(mesh);
+                    let surface = surface as i32;
+                    let all = mesh.triangle_count() as i32;
+                    prims.push(("Surface".into(), samples));
+                    for (name, range) in [("surface", 0..surface), ("crack", surface..all)] {
+                        let indices = Value::IntVec(range.collect());
+                        prims.push((
+                            format!("Surface/{name}"),
+                            vec![("indices".into(), "int[]", indices)],
+                        ));
+                    }
+                }
+                Method::Fragments => {
+                    for mesh in &meshes {
+                        let prim = format!("Fragments/{}", identifier(&mesh.name));
+                        prims.push((prim, mesh_samples(mesh).0));
+                        names.push(mesh.name.clone());
+                    }
+                }
+            }
+        }
+        let path = self.layout.usd_clip(frame);
+        let bytes = clip_layer(&prims, frame as f64).map_err(|message| UsdError::Encode {
+            path: path.clone(),
+            message,
+        })?;
+        perifrac_cache::write_atomic(&path, &bytes)?;
+        let mut written = Written {
+            frames: vec![FrameSummary { particles, names }],
+            bytes: bytes.len(),
+            ..Written::default()
+        };
+        for (prim, samples) in prims {
+            written.declare(prim, samples.into_iter().map(|(n, t, _)| (n, t)).collect());
+        }
+        Ok(written)
+    }
+}
+
+/// Creates the `over`s of `/World/PRIM` and its ancestors in `layer` that `made`
+/// lacks; returns the prim's path.
+fn over_path(layer: &mut Layer, made: &mut Vec<String>, prim: &str) -> Result<String, String> {
+    let mut path = "/World".to_string();
+    for name in prim.split('/') {
+        let child = format!("{path}/{name}");
+        if !made.contains(&child) {
+            layer.over(&path, name)?;
+            made.push(child.clone());
+        }
+        path = child;
+    }
+    Ok(path)
+}
+
+/// The clip of one frame: `over`s of the prims with one time sample, at `time`, of
+/// each attribute.
+fn clip_layer(prims: &[(String, Vec<Sample>)], time: f64) -> Result<Vec<u8>, String> {
+    let mut layer = Layer::new(vec![]);
+    layer.over("/", "World")?;
+    let mut made = Vec::new();
+    for (prim, samples) in prims {
+        let path = over_path(&mut layer, &mut made, prim)?;
+        for (name, type_name, value) in samples {
+            layer.animated(&path, name, type_name, vec![(time, value.clone())], vec![])?;
+        }
+    }
+    layer.into_usdc()
+}
+
+/// The clip manifest, `usd/manifest.usdc`: the attributes the clips give values to,
+/// declared without values (USD reads clips only for these).
+fn clip_manifest(declared: &[(String, Vec<Declared>)]) -> Result<Vec<u8>, String> {
+    let mut layer = Layer::new(vec![]);
+    layer.over("/", "World")?;
+    let mut made = Vec::new();
+    for (prim, attributes) in declared {
+        let path = over_path(&mut layer, &mut made, prim)?;
+        for (name, type_name) in attributes {
+            layer.declare(&path, name, type_name, vec![])?;
+        }
+    }
+    layer.into_usdc()
+}
+
+/// `/World`'s `clips` metadata: clip k (`usd/NNNN.usdc` of frame k) active from time
+/// code k, its times the stage's, missing values (a fragment in a frame that lacks
+/// it) interpolated from the clips around, as USD resolves time samples in one layer.
+fn clips_metadata(layout: &Layout, frames: usize) -> Value {
+    let relative = |path: PathBuf| -> AssetPath {
+        let name = path.file_name().map(|n| n.to_string_lossy().into_owned());
+        AssetPath::new(format!("./usd/{}", name.unwrap_or_default()))
+    };
+    let set: std::collections::HashMap<String, Value> = [
+        (
+            "assetPaths",
+            Value::AssetPathVec((1..=frames).map(|k| relative(layout.usd_clip(k))).collect()),
+        ),
+        ("primPath", Value::String("/World".into())),
+        (
+            "active",
+            Value::Vec2dVec(
+                (0..frames)
+                    .map(|i| gf::vec2d((i + 1) as f64, i as f64))
+                    .collect(),
+            ),
+        ),
+        (
+            "times",
+            Value::Vec2dVec(
+                (1..=frames)
+                    .map(|k| gf::vec2d(k as f64, k as f64))
+                    .collect(),
+            ),
+        ),
+        (
+            "manifestAssetPath",
+            Value::AssetPath(relative(layout.usd_clip_manifest())),
+        ),
+        ("interpolateMissingClipValues", Value::Bool(true)),
+    ]
+    .into_iter()
+    .map(|(k, v)| (k.to_string(), v))
+    .collect();
+    Value::Dictionary([("default".to_string(), Value::Dictionary(set))].into())
+}
+
+/// The metadata of an attribute of the `Points` and `Mesh` prims: per point
+/// (interpolation `vertex`) for `widths`, `normals` and the primvars, per face
+/// (`uniform`) for `primvars:displayColor` and `primvars:crack`.
+fn attribute_metadata(name: &str) -> Vec<(&'static str, Value)> {
+    match name {
+        "primvars:displayColor" | "primvars:crack" => {
+            vec![("interpolation", Value::token("uniform"))]
+        }
+        "primvars:displayColor:indices" => vec![],
+        "widths" | "normals" => vertex(),
+        _ if name.starts_with("primvars:") => vertex(),
+        _ => vec![],
+    }
+}
+
+/// Declares on `prim` the attributes whose values the clips give.
+fn declare_all(stage: &mut Layer, prim: &str, attributes: &[Declared]) -> Result<(), String> {
+    for (name, type_name) in attributes {
+        stage.declare(prim, name, type_name, attribute_metadata(name))?;
+    }
+    Ok(())
 }
 
 /// The pseudo-root's metadata: axes, units, time base, and the simulation times.
@@ -280,7 +633,7 @@ fn looks(stage: &mut Layer, world: &str) -> Result<[String; 2], String> {
             Value::Vec3f(gf::vec3f(r, g, b)),
             vec![],
         )?;
-        stage.declare(&reader, "outputs:result", "float3")?;
+        stage.declare(&reader, "outputs:result", "float3", vec![])?;
         let shader = stage.def(&material, "PreviewSurface", "Shader")?;
         stage.attribute(
             &shader,
@@ -313,7 +666,7 @@ fn looks(stage: &mut Layer, world: &str) -> Result<[String; 2], String> {
             Value::Float(0.0),
             vec![],
         )?;
-        stage.declare(&shader, "outputs:surface", "token")?;
+        stage.declare(&shader, "outputs:surface", "token", vec![])?;
         stage.connection(
             &material,
             "outputs:surface",
@@ -326,13 +679,9 @@ fn looks(stage: &mut Layer, world: &str) -> Result<[String; 2], String> {
     Ok(paths)
 }
 
-/// One particle frame as the samples of the `Points` prim's attributes, in the
-/// order of [`PARTICLE_ATTRIBUTES`] then the extra columns.
-fn particle_samples(
-    frame: &ParticleFrame,
-    widths: &[f32],
-    velocity_scale: f32,
-) -> (Vec<Value>, Vec<(String, Value)>, Value) {
+/// One particle frame as the samples of the `Points` prim's attributes: those of
+/// [`PARTICLE_ATTRIBUTES`], the extra columns as primvars, then the extent.
+fn particle_samples(frame: &ParticleFrame, widths: &[f32], velocity_scale: f32) -> Vec<Sample> {
     let scaled: Vec<[f32; 3]> = frame
         .velocity
         .iter()
@@ -351,7 +700,7 @@ fn particle_samples(
     let widths = frame.sizes(|i| width(frame.material[i]));
     let largest = widths.iter().copied().fold(0.0f32, f32::max);
     let ints = |v: &[f32]| Value::IntVec(v.iter().map(|&x| x as i32).collect());
-    let values = vec![
+    let values = [
         vec3f(&frame.position),
         vec3f(&scaled),
         Value::FloatVec(widths),
@@ -362,129 +711,57 @@ fn particle_samples(
         ints(&frame.material),
         vec3f(&frame.velocity),
     ];
-    let extra = frame
-        .extra
+    let mut samples: Vec<Sample> = PARTICLE_ATTRIBUTES
         .iter()
-        .map(|(name, v)| (name.clone(), Value::FloatVec(v.clone())))
+        .zip(values)
+        .map(|((name, type_name), value)| (name.to_string(), *type_name, value))
         .collect();
-    (values, extra, extent(&frame.position, 0.5 * largest))
+    for (name, v) in &frame.extra {
+        let attribute = format!("primvars:{}", identifier(name));
+        samples.push((attribute, "float[]", Value::FloatVec(v.clone())));
+    }
+    let extent = extent(&frame.position, 0.5 * largest);
+    samples.push(("extent".into(), "float3[]", extent));
+    samples
 }
 
-/// Name, USD type and whether a primvar (interpolation "vertex") of each attribute
-/// of the `Points` prim, in the order [`particle_samples`] returns them.
-const PARTICLE_ATTRIBUTES: [(&str, &str, bool); 9] = [
-    ("points", "point3f[]", false),
-    ("velocities", "vector3f[]", false),
-    ("widths", "float[]", true),
-    ("ids", "int64[]", false),
-    ("primvars:damage", "float[]", true),
-    ("primvars:plastic", "float[]", true),
-    ("primvars:fragment", "int[]", true),
-    ("primvars:material", "int[]", true),
-    ("primvars:simulation_velocity", "vector3f[]", true),
+/// Name and USD type of each attribute of the `Points` prim, in the order
+/// [`particle_samples`] gives them (see [`attribute_metadata`] for which are per point).
+const PARTICLE_ATTRIBUTES: [(&str, &str); 9] = [
+    ("points", "point3f[]"),
+    ("velocities", "vector3f[]"),
+    ("widths", "float[]"),
+    ("ids", "int64[]"),
+    ("primvars:damage", "float[]"),
+    ("primvars:plastic", "float[]"),
+    ("primvars:fragment", "int[]"),
+    ("primvars:material", "int[]"),
+    ("primvars:simulation_velocity", "vector3f[]"),
 ];
 
-/// `/World/Particles`, the particles of every frame; returns the last frame's count.
+/// `/World/Particles`, the `Points` prim whose `attributes` the clips give.
 fn particles(
     stage: &mut Layer,
     world: &str,
-    layout: &Layout,
-    scene: &Scene,
-    manifest: &Manifest,
-) -> Result<usize, UsdError> {
-    let frames = manifest.frame_times.len();
-    let widths: Vec<f32> = scene.bodies.iter().map(|b| b.resolution as f32).collect();
-    let velocity_scale = (scene.output.playback_fps / manifest.fps) as f32;
-    let read: Vec<ParticleSamples> = (1..=frames)
-        .into_par_iter()
-        .map(|frame| -> Result<_, UsdError> {
-            let path = layout.particles(frame);
-            if !path.is_file() {
-                return Err(UsdError::Input {
-                    path,
-                    message: format!(
-                        "missing, but the manifest lists {frames} frames: the cache is \
-                         incomplete; run the scene again (or --resume it)"
-                    ),
-                });
-            }
-            let p = ParticleFrame::read(&path)?;
-            let (values, extra, extent) = particle_samples(&p, &widths, velocity_scale);
-            Ok((values, extra, extent, p.len()))
-        })
-        .collect::<Result<_, _>>()?;
-    let encode = |message: String| UsdError::Encode {
-        path: layout.usd(),
-        message,
-    };
-    let prim = stage.def(world, "Particles", "Points").map_err(encode)?;
-    let count = read.last().map_or(0, |r| r.3);
-    let mut columns: Vec<Samples> = vec![Vec::new(); PARTICLE_ATTRIBUTES.len()];
-    let mut extras: Vec<(String, Samples)> = Vec::new();
-    let mut extents = Samples::new();
-    for (k, (values, extra, ext, _)) in read.into_iter().enumerate() {
-        let time = (k + 1) as f64;
-        for (column, value) in columns.iter_mut().zip(values) {
-            column.push((time, value));
-        }
-        for (name, value) in extra {
-            match extras.iter_mut().find(|(n, _)| *n == name) {
-                Some((_, samples)) => samples.push((time, value)),
-                None => extras.push((name, vec![(time, value)])),
-            }
-        }
-        extents.push((time, ext));
-    }
-    for ((name, type_name, primvar), samples) in PARTICLE_ATTRIBUTES.iter().zip(columns) {
-        let metadata = if *primvar { vertex() } else { vec![] };
-        stage
-            .animated(&prim, name, type_name, samples, metadata)
-            .map_err(encode)?;
-    }
-    for (name, samples) in extras {
-        let attribute = format!("primvars:{}", identifier(&name));
-        stage
-            .animated(&prim, &attribute, "float[]", samples, vertex())
-            .map_err(encode)?;
-    }
-    stage
-        .animated(&prim, "extent", "float3[]", extents, vec![])
-        .map_err(encode)?;
-    stage
-        .prim_metadata(
-            &prim,
-            "documentation",
-            Value::String(format!(
-                "velocities are m/s of playback (simulation velocity x {velocity_scale:e} = \
-                 playback_fps / simulation fps); primvars:simulation_velocity is m/s of \
-                 simulated time"
-            )),
-        )
-        .map_err(encode)?;
-    Ok(count)
+    attributes: &[Declared],
+    velocity_scale: f32,
+) -> Result<(), String> {
+    let prim = stage.def(world, "Particles", "Points")?;
+    declare_all(stage, &prim, attributes)?;
+    stage.prim_metadata(
+        &prim,
+        "documentation",
+        Value::String(format!(
+            "velocities are m/s of playback (simulation velocity x {velocity_scale:e} = \
+             playback_fps / simulation fps); primvars:simulation_velocity is m/s of \
+             simulated time"
+        )),
+    )
 }
 
-/// The surfaces of frames 1 … `frames` (`surface/NNNN.glb`), read in parallel.
-fn surface_frames(layout: &Layout, frames: usize) -> Result<Vec<Vec<SurfaceMesh>>, UsdError> {
-    (1..=frames)
-        .into_par_iter()
-        .map(|frame| {
-            let path = layout.surface(frame);
-            if !path.is_file() {
-                return Err(UsdError::Input {
-                    path,
-                    message: "missing: surface the cache again with `perifrac surface OUT`".into(),
-                });
-            }
-            Ok(perifrac_render::cache::read_surfaces(&path)?)
-        })
-        .collect()
-}
-
-/// Authors one frame of `mesh` on the `Mesh` prim whose attributes' samples are
-/// `samples` (see [`MESH_ATTRIBUTES`]); returns the number of original-surface
-/// triangles.
-fn mesh_samples(mesh: &SurfaceMesh, time: f64, samples: &mut [Samples]) -> usize {
+/// One frame of `mesh` as the samples of a `Mesh` prim's attributes (see
+/// [`MESH_ATTRIBUTES`]), and the number of original-surface triangles.
+fn mesh_samples(mesh: &SurfaceMesh) -> (Vec<Sample>, usize) {
     let surface = mesh.surface_indices.len() / 3;
     let triangles = surface + mesh.crack_indices.len() / 3;
     let indices: Vec<i32> = mesh
@@ -496,7 +773,7 @@ fn mesh_samples(mesh: &SurfaceMesh, time: f64, samples: &mut [Samples]) -> usize
     // Per face: the crack flag, and the colour the looks read (see [`looks`]), an
     // indexed primvar whose indices are the flag: colour 0 the surface's, 1 the crack's.
     let crack: Vec<i32> = (0..triangles).map(|t| i32::from(t >= surface)).collect();
-    let values = [
+    let mut values = vec![
         vec3f(&mesh.positions),
         Value::IntVec(vec![3; triangles]),
         Value::IntVec(indices),
@@ -506,17 +783,19 @@ fn mesh_samples(mesh: &SurfaceMesh, time: f64, samples: &mut [Samples]) -> usize
         Value::IntVec(crack.clone()),
         Value::IntVec(crack),
     ];
-    for (column, value) in samples.iter_mut().zip(values) {
-        column.push((time, value));
-    }
     if !mesh.damage.is_empty() {
-        samples[MESH_ATTRIBUTES.len() - 1].push((time, Value::FloatVec(mesh.damage.clone())));
+        values.push(Value::FloatVec(mesh.damage.clone()));
     }
-    surface
+    let samples = MESH_ATTRIBUTES
+        .iter()
+        .zip(values)
+        .map(|((name, type_name), value)| (name.to_string(), *type_name, value))
+        .collect();
+    (samples, surface)
 }
 
 /// Name and USD type of the time-sampled attributes of a `Mesh` prim, in the order
-/// [`mesh_samples`] fills them (`primvars:damage` last: only surfaces that carry it).
+/// [`mesh_samples`] gives them (`primvars:damage` last: only surfaces that carry it).
 /// `primvars:displayColor` and `primvars:crack` are per face (interpolation
 /// `uniform`): the colour of the face's look (indexed: the two looks' colours, and
 /// per face the index of its look), and 1 on crack faces, 0 on the original surface.
@@ -532,12 +811,12 @@ const MESH_ATTRIBUTES: [(&str, &str); 9] = [
     ("primvars:damage", "float[]"),
 ];
 
-/// Defines a `Mesh` prim under `parent` from its samples.
+/// Defines a `Mesh` prim under `parent` whose `attributes` the clips give.
 fn define_mesh(
     stage: &mut Layer,
     parent: &str,
     name: &str,
-    samples: Vec<Samples>,
+    attributes: &[Declared],
 ) -> Result<String, String> {
     let prim = stage.def(parent, name, "Mesh")?;
     stage.attribute(
@@ -548,134 +827,89 @@ fn define_mesh(
         Value::token("none"),
         vec![],
     )?;
-    for ((attribute, type_name), samples) in MESH_ATTRIBUTES.iter().zip(samples) {
-        let metadata = match *attribute {
-            "normals" | "primvars:damage" => vertex(),
-            "primvars:displayColor" | "primvars:crack" => {
-                vec![("interpolation", Value::token("uniform"))]
-            }
-            _ => vec![],
-        };
-        stage.animated(&prim, attribute, type_name, samples, metadata)?;
-    }
+    declare_all(stage, &prim, attributes)?;
     Ok(prim)
 }
 
 /// `/World/Surface`, the embedded method's surface with its crack faces in a
-/// `GeomSubset` family bound to the crack material.
-fn embedded_surface(
+/// `GeomSubset` family bound to the crack material; `attributes` gives the
+/// attributes the clips authored on a prim below `/World`.
+fn embedded_surface<'a>(
     stage: &mut Layer,
     world: &str,
-    layout: &Layout,
-    meshes: &[Vec<SurfaceMesh>],
+    attributes: &dyn Fn(&str) -> &'a [Declared],
     looks: &[String; 2],
-) -> Result<usize, UsdError> {
-    let mut samples = vec![Samples::new(); MESH_ATTRIBUTES.len()];
-    let mut subsets = [Samples::new(), Samples::new()];
-    for (k, frame) in meshes.iter().enumerate() {
-        let [mesh] = frame.as_slice() else {
-            return Err(UsdError::Input {
-                path: layout.surface(k + 1),
-                message: format!(
-                    "{} meshes; the embedded method writes one a frame: surface the cache \
-                     again with `perifrac surface OUT --method embedded`",
-                    frame.len()
-                ),
-            });
-        };
-        let time = (k + 1) as f64;
-        let surface = mesh_samples(mesh, time, &mut samples) as i32;
-        let all = mesh.triangle_count() as i32;
-        subsets[0].push((time, Value::IntVec((0..surface).collect())));
-        subsets[1].push((time, Value::IntVec((surface..all).collect())));
-    }
-    let author = |stage: &mut Layer| -> Result<(), String> {
-        let prim = define_mesh(stage, world, "Surface", samples)?;
+) -> Result<usize, String> {
+    let prim = define_mesh(stage, world, "Surface", attributes("Surface"))?;
+    stage.attribute(
+        &prim,
+        "subsetFamily:materialBind:familyType",
+        "token",
+        true,
+        Value::token("partition"),
+        vec![],
+    )?;
+    stage.apply_schema(&prim, "MaterialBindingAPI")?;
+    stage.relationship(&prim, "material:binding", &[&looks[0]])?;
+    for (name, look) in ["surface", "crack"].into_iter().zip(looks) {
+        let subset = stage.def(&prim, name, "GeomSubset")?;
         stage.attribute(
-            &prim,
-            "subsetFamily:materialBind:familyType",
+            &subset,
+            "elementType",
             "token",
             true,
-            Value::token("partition"),
+            Value::token("face"),
             vec![],
         )?;
-        stage.apply_schema(&prim, "MaterialBindingAPI")?;
-        stage.relationship(&prim, "material:binding", &[&looks[0]])?;
-        for ((name, indices), look) in ["surface", "crack"].into_iter().zip(subsets).zip(looks) {
-            let subset = stage.def(&prim, name, "GeomSubset")?;
-            stage.attribute(
-                &subset,
-                "elementType",
-                "token",
-                true,
-                Value::token("face"),
-                vec![],
-            )?;
-            stage.attribute(
-                &subset,
-                "familyName",
-                "token",
-                true,
-                Value::token("materialBind"),
-                vec![],
-            )?;
-            stage.animated(&subset, "indices", "int[]", indices, vec![])?;
-            stage.apply_schema(&subset, "MaterialBindingAPI")?;
-            stage.relationship(&subset, "material:binding", &[look])?;
-        }
-        Ok(())
-    };
-    author(stage).map_err(|message| UsdError::Encode {
-        path: layout.usd(),
-        message,
-    })?;
+        stage.attribute(
+            &subset,
+            "familyName",
+            "token",
+            true,
+            Value::token("materialBind"),
+            vec![],
+        )?;
+        declare_all(stage, &subset, attributes(&format!("Surface/{name}")))?;
+        stage.apply_schema(&subset, "MaterialBindingAPI")?;
+        stage.relationship(&subset, "material:binding", &[look])?;
+    }
     Ok(1)
 }
 
-/// `/World/Fragments`, the vdb method's meshes: one `Mesh` a fragment name, invisible
-/// in the frames that lack it.
-fn fragments(
+/// `/World/Fragments`, the vdb method's meshes: one `Mesh` a fragment name, whose
+/// `visibility` (in `cache.usd` itself) is `invisible` in the frames that lack it.
+fn fragments<'a>(
     stage: &mut Layer,
     world: &str,
-    layout: &Layout,
-    meshes: &[Vec<SurfaceMesh>],
+    written: &[FrameSummary],
+    attributes: &dyn Fn(&str) -> &'a [Declared],
     looks: &[String; 2],
-) -> Result<usize, UsdError> {
-    let mut names: Vec<String> = meshes.iter().flatten().map(|m| m.name.clone()).collect();
+) -> Result<usize, String> {
+    let mut names: Vec<&String> = written.iter().flat_map(|w| &w.names).collect();
     names.sort_by_key(|a| natural(a));
     names.dedup();
-    let author = |stage: &mut Layer| -> Result<(), String> {
-        let group = stage.def(world, "Fragments", "Xform")?;
-        stage.apply_schema(&group, "MaterialBindingAPI")?;
-        stage.relationship(&group, "material:binding", &[&looks[0]])?;
-        for name in &names {
-            let mut samples = vec![Samples::new(); MESH_ATTRIBUTES.len()];
-            let mut visibility = Samples::new();
-            for (k, frame) in meshes.iter().enumerate() {
-                let time = (k + 1) as f64;
-                match frame.iter().find(|m| &m.name == name) {
-                    Some(mesh) => {
-                        mesh_samples(mesh, time, &mut samples);
-                        visibility.push((time, Value::token("inherited")));
-                    }
-                    None => visibility.push((time, Value::token("invisible"))),
-                }
-            }
-            let prim = define_mesh(stage, &group, &identifier(name), samples)?;
-            stage.animated(&prim, "visibility", "token", visibility, vec![])?;
-        }
-        Ok(())
-    };
-    author(stage).map_err(|message| UsdError::Encode {
-        path: layout.usd(),
-        message,
-    })?;
+    let group = stage.def(world, "Fragments", "Xform")?;
+    stage.apply_schema(&group, "MaterialBindingAPI")?;
+    stage.relationship(&group, "material:binding", &[&looks[0]])?;
+    for name in &names {
+        let id = identifier(name);
+        let prim = define_mesh(stage, &group, &id, attributes(&format!("Fragments/{id}")))?;
+        let visibility: Samples = written
+            .iter()
+            .enumerate()
+            .map(|(k, w)| {
+                let shown = if w.names.contains(name) {
+                    "inherited"
+                } else {
+                    "invisible"
+                };
+                ((k + 1) as f64, Value::token(shown))
+            })
+            .collect();
+        stage.animated(&prim, "visibility", "token", visibility, vec![])?;
+    }
     Ok(names.len())
 }
-
-/// One frame of the particles' time samples: the attribute values, the primvars by name,
-/// the extent, and the particle count.
-type ParticleSamples = (Vec<Value>, Vec<(String, Value)>, Value, usize);
 
 /// Sort key of a mesh name: its text without digits, then its number.
 fn natural(name: &str) -> (String, u64) {
@@ -979,29 +1213,55 @@ mod tests {
         assert_eq!(*field(&root, "upAxis"), Value::token("Y"));
         assert_eq!(*field(&root, "timeCodesPerSecond"), Value::Double(30.0));
         assert_eq!(*field(&root, "endTimeCode"), Value::Double(2.0));
-        let points = openusd::sdf::Path::new("/World/Particles.points").unwrap();
-        let Value::TimeSamples(samples) = field(&points, "timeSamples").into_owned() else {
-            panic!("points are not time-sampled");
+        // Each frame's particle samples are in its clip, usd/NNNN.usdc, at its time code.
+        let clips: Vec<_> = (1..=2)
+            .map(|k| openusd::usdc::read_file(layout.usd_clip(k)).unwrap())
+            .collect();
+        let sample = |frame: usize, attribute: &str| -> Value {
+            let path = openusd::sdf::Path::new(attribute).unwrap();
+            let field = clips[frame - 1].get_field(&path, "timeSamples").unwrap();
+            let Value::TimeSamples(samples) = field.into_owned() else {
+                panic!("{attribute} is not time-sampled");
+            };
+            assert_eq!(samples.len(), 1, "{attribute}: one sample a clip");
+            assert_eq!(
+                samples[0].0, frame as f64,
+                "{attribute}: at the frame's time code"
+            );
+            samples[0].1.clone()
         };
-        assert_eq!(samples.len(), 2);
-        assert_eq!(samples[1].0, 2.0);
-        assert_eq!(samples[1].1, vec3f(&[[0.0, 2.0, 0.0], [1.0, 0.0, 0.0]]));
+        assert_eq!(
+            sample(2, "/World/Particles.points"),
+            vec3f(&[[0.0, 2.0, 0.0], [1.0, 0.0, 0.0]])
+        );
         // Velocities in m/s of playback: 3 m/s × 30 / 1000.
-        let velocities = openusd::sdf::Path::new("/World/Particles.velocities").unwrap();
-        let Value::TimeSamples(samples) = field(&velocities, "timeSamples").into_owned() else {
-            panic!("velocities are not time-sampled");
-        };
-        assert_eq!(samples[0].1, vec3f(&[[0.0, 3.0 * 0.03, 0.0], [0.0; 3]]));
+        assert_eq!(
+            sample(1, "/World/Particles.velocities"),
+            vec3f(&[[0.0, 3.0 * 0.03, 0.0], [0.0; 3]])
+        );
         // Widths: the cube root of the volume (1e-6 m³ → 0.01 m), not the body's λ
         // (0.02 m), which the particle without a volume falls back to.
-        let widths = openusd::sdf::Path::new("/World/Particles.widths").unwrap();
-        let Value::TimeSamples(samples) = field(&widths, "timeSamples").into_owned() else {
-            panic!("widths are not time-sampled");
-        };
-        let Value::FloatVec(w) = &samples[0].1 else {
-            panic!("widths are not floats: {:?}", samples[0].1);
+        let Value::FloatVec(w) = sample(1, "/World/Particles.widths") else {
+            panic!("widths are not floats");
         };
         assert!((w[0] - 0.01).abs() < 1e-7 && w[1] == 0.02, "{w:?}");
+        // The stage declares what the clips give, and names the clips frame by frame.
+        let points = openusd::sdf::Path::new("/World/Particles.points").unwrap();
+        assert_eq!(*field(&points, "typeName"), Value::token("point3f[]"));
+        let world = openusd::sdf::Path::new("/World").unwrap();
+        let Value::Dictionary(clips_field) = field(&world, "clips").into_owned() else {
+            panic!("/World has no clips");
+        };
+        let Some(Value::Dictionary(set)) = clips_field.get("default") else {
+            panic!("no default clip set: {clips_field:?}");
+        };
+        assert_eq!(
+            set.get("assetPaths"),
+            Some(&Value::AssetPathVec(vec![
+                AssetPath::new("./usd/0001.usdc"),
+                AssetPath::new("./usd/0002.usdc")
+            ]))
+        );
         let quantity = openusd::sdf::Path::new("/World/Particles.primvars:quantity").unwrap();
         assert!(data.has_spec(&quantity), "the extra column is a primvar");
         let sphere =
@@ -1023,10 +1283,21 @@ mod tests {
             *field(&varname, "default"),
             Value::String("displayColor".into())
         );
-        // The same cache gives the same bytes.
-        let first = std::fs::read(layout.usd()).unwrap();
+        // The same cache gives the same bytes, the stage's and the clips'.
+        let files = [layout.usd(), layout.usd_clip(1), layout.usd_clip(2)];
+        let first: Vec<_> = files.iter().map(|f| std::fs::read(f).unwrap()).collect();
         write_stage(&layout).unwrap();
-        assert_eq!(first, std::fs::read(layout.usd()).unwrap());
+        for (file, bytes) in files.iter().zip(first) {
+            assert_eq!(bytes, std::fs::read(file).unwrap(), "{}", file.display());
+        }
+        // A cache of fewer frames leaves no clip of the old export behind.
+        let mut manifest = Manifest::read(&layout.manifest()).unwrap();
+        manifest.frame_times.truncate(1);
+        manifest.collider_centers.truncate(1);
+        manifest.collider_rotations.truncate(1);
+        manifest.write(&layout.manifest()).unwrap();
+        write_stage(&layout).unwrap();
+        assert!(layout.usd_clip(1).is_file() && !layout.usd_clip(2).exists());
     }
 
     #[test]
