@@ -215,6 +215,22 @@ pub struct RenderArgs {
     /// corner of each frame (for reviews).
     #[arg(long)]
     pub overlay: bool,
+    /// The sequence's camera: `fixed` (framed on the whole shot), `follow` (each frame
+    /// framed on the shot so far, pulling back as debris spreads) or `auto` (follow
+    /// when the action spreads over more than 3 times the first frame's size).
+    #[arg(long, value_enum, default_value = "auto")]
+    pub camera: CameraArg,
+}
+
+/// `--camera`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum CameraArg {
+    /// Follow when the action spreads far beyond its start.
+    Auto,
+    /// One camera on the whole shot.
+    Fixed,
+    /// Each frame framed on the shot so far.
+    Follow,
 }
 
 /// A validated `perifrac render`.
@@ -238,6 +254,8 @@ pub struct RenderConfig {
     pub movie: bool,
     /// Draw the review overlay.
     pub overlay: bool,
+    /// The sequence's camera.
+    pub camera: CameraArg,
 }
 
 /// Parses `WIDTHxHEIGHT` (each 1–8192).
@@ -276,6 +294,7 @@ impl TryFrom<RenderArgs> for RenderConfig {
                 .transpose()?,
             movie: a.movie,
             overlay: a.overlay,
+            camera: a.camera,
             out: a.out,
         })
     }

@@ -111,6 +111,7 @@ pub fn command(config: &RenderConfig, quiet: bool) -> Result<(), Failure> {
     #[cfg(feature = "gl")]
     {
         use perifrac_render::RenderError;
+        use perifrac_render::preview::CameraMotion;
         let options = perifrac_render::preview::PreviewOptions {
             width: config.size.0,
             height: config.size.1,
@@ -121,6 +122,11 @@ pub fn command(config: &RenderConfig, quiet: bool) -> Result<(), Failure> {
             azimuth: config.azimuth.map(f32::to_radians),
             movie: config.movie,
             overlay: config.overlay,
+            camera: match config.camera {
+                crate::args::CameraArg::Auto => CameraMotion::Auto,
+                crate::args::CameraArg::Fixed => CameraMotion::Fixed,
+                crate::args::CameraArg::Follow => CameraMotion::Follow,
+            },
         };
         crate::verify::warn(&config.out)?;
         previews(&config.out, &options, quiet).map_err(|e| {

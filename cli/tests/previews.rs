@@ -10,7 +10,7 @@ use image::RgbImage;
 use perifrac_render::cache::Cache;
 use perifrac_render::geometry::{FrameGeometry, MESH_STRIDE, Shading};
 use perifrac_render::gl::Renderer;
-use perifrac_render::preview::{PreviewOptions, sequence_view};
+use perifrac_render::preview::{PreviewOptions, sequence_view, spreads};
 
 mod common;
 use common::perifrac_ok;
@@ -146,6 +146,10 @@ fn the_demo_s_last_frame_fills_the_image_and_shows_the_ball() {
         ..PreviewOptions::default()
     };
     let (view, _, ranges) = sequence_view(&cache, &options).unwrap();
+    // The camera `perifrac run` uses by default (CameraMotion::Auto) is this fixed one:
+    // the demo's pieces stay within a few times the wall's size.
+    let framing = cache.sequence_framing(options.color_by).unwrap();
+    assert!(!spreads(&framing), "the 4 ms demo keeps one camera");
     let last = *cache.frames.last().unwrap();
     let g = cache.geometry(last, options.color_by, &ranges).unwrap();
     let mut renderer = Renderer::new(options.width, options.height).expect("a GL context");

@@ -5,6 +5,7 @@
 //! `surface/NNNN.glb` (embedded or VDB meshes, with crack faces and `_DAMAGE`), turned
 //! into [`FrameGeometry`].
 
+use std::collections::BTreeMap;
 use std::path::Path;
 
 use perifrac_cache::Layout;
@@ -330,16 +331,18 @@ impl Cache {
     /// `color_by`.
     ///
     /// The subject is robust, to frame the action and not the far debris: the particles
-    /// of every frame (or the surface's vertices where a frame has no particles), up
+    /// in pieces of every frame (leaving out grains, fragments of at most
+    /// [`GRAIN_PARTICLES`] particles, while they are under half the particles), or the
+    /// surface's vertices where a frame has no particles, up
     /// to [`SAMPLES_PER_FRAME`] of each, evenly strided, pooled over the whole shot,
     /// grown by half a particle, without far outliers (beyond the [`FRAMING_TAIL`]
     /// quantile along an edge by more than a quarter of the spread: `Subject::support`); the colliders (the projectile) of every frame are framed whole. The
     /// bounds (for the shadow and the clip planes) are the samples' 1st to 99th
     /// percentile on each axis and the colliders.
-    pub fn sequence_framing(
-        &self,
-        color_by: ColorBy,
-    ) -> Result<(Subject, Bounds, Ranges), RenderError> {
+    ///
+    /// With them, each frame's own points ([`FramePoints`]), for a camera that follows
+    /// the shot.
+    pub fn sequence_framing(&self, color_by: ColorBy) -> Result<Framing, RenderError> {
         // Every frame's result is kept and the first error in frame order reported, so
         // the message does not depend on which thread failed first.
         type FrameBounds = (Vec<[f32; 3]>, Vec<[f32; 3]>, Ranges);
@@ -367,7 +370,7 @@ impl Cache {
                 if self.layout.particles(frame).is_file() {
                     let path = self.layout.particles(frame);
                     let p = ParticleFrame::read(&path)?;
-                    samples = strided(&p.position);
+                    samples = strided(&pieces(&p));
                     ranges.plastic_max = p
                         .plastic
                         .iter()
@@ -392,14 +395,19 @@ impl Cache {
         let per_frame: Vec<FrameBounds> = per_frame.into_iter().collect::<Result<_, _>>()?;
         let mut whole = Vec::new();
         let mut samples = Vec::new();
+        let mut frames = Vec::with_capacity(per_frame.len());
         let mut ranges = Ranges {
             plastic_max: 0.0,
             temperature: (f32::INFINITY, f32::NEG_INFINITY),
             quantity: NO_RANGE,
         };
         for (c, s, r) in per_frame {
-            whole.extend(c);
-            samples.extend(s);
+            whole.extend_from_slice(&c);
+            samples.extend_from_slice(&s);
+            frames.push(FramePoints {
+                colliders: c,
+                samples: s,
+            });
             ranges.plastic_max = ranges.plastic_max.max(r.plastic_max);
             ranges.temperature.0 = ranges.temperature.0.min(r.temperature.0);
             ranges.temperature.1 = ranges.temperature.1.max(r.temperature.1);
@@ -422,8 +430,36 @@ impl Cache {
         if ranges.quantity[0] > ranges.quantity[1] {
             ranges.quantity = [0.0, 0.0];
         }
-        Ok((subject, bounds, ranges))
+        Ok(Framing {
+            subject,
+            bounds,
+            ranges,
+            frames,
+        })
     }
+}
+
+/// What [`Cache::sequence_framing`] finds: the whole shot's subject and bounds, its
+/// value ranges, and each frame's own points.
+#[derive(Debug, Clone)]
+pub struct Framing {
+    /// The subject over the whole shot (the colliders whole).
+    pub subject: Subject,
+    /// Its bounds (shadow and clip planes).
+    pub bounds: Bounds,
+    /// The sequence's value ranges.
+    pub ranges: Ranges,
+    /// Each frame's points, in frame order.
+    pub frames: Vec<FramePoints>,
+}
+
+/// One frame's points for the framing.
+#[derive(Debug, Clone, Default)]
+pub struct FramePoints {
+    /// The colliders' vertices (strided).
+    pub colliders: Vec<[f32; 3]>,
+    /// The bodies' samples: up to [`SAMPLES_PER_FRAME`] particles or surface vertices.
+    pub samples: Vec<[f32; 3]>,
 }
 
 /// See [`Cache::view_azimuth`]: the projectile is the sphere or box collider or the body
@@ -470,6 +506,36 @@ fn mesh_positions(g: &FrameGeometry) -> Vec<[f32; 3]> {
         .map(|v| [v[0], v[1], v[2]])
         .collect()
 }
+
+/// The positions of the particles in pieces: of fragments of more than
+/// [`GRAIN_PARTICLES`] particles, when they are at least half of the particles (else
+/// all). A shattered body throws thousands of single grains, a tenth of its particles,
+/// far and wide; the camera frames the pieces, and the grains in view with them.
+fn pieces(p: &ParticleFrame) -> Vec<[f32; 3]> {
+    if p.fragment.len() != p.position.len() {
+        return p.position.clone();
+    }
+    let mut size: BTreeMap<u32, usize> = BTreeMap::new();
+    for &f in &p.fragment {
+        *size.entry(f as u32).or_default() += 1;
+    }
+    let kept: Vec<[f32; 3]> = p
+        .position
+        .iter()
+        .zip(&p.fragment)
+        .filter(|(_, f)| size[&(**f as u32)] > GRAIN_PARTICLES)
+        .map(|(x, _)| *x)
+        .collect();
+    if 2 * kept.len() >= p.position.len() {
+        kept
+    } else {
+        p.position.clone()
+    }
+}
+
+/// Fragments of at most this many particles are grains, which the framing leaves to
+/// fall where they may ([`Cache::sequence_framing`]).
+pub const GRAIN_PARTICLES: usize = 8;
 
 /// At most [`SAMPLES_PER_FRAME`] of `points`, evenly strided from the first.
 fn strided(points: &[[f32; 3]]) -> Vec<[f32; 3]> {

@@ -228,7 +228,7 @@ pub struct Subject {
     /// How far the bodies reach past their sample points (half a particle).
     pub pad: f32,
     /// The fraction of `samples` whose quantile along each edge's normal sets how far
-    /// out a sample counts as part of the subject (see [`Subject::support`]).
+    /// out a sample counts as part of the subject (see `Subject::support`).
     pub tail: f32,
     /// Points always in the picture.
     pub whole: Vec<[f32; 3]>,
@@ -286,7 +286,7 @@ impl Subject {
 }
 
 /// How far beyond its `tail` quantile, as a fraction of the spread between the two
-/// quantiles, a sample still counts as part of the subject (see [`Subject::support`]).
+/// quantiles, a sample still counts as part of the subject (see `Subject::support`).
 pub const OUTLIER_SPREAD: f32 = 0.25;
 
 /// The tightest eye for a subject seen along a fixed direction, in the camera's axes.
