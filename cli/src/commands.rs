@@ -604,7 +604,7 @@ fn print_cost(
             let per_frame = if k == 0 {
                 steps_per_frame
             } else {
-                (length / dt).ceil() as usize
+                perifrac_sim::world::steps_within(length, dt) as usize
             };
             frames * per_frame
         })

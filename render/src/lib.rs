@@ -18,6 +18,7 @@
 
 pub mod cache;
 pub mod camera;
+pub mod follow;
 pub mod geometry;
 #[cfg(feature = "gl")]
 pub mod gl;

@@ -112,6 +112,6 @@ impl World {
 }
 
 /// The fewest steps no longer than `bound` that make up `length` s (at least one).
-fn steps_within(length: f64, bound: f64) -> u64 {
+pub fn steps_within(length: f64, bound: f64) -> u64 {
     (length / bound).ceil().max(1.0) as u64
 }

@@ -25,6 +25,7 @@ use crate::scene::RigidSpec;
 
 mod checkpoint;
 mod clock;
+pub use clock::steps_within;
 mod part;
 
 pub use clock::Clock;
