@@ -98,6 +98,11 @@ pub struct Fragments {
     /// The P-wave speed c_p of each body's material (indexed as
     /// [`Model::point_bodies`]): how fast a piece of it rings.
     pub wave_speed: Vec<f64>,
+    /// The closing speed of a hit whose stress wave strains each body's material to
+    /// its critical stretch, s_c c_p (∞ for a material that does not break in
+    /// tension): what a rigid piece's hit is measured against before it goes back to
+    /// its model (docs/rigid.md, "Going back").
+    pub hit_speed: Vec<f64>,
 }
 
 /// How a model's points are advanced in time.
@@ -210,6 +215,14 @@ pub trait Model: Any + Debug + Send + Sync {
     /// nor break; the world moves them with their rigid body. Models that return no
     /// fragments are never asked.
     fn freeze(&mut self, points: &[u32]) {
+        let _ = points;
+    }
+
+    /// Gives `points` (a rigid piece, at the pose and velocity its body left them) back
+    /// to the model: its forces and bonds act on them again from the next step, from
+    /// the bonds' state at the hand-off (a rigid motion leaves every bond's stretch as
+    /// it was). Models that return no fragments are never asked.
+    fn thaw(&mut self, points: &[u32]) {
         let _ = points;
     }
 

@@ -275,3 +275,79 @@ fn a_rigid_piece_striking_a_deformable_wall_breaks_bonds_in_it() {
         "the rigid pellet cracks the plate: {broken} bonds"
     );
 }
+
+/// A glass cube cut in two by a pre-cut plane and dropped corner first on the ground
+/// at `speed` m/s from 5 mm: its halves go rigid in the air and land. `rigid`:
+/// "" (all peridynamics) or the `[rigid]` table's keys.
+fn cut_cube_drop(dir: &Path, speed: f64, rigid: &str) -> Scene {
+    let cube = "v -0.05 -0.05 -0.025\nv 0.05 -0.05 -0.025\nv 0.05 0.05 -0.025\n\
+                v -0.05 0.05 -0.025\nv -0.05 -0.05 0.025\nv 0.05 -0.05 0.025\n\
+                v 0.05 0.05 0.025\nv -0.05 0.05 0.025\nf 1 4 3\nf 1 3 2\nf 5 6 7\n\
+                f 5 7 8\nf 1 2 6\nf 1 6 5\nf 4 8 7\nf 4 7 3\nf 1 5 8\nf 1 8 4\n\
+                f 2 3 7\nf 2 7 6\n";
+    std::fs::write(dir.join("cube.obj"), cube).expect("writes the cube");
+    let text = format!(
+        "[scene]\nduration = 0.006\nfps = 500\n{GLASS}critical_compression = 0.01\n\
+         [[body]]\nmaterial = \"glass\"\nresolution = 0.025\nvelocity = [0, -{speed}, 0]\n\
+         shape = {{ type = \"mesh\", path = \"cube.obj\", rotation = [30, 0, 40], \
+         translation = [0, 0.0799, 0] }}\n\
+         [[body.crack]]\npoint = [0, 0.08, 0]\nnormal = [1, 0, 0]\n\
+         region = {{ type = \"box\", center = [0, 0.08, 0], size = [0.3, 0.3, 0.3] }}\n\
+         [[collider]]\ntype = \"ground\"\n\
+         [contact]\ndamping = 0.5\nfriction = 0.6\ndistance = 1.0\n{rigid}\
+         [output]\npreview = false\nusd = false\n"
+    );
+    Scene::parse(&text, &dir.join("drop.toml"), dir).expect("scene")
+}
+
+#[test]
+fn a_rigid_piece_hit_hard_goes_back_and_breaks_as_peridynamics_does() {
+    // What decides whether a rigid piece goes back to peridynamics when it is hit:
+    // the same drop all in peridynamics. At 3 m/s (1.15 s_c c_p) the corner that
+    // lands breaks bonds; a piece that stays rigid (the default, `reenter = 0`) breaks
+    // none, one that goes back (`reenter = 1`) about as many. At 6 m/s (2.3 s_c c_p)
+    // `reenter = 2` goes back. At 0.5 m/s nothing breaks and nothing goes back: the
+    // run is the one that stays rigid, byte for byte.
+    let dir = tempfile::tempdir().expect("temp dir");
+    let run = |speed: f64, rigid: &str| {
+        let label: String = rigid.chars().filter(char::is_ascii_alphanumeric).collect();
+        let out = dir.path().join(format!("{speed}-{label}"));
+        let s = cut_cube_drop(dir.path(), speed, rigid);
+        let m = run::run(&s, &out, &RunOptions::default(), &mut |_| {}).expect("runs");
+        (m.broken_bonds, m.steps, out)
+    };
+    let stay = "[rigid]\nenabled = true\n";
+    let back = "[rigid]\nenabled = true\nreenter = 1\n";
+    let hard = "[rigid]\nenabled = true\nreenter = 2\n";
+    let (pd, _, _) = run(3.0, "");
+    let (went_back, back_steps, _) = run(3.0, back);
+    let (stayed, stay_steps, _) = run(3.0, stay);
+    println!(
+        "3 m/s: {pd} bonds broken in peridynamics, {went_back} going back \
+         ({back_steps} steps), {stayed} staying rigid ({stay_steps} steps)"
+    );
+    assert!(
+        pd > 100,
+        "the corner drop breaks bonds in peridynamics: {pd}"
+    );
+    assert_eq!(stayed, 0, "a rigid piece breaks nothing");
+    assert!(
+        went_back as f64 > 0.5 * pd as f64 && (went_back as f64) < 2.0 * pd as f64,
+        "going back breaks about what peridynamics breaks: {went_back} against {pd}"
+    );
+    let (broke, hard_steps, _) = run(6.0, hard);
+    println!("6 m/s, reenter = 2: {broke} bonds broken ({hard_steps} steps)");
+    assert!(broke > 100, "a hit at 2.3 s_c c_p goes back at 2: {broke}");
+    let (gentle, gentle_steps, a) = run(0.5, hard);
+    let (_, _, b) = run(0.5, stay);
+    println!("0.5 m/s: {gentle} bonds broken, {gentle_steps} steps");
+    assert_eq!(gentle, 0);
+    for f in 1..=3 {
+        let name = format!("particles/{f:04}.ply");
+        let (x, y) = (std::fs::read(a.join(&name)), std::fs::read(b.join(&name)));
+        assert!(
+            x.expect("frame") == y.expect("frame"),
+            "{name}: a gentle landing goes back"
+        );
+    }
+}

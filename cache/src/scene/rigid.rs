@@ -8,9 +8,10 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RigidSpec {
-    /// Hand fragments of breaking peridynamic bodies to rigid bodies. Default false
-    /// for now: a run stopped part way through a frame while pieces touch deformable
-    /// particles does not yet resume to the same bytes (docs/rigid.md).
+    /// Hand fragments of breaking peridynamic bodies to rigid bodies. Default false:
+    /// a piece that goes rigid stops deforming and ringing, which a shot wants and a
+    /// scene that measures the physics does not (docs/rigid.md); `perifrac check`
+    /// suggests it for shots of 0.1 s or longer.
     #[serde(default)]
     pub enabled: bool,
     /// A fragment goes rigid only while every intact bond is below this fraction of
@@ -58,6 +59,20 @@ pub struct RigidSpec {
     /// Restitution of rigid pieces' impacts. Default 0.1.
     #[serde(default = "default_restitution")]
     pub restitution: f64,
+    /// A rigid piece of more than `reenter_points` particles goes back to its model
+    /// just before a hit that closes at this multiple of s_c c_p or faster (s_c its
+    /// critical stretch, c_p its P-wave speed: a hit at s_c c_p sends a wave of
+    /// strain s_c), so the hit breaks what it breaks; 2 catches the hits that break a
+    /// glass piece for certain. Default 0: pieces stay rigid. Each piece that goes back
+    /// puts the whole world back on its model's step while it rings, and at 2 the demo
+    /// shot went from 4 minutes to more than 15 (docs/rigid.md, "Going back").
+    #[serde(default = "default_reenter")]
+    pub reenter: f64,
+    /// Only pieces of more than this many particles go back when hit (a piece a few
+    /// particles across has next to no interior to crack), and only hits by pieces of
+    /// more than `small_fragment` count (debris breaks nothing). Default 100.
+    #[serde(default = "default_reenter_points")]
+    pub reenter_points: usize,
 }
 
 impl Default for RigidSpec {
@@ -73,6 +88,8 @@ impl Default for RigidSpec {
             step: default_step(),
             friction: default_friction(),
             restitution: default_restitution(),
+            reenter: default_reenter(),
+            reenter_points: default_reenter_points(),
         }
     }
 }
@@ -103,4 +120,10 @@ fn default_friction() -> f64 {
 }
 fn default_restitution() -> f64 {
     0.1
+}
+fn default_reenter() -> f64 {
+    0.0
+}
+fn default_reenter_points() -> usize {
+    100
 }

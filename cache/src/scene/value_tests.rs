@@ -229,3 +229,18 @@ fn material_colours_parse_default_to_the_palette_and_bad_ones_are_placed() {
     assert_eq!((line, key.as_str()), (5, "materials.m.color"), "{message}");
     assert!(message.contains("#RRGGBB"), "{message}");
 }
+
+#[test]
+fn bad_rigid_values_are_refused_with_their_key() {
+    let rigid = format!("{GOOD}[rigid]\nenabled = true\nreenter = 2\n");
+    Scene::parse(&rigid, Path::new("ok.toml"), Path::new(".")).expect("a good [rigid]");
+    for (bad, key) in [
+        ("reenter = -1", "rigid.reenter"),
+        ("reenter = nan", "rigid.reenter"),
+        ("reenter = 2\nrestitution = 1.5", "rigid.restitution"),
+    ] {
+        let text = rigid.replace("reenter = 2", bad);
+        let (_, _, found, message) = error(&text);
+        assert_eq!(found, key, "{message}");
+    }
+}

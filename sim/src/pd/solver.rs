@@ -183,6 +183,11 @@ impl Model for Peridynamics {
             breaking: m.breaking_ratios(),
             damaged: m.particles.damage.iter().map(|&d| d > 0.0).collect(),
             wave_speed: m.bodies.iter().map(|b| b.material.p_wave_speed()).collect(),
+            hit_speed: m
+                .bodies
+                .iter()
+                .map(|b| b.constants.critical_stretch * b.material.p_wave_speed())
+                .collect(),
         })
     }
 
@@ -191,6 +196,14 @@ impl Model for Peridynamics {
         let frozen = self.model.frozen.get_or_insert_with(|| vec![false; n]);
         for &i in points {
             frozen[i as usize] = true;
+        }
+    }
+
+    fn thaw(&mut self, points: &[u32]) {
+        if let Some(frozen) = &mut self.model.frozen {
+            for &i in points {
+                frozen[i as usize] = false;
+            }
         }
     }
 

@@ -6,20 +6,22 @@ use std::collections::BTreeMap;
 
 use rapier3d_f64::prelude::*;
 
-use super::{Physics, Piece, RigidPhase};
+use super::{Hold, Physics, Piece, RigidPhase};
 use crate::cache::checkpoint::{Decoder, Encoder};
 use crate::error::Result;
 use crate::world::Part;
 
 impl RigidPhase {
     /// Writes the rigid phase (its pieces, the colliders it mirrors, the fragments
-    /// settling, the pieces' last contact forces and rapier's state) into a checkpoint.
+    /// settling, the pieces' last contact forces, the points back in their models
+    /// whose hit is not over and rapier's state) into a checkpoint.
     pub fn save(&self, out: &mut Encoder) {
         let state = (
             &self.pieces,
             &self.mirrors,
             &self.calm,
             &self.contact,
+            (&self.holds, self.thaws),
             &self.physics,
         );
         let mut bytes = Vec::new();
@@ -49,9 +51,10 @@ impl RigidPhase {
             Vec<(usize, RigidBodyHandle)>,
             BTreeMap<(u32, u32), f64>,
             Vec<([f64; 3], [f64; 3])>,
+            (Vec<Hold>, usize),
             Physics,
         );
-        let (pieces, mirrors, calm, contact, physics): State =
+        let (pieces, mirrors, calm, contact, (holds, thaws), physics): State =
             ciborium::from_reader(bytes.as_slice())
                 .map_err(|e| input.error("rigid phase", format!("does not read: {e}")))?;
         for (k, piece) in pieces.iter().enumerate() {
@@ -86,7 +89,23 @@ impl RigidPhase {
                 )
                 .into());
         }
+        if holds.iter().any(|h| {
+            parts.get(h.part as usize).is_none_or(|p| {
+                h.points
+                    .iter()
+                    .any(|&i| i as usize >= p.model.points().position.len())
+            })
+        }) {
+            return Err(input
+                .error(
+                    "rigid phase",
+                    "a held fragment names points the scene has not",
+                )
+                .into());
+        }
         self.contact = contact;
+        self.holds = holds;
+        self.thaws = thaws;
         self.pieces = pieces;
         self.mirrors = mirrors;
         self.calm = calm;

@@ -26,8 +26,11 @@
 //! best-fit rigid motion is the one that keeps both momenta). I is the points' own,
 //! so a fragment moving rigidly keeps its kinetic energy exactly; fragments of fewer
 //! than four points add each point's inertia as a cube of its volume (their I is
-//! singular otherwise). A piece stays rigid for the rest of the run (see
-//! docs/rigid.md for why it does not go back).
+//! singular otherwise).
+//!
+//! **Going back.** With `reenter` above 0, a piece of more than `reenter_points` points
+//! about to be hit at `reenter` × s_c c_p or faster goes back to its model before the
+//! hit ([`RigidPhase::reenter`]); by default pieces stay rigid.
 //!
 //! **Colliders** come from the fragment's particles: a cube of its spacing for a single
 //! particle (a grain; a ball would roll forever), the convex hull of the particle
@@ -57,8 +60,10 @@ use crate::world::Part;
 
 mod checkpoint;
 mod fit;
+mod reenter;
 
 use fit::{Fit, fit};
+pub use reenter::Thawed;
 
 /// Above this many points a piece collides as the union of its particles' cubes
 /// instead of their rounded convex hull.
@@ -81,6 +86,23 @@ struct Piece {
     thickness: f64,
     /// Twice its largest distance from the centre of mass (m).
     size: f64,
+    /// The closing speed of a hit (m/s) before which it goes back to its model:
+    /// `reenter` × s_c c_p, ∞ for small pieces and what cannot break ([`RigidPhase::reenter`]).
+    #[serde(default = "never")]
+    limit: f64,
+}
+
+fn never() -> f64 {
+    f64::INFINITY
+}
+
+/// Points given back to their model that may not go rigid again before `until` (s):
+/// the hit they were thawed for is not over.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+struct Hold {
+    part: u32,
+    points: Vec<u32>,
+    until: f64,
 }
 
 /// Rapier's state: what is saved in checkpoints.
@@ -126,6 +148,10 @@ pub struct RigidPhase {
     /// contact computation: the next step's first half impulse (saved, as the
     /// particles' accelerations are).
     contact: Vec<([f64; 3], [f64; 3])>,
+    /// Pieces given back to their models and not yet free to go rigid again.
+    holds: Vec<Hold>,
+    /// Pieces given back to their models so far.
+    pub thaws: usize,
     /// Wall time spent (s).
     pub time: f64,
 }
@@ -163,6 +189,8 @@ impl RigidPhase {
             mirrors: Vec::new(),
             calm,
             contact: Vec::new(),
+            holds: Vec::new(),
+            thaws: 0,
             time: 0.0,
         };
         phase.mirror(colliders);
@@ -272,6 +300,12 @@ impl RigidPhase {
             }
             let mut whole: BTreeMap<u32, Vec<u32>> = BTreeMap::new();
             let mut blocked: Vec<bool> = vec![false; fragments.fragment.len()];
+            // Points back from the rigid phase whose hit is not over.
+            for hold in self.holds.iter().filter(|h| h.part as usize == p) {
+                for &i in &hold.points {
+                    blocked[fragments.fragment[i as usize] as usize] = true;
+                }
+            }
             for (i, &f) in fragments.fragment.iter().enumerate() {
                 if frozen.as_ref().is_some_and(|z| z[i])
                     || part.is_anchored(i)
@@ -292,7 +326,7 @@ impl RigidPhase {
                     if whole_body {
                         // A small body of its own (a pellet): rigid at once.
                         let fit = fit(part, &points);
-                        self.hand_over(p, part, points, &fit);
+                        self.hand_over(p, part, points, &fit, f64::INFINITY);
                         handed += 1;
                     } else {
                         small_ones.push((p, points));
@@ -319,7 +353,14 @@ impl RigidPhase {
                 let since = *self.calm.get(&key).unwrap_or(&time);
                 seen.insert(key, since);
                 if time - since >= self.settings.settle_time {
-                    self.hand_over(p, part, points, &fit);
+                    let limit = if self.settings.reenter > 0.0
+                        && points.len() > self.settings.reenter_points
+                    {
+                        self.settings.reenter * fragments.hit_speed[body as usize]
+                    } else {
+                        f64::INFINITY
+                    };
+                    self.hand_over(p, part, points, &fit, limit);
                     seen.remove(&key);
                     handed += 1;
                 }
@@ -335,7 +376,7 @@ impl RigidPhase {
         if all_verlet && self.frozen_points() + waiting == total {
             for (p, points) in small_ones {
                 let fit = fit(&parts[p], &points);
-                self.hand_over(p, &mut parts[p], points, &fit);
+                self.hand_over(p, &mut parts[p], points, &fit, f64::INFINITY);
                 handed += 1;
             }
         }
@@ -343,8 +384,9 @@ impl RigidPhase {
     }
 
     /// Makes `points` of part `p` a rigid body with the momenta of `fit`, and sets
-    /// their velocities to its rigid motion.
-    fn hand_over(&mut self, p: usize, part: &mut Part, points: Vec<u32>, fit: &Fit) {
+    /// their velocities to its rigid motion; a hit closing at `limit` (m/s) gives it
+    /// back ([`RigidPhase::reenter`]).
+    fn hand_over(&mut self, p: usize, part: &mut Part, points: Vec<u32>, fit: &Fit, limit: f64) {
         let s = &self.settings;
         let volume = part.model.contact_points().map(|c| c.volume.to_vec());
         let pts = part.model.points();
@@ -412,6 +454,7 @@ impl RigidPhase {
             body: handle,
             thickness: fit.spacing,
             size: fit.size,
+            limit,
         };
         place(&piece, &self.physics.bodies[handle], part);
         self.pieces.push(piece);

@@ -351,6 +351,11 @@ impl<'a> Frames<'a> {
                 {
                     return Ok(Some(reason));
                 }
+                // A rigid piece about to be hit hard goes back to its model: the rest
+                // of the frame at the deformable step.
+                if world.reenter() && world.start_deformable_clock(frame) {
+                    end = world.frame_end(frame);
+                }
                 self.broken_total += world.step()? as u64;
                 // Everything went rigid part way through the frame: the rest of it
                 // at the rigid phase's step.

@@ -82,13 +82,33 @@ impl World {
             return false;
         };
         let bound = rigid.longest_step().max(self.step_bound);
+        if bound <= self.dt || !self.rigid_only() {
+            return false;
+        }
+        self.restart_within_frame(frame, bound)
+    }
+
+    /// Part way through frame `frame`, once a rigid piece went back to its model
+    /// ([`World::reenter`]) while the step was the rigid phase's: starts the clock
+    /// again for the rest of the frame at the deformable bodies' step. Returns whether
+    /// it did: not when the step is that already.
+    pub fn start_deformable_clock(&mut self, frame: usize) -> bool {
+        if self.dt <= self.step_bound || self.rigid_only() {
+            return false;
+        }
+        self.restart_within_frame(frame, self.step_bound)
+    }
+
+    /// The rest of frame `frame` over as few steps as `bound` allows, unless that is
+    /// as many steps as the clock takes now; returns whether the clock started again.
+    fn restart_within_frame(&mut self, frame: usize, bound: f64) -> bool {
         let end = self.frame_end(frame);
-        if bound <= self.dt || end <= self.steps || !self.rigid_only() {
+        if end <= self.steps {
             return false;
         }
         let remaining = self.time_after(end) - self.time;
         let steps = steps_within(remaining, bound);
-        if steps >= end - self.steps {
+        if steps == end - self.steps {
             return false;
         }
         // Frame `frame` ends `steps` steps on: the clock's frame is the one before it

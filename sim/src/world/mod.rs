@@ -283,6 +283,28 @@ impl World {
         Ok(broken)
     }
 
+    /// Before a step: gives back to their models the rigid pieces that the step would
+    /// bring into a hard hit ([`RigidPhase::reenter`]); returns whether any went. Their
+    /// points start the step with the rigid phase's last accelerations of them, or,
+    /// after steps in which only rigid pieces moved (no forces were computed), with
+    /// gravity's: the piece was calm when it went rigid, so its bonds pull on it
+    /// next to nothing.
+    pub fn reenter(&mut self) -> bool {
+        let rigid_only = self.rigid_only();
+        let Some(rigid) = &mut self.rigid else {
+            return false;
+        };
+        let thawed = rigid.reenter(self.dt, self.time, &mut self.parts, &self.colliders);
+        if rigid_only {
+            for t in &thawed {
+                for &i in &t.points {
+                    self.parts[t.part].acceleration[i as usize] = self.gravity;
+                }
+            }
+        }
+        !thawed.is_empty()
+    }
+
     /// Whether a run may stop (and checkpoint) here: always without a rigid phase;
     /// with one, only every `check_every` steps and at frame ends
     /// ([`World::end_frame`]), where every run resets rapier's unsaved workspaces

@@ -73,6 +73,16 @@ pub(super) fn rigid(scene: &Scene) -> Check {
             format!("restitution must be in [0, 1], got {}", r.restitution),
         ));
     }
+    if !(r.reenter.is_finite() && r.reenter >= 0.0) {
+        return Err(issue(
+            &p("reenter"),
+            format!(
+                "reenter is a multiple of s_c c_p, the closing speed of a hit that strains \
+                 a piece to its critical stretch: ≥ 0 (0: pieces stay rigid), got {}",
+                r.reenter
+            ),
+        ));
+    }
     Ok(())
 }
 
