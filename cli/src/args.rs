@@ -46,11 +46,16 @@ pub enum Command {
         /// The scene file.
         scene: PathBuf,
     },
-    /// Run the built-in demo scene (a sphere through a glass wall).
+    /// Run the built-in demo: a steel ball through a glass wall, and the 2 s after it
+    /// with every piece landing (a finished shot).
     Demo {
         /// Output directory.
         #[arg(short, long, default_value = "out/demo")]
         out: PathBuf,
+        /// Only the impact: the first 4 ms, every piece deformable (the scene of the
+        /// physics checks, assets/scenes/demo.toml).
+        #[arg(long)]
+        impact: bool,
         /// Worker threads (default: all cores).
         #[arg(long)]
         threads: Option<usize>,

@@ -78,8 +78,12 @@ impl From<anyhow::Error> for Failure {
     }
 }
 
-/// The built-in demo scene (also `assets/scenes/demo.toml`).
+/// The built-in demo's impact: its first 4 ms (also `assets/scenes/demo.toml`).
 pub const DEMO_SCENE: &str = include_str!("../../assets/scenes/demo.toml");
+
+/// The built-in demo as a finished shot: the impact and 2 s of pieces landing (also
+/// `assets/scenes/demo-shot.toml`).
+pub const DEMO_SHOT_SCENE: &str = include_str!("../../assets/scenes/demo-shot.toml");
 
 /// Sets the worker thread count for the whole process.
 pub fn set_threads(threads: Option<usize>) -> Result<(), Failure> {
@@ -178,24 +182,25 @@ pub fn run(config: &RunConfig, quiet: bool) -> Result<(), Failure> {
     Ok(())
 }
 
-/// `perifrac demo`.
+/// `perifrac demo`: the finished shot, or with `impact` its first 4 ms.
 pub fn demo(
     out: &Path,
+    impact: bool,
     threads: Option<usize>,
     resume: bool,
     force: bool,
     quiet: bool,
 ) -> Result<(), Failure> {
     set_threads(threads)?;
-    let scene = Scene::parse(
-        DEMO_SCENE,
-        Path::new("demo.toml (built in)"),
-        Path::new("."),
-    )?;
+    let (text, name, flag) = match impact {
+        true => (DEMO_SCENE, "demo.toml (built in)", " --impact"),
+        false => (DEMO_SHOT_SCENE, "demo-shot.toml (built in)", ""),
+    };
+    let scene = Scene::parse(text, Path::new(name), Path::new("."))?;
     let lifecycle = Lifecycle {
         force,
         resume_command: format!(
-            "perifrac demo -o {} --resume",
+            "perifrac demo -o {}{flag} --resume",
             shell_word(&out.to_string_lossy())
         ),
     };
@@ -519,11 +524,37 @@ fn print_rigid(world: &perifrac_sim::world::World, scene: &Scene) {
     if !breaks {
         return;
     }
-    if world.rigid_settings.is_some() {
+    if let Some(rigid) = &world.rigid_settings {
         println!(
             "  rigid phase: on (fragments that stop breaking go to rapier; the estimate \
              above is for every step at dt, an upper bound once only rigid pieces move)"
         );
+        // The slowest hit that breaks a piece: s_c c_p of the weakest breaking body.
+        let hit = world
+            .parts
+            .iter()
+            .filter_map(|p| p.model.fragments())
+            .flat_map(|f| f.hit_speed)
+            .fold(f64::INFINITY, f64::min);
+        if hit.is_finite() && rigid.reenter > 0.0 {
+            println!(
+                "  rigid pieces of more than {} particles go back to their model before \
+                 a hit at {:.2} m/s or faster (reenter = {} × s_c c_p); the world is then \
+                 stepped at dt until they settle (docs/rigid.md, \"Going back\")",
+                rigid.reenter_points,
+                rigid.reenter * hit,
+                rigid.reenter
+            );
+        } else if hit.is_finite() {
+            println!(
+                "  rigid pieces stay rigid when hit again: a piece landing faster than \
+                 about {:.2} m/s (0.6 s_c c_p) would chip or break as particles. \
+                 `[rigid] reenter = 2` breaks the hardest hits (from {:.2} m/s) again, \
+                 stepping the world at dt while they break (docs/rigid.md, \"Going back\")",
+                0.6 * hit,
+                2.0 * hit
+            );
+        }
     } else if scene.scene.duration >= 0.1 {
         println!(
             "  rigid phase: off, for a shot of {:.2} s. `[rigid] enabled = true` hands \

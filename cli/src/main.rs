@@ -57,10 +57,11 @@ fn main() -> ExitCode {
         Command::Verify { out } => verify::command(&out),
         Command::Demo {
             out,
+            impact,
             threads,
             resume,
             force,
-        } => commands::demo(&out, threads, resume, force, cli.quiet),
+        } => commands::demo(&out, impact, threads, resume, force, cli.quiet),
         Command::Bench { which } => bench::run(which, cli.quiet),
         Command::Export {
             format: args::ExportFormat::Usd { out },
