@@ -307,7 +307,8 @@ fn a_rigid_piece_hit_hard_goes_back_and_breaks_as_peridynamics_does() {
     // lands breaks bonds; a piece that stays rigid (the default, `reenter = 0`) breaks
     // none, one that goes back (`reenter = 1`) about as many. At 6 m/s (2.3 s_c c_p)
     // `reenter = 2` goes back. At 0.5 m/s nothing breaks and nothing goes back: the
-    // run is the one that stays rigid, byte for byte.
+    // run is the one that stays rigid, byte for byte. A run stopped after going back
+    // resumes to the same bytes.
     let dir = tempfile::tempdir().expect("temp dir");
     let run = |speed: f64, rigid: &str| {
         let label: String = rigid.chars().filter(char::is_ascii_alphanumeric).collect();
@@ -320,7 +321,7 @@ fn a_rigid_piece_hit_hard_goes_back_and_breaks_as_peridynamics_does() {
     let back = "[rigid]\nenabled = true\nreenter = 1\n";
     let hard = "[rigid]\nenabled = true\nreenter = 2\n";
     let (pd, _, _) = run(3.0, "");
-    let (went_back, back_steps, _) = run(3.0, back);
+    let (went_back, back_steps, back_out) = run(3.0, back);
     let (stayed, stay_steps, _) = run(3.0, stay);
     println!(
         "3 m/s: {pd} bonds broken in peridynamics, {went_back} going back \
@@ -335,6 +336,11 @@ fn a_rigid_piece_hit_hard_goes_back_and_breaks_as_peridynamics_does() {
         went_back as f64 > 0.5 * pd as f64 && (went_back as f64) < 2.0 * pd as f64,
         "going back breaks about what peridynamics breaks: {went_back} against {pd}"
     );
+    // Stopped while the piece that went back breaks, and resumed: the same bytes.
+    let s = cut_cube_drop(dir.path(), 3.0, back);
+    for after in [back_steps / 20, back_steps / 2] {
+        stopped_and_resumed(&s, &back_out, after);
+    }
     let (broke, hard_steps, _) = run(6.0, hard);
     println!("6 m/s, reenter = 2: {broke} bonds broken ({hard_steps} steps)");
     assert!(broke > 100, "a hit at 2.3 s_c c_p goes back at 2: {broke}");
