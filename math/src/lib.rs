@@ -8,7 +8,8 @@
 //! | [`to_vector`], [`from_vector`], [`to_matrix`], [`from_matrix`] | between the arrays kept in structure-of-arrays storage and nalgebra |
 //! | [`add`], [`sub`], [`scale`], [`dot`], [`cross`], [`norm`], [`dist`], [`normalize`], [`lerp`] | `[T; 3]` arithmetic for `f32` and `f64`, in the plain order of operations (same bits as the written-out expressions) |
 //! | [`signed_volume`] | a tet's volume, signed by its orientation |
-//! | [`mat_vec`], [`mat_mul`], [`det3`], [`inverse3`] | 3×3 arithmetic on row-major `[[f64; 3]; 3]` |
+//! | [`mat_vec`], [`mat_mul`], [`det3`], [`inverse3`], [`mul_transpose`] | 3×3 arithmetic on row-major `[[f64; 3]; 3]` |
+//! | [`rotation_svd`], [`RotationSvd`] | the inversion-safe SVD F = U Σ Vᵀ (U, V rotations), for MPM's energies and the embedded mesh |
 //! | [`TET_FACES`] | the tet face table: face `f` lies opposite corner `f`, wound outward |
 //! | [`UnionFind`] | disjoint sets with path compression and deterministic labels |
 //! | [`det_sum`] | a parallel sum with the same bits for any thread count |
@@ -19,12 +20,14 @@
 
 #![warn(missing_docs)]
 
+mod decompose;
 mod random;
 mod sum;
 mod tet;
 mod union_find;
 mod vector;
 
+pub use decompose::{RotationSvd, mul_transpose, rotation_svd};
 pub use nalgebra::{
     Matrix3, Quaternion, RealField, Rotation3, SVD, SymmetricEigen, UnitQuaternion, Vector3,
 };

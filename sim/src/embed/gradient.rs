@@ -2,11 +2,10 @@
 //! [`super::EmbeddedMesh::positions`]): its bonds' deformation gradient where it can be
 //! trusted, else its rotation.
 
-use perifrac_math::{det3, inverse3, mat_mul, sub, to_matrix};
+use perifrac_math::{det3, inverse3, mat_mul, mul_transpose, rotation_svd, sub, to_matrix};
 use rayon::prelude::*;
 
 use crate::family::{BROKEN, Bonds, INDEX};
-use crate::mpm::constitutive::{mul_transpose, rotation_svd};
 
 /// Smallest ratio of the smallest to the largest eigenvalue of a particle's bond
 /// matrix K at which its deformation gradient is trusted for vertex placement.

@@ -2,11 +2,12 @@
 //! predictions, [`EmbeddedMesh::positions`]) and mending the tets that the average
 //! leaves inverted or flattened (a departure from Chen §5.2: `EmbeddedMesh::untangle`).
 
-use perifrac_math::{TET_FACES, UnionFind, add, cross, dot, norm, signed_volume, sub};
+use perifrac_math::{
+    TET_FACES, UnionFind, add, cross, dot, mul_transpose, norm, rotation_svd, signed_volume, sub,
+};
 use rayon::prelude::*;
 
 use super::{EmbeddedMesh, FLOOR_FRACTION, MIN_VOLUME_FRACTION, SMALL_FRAGMENT, UNTANGLE_ROUNDS};
-use crate::mpm::constitutive::{mul_transpose, rotation_svd};
 
 /// The particles, for placing a fragment rigidly ([`EmbeddedMesh::untangle`]).
 pub(super) struct Rigid<'a> {

@@ -10,7 +10,7 @@ use rayon::prelude::*;
 use super::diffusion::conductance;
 use super::{BLOCK, MembraneModel};
 use crate::family::{BROKEN, INDEX};
-use crate::pd::{blocks_mut, rows_mut};
+use crate::family::{blocks_mut, rows_mut};
 
 impl MembraneModel {
     /// Bond strains η_ij (Eq. 10), fracture (Eq. 27–28: a bond whose strain passes

@@ -78,10 +78,10 @@ pub use solver::Membrane;
 pub use source::{Effect, Source};
 
 use crate::error::{Result, SimError};
+use crate::family::Cracks;
 use crate::family::{self, BROKEN, Bonds, INDEX};
 use crate::geometry::discretize::Discretization;
 use crate::material::Material;
-use crate::pd::Cracks;
 use crate::scene::{MembraneFormulation, MembraneMaterialSpec, ModelKind, Scene};
 
 /// Particles per parallel task of the passes over the bonds.

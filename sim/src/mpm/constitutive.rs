@@ -1,14 +1,11 @@
 //! Elastic energies of the material point method (Lyu 2021 §3.3) and their first
 //! Piola–Kirchhoff stresses, on 3×3 matrices stored as `[[f64; 3]; 3]` (row major).
 //!
-//! The SVD is nalgebra's with the inversion-safe sign convention (Irving et al. 2004;
-//! Stomakhin et al. 2012): U and V are made rotations and the sign goes to the
-//! smallest singular value, so that an inverted F has one negative singular value and
-//! R = UVᵀ is a rotation. The fixed corotated model's rotation of a non-inverted F
-//! comes from Higham's Newton iteration instead ([`polar_rotation`]), checked against
-//! that SVD.
+//! The SVD is perifrac-math's inversion-safe one ([`rotation_svd`]). The fixed
+//! corotated model's rotation of a non-inverted F comes from Higham's Newton iteration
+//! instead ([`polar_rotation`]), checked against that SVD.
 
-use nalgebra::Matrix3;
+use perifrac_math::{mul_transpose, rotation_svd};
 
 use crate::scene::MpmElasticity;
 
@@ -27,55 +24,6 @@ pub struct Elastic {
     pub mu: f64,
     /// Lamé's first parameter λ (Pa).
     pub lambda: f64,
-}
-
-/// The SVD F = U Σ Vᵀ with U and V rotations (det = +1): when F is inverted the
-/// smallest singular value is negative.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct RotationSvd {
-    /// Left rotation U.
-    pub u: Mat3,
-    /// Singular values, the smallest possibly negative.
-    pub sigma: [f64; 3],
-    /// Right rotation V.
-    pub v: Mat3,
-}
-
-fn to_na(a: &Mat3) -> Matrix3<f64> {
-    Matrix3::from_fn(|i, j| a[i][j])
-}
-
-fn from_na(m: &Matrix3<f64>) -> Mat3 {
-    [0, 1, 2].map(|i| [0, 1, 2].map(|j| m[(i, j)]))
-}
-
-/// The inversion-safe SVD of `f` (nalgebra's SVD, then the sign fix).
-pub fn rotation_svd(f: &Mat3) -> RotationSvd {
-    let svd = to_na(f).svd(true, true);
-    // Both factors were asked for, so both are present.
-    let mut u = svd.u.unwrap_or_else(Matrix3::identity);
-    let mut v = svd.v_t.unwrap_or_else(Matrix3::identity).transpose();
-    let mut sigma = [
-        svd.singular_values[0],
-        svd.singular_values[1],
-        svd.singular_values[2],
-    ];
-    let smallest = (0..3)
-        .min_by(|&a, &b| sigma[a].total_cmp(&sigma[b]))
-        .unwrap_or(2);
-    if u.determinant() < 0.0 {
-        u.column_mut(smallest).neg_mut();
-        sigma[smallest] = -sigma[smallest];
-    }
-    if v.determinant() < 0.0 {
-        v.column_mut(smallest).neg_mut();
-        sigma[smallest] = -sigma[smallest];
-    }
-    RotationSvd {
-        u: from_na(&u),
-        sigma,
-        v: from_na(&v),
-    }
 }
 
 /// The rotation R of the polar decomposition F = RS (R = UVᵀ of [`rotation_svd`]).
@@ -200,18 +148,6 @@ pub fn gram(f: &Mat3) -> Mat3 {
         }
     }
     c
-}
-
-/// A Bᵀ.
-#[inline]
-pub fn mul_transpose(a: &Mat3, b: &Mat3) -> Mat3 {
-    let mut out = [[0.0; 3]; 3];
-    for (row, a_row) in out.iter_mut().zip(a) {
-        for (x, b_row) in row.iter_mut().zip(b) {
-            *x = a_row[0] * b_row[0] + a_row[1] * b_row[1] + a_row[2] * b_row[2];
-        }
-    }
-    out
 }
 
 /// A B.

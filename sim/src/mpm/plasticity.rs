@@ -28,9 +28,9 @@
 //! particle inside the yield surface is not decomposed. The test
 //! `fast_projections_match_the_svd_ones` holds every projection to its SVD form.
 
-use super::constitutive::{
-    Mat3, RotationSvd, determinant, gram, mul, rotation_svd, symmetric_eigen,
-};
+use perifrac_math::{RotationSvd, rotation_svd};
+
+use super::constitutive::{Mat3, determinant, gram, mul, symmetric_eigen};
 
 /// The Taylor–Quinney fraction β when the scene does not give one (Johnson & Cook
 /// 1983 convert "90 to 100%" of the plastic work into heat; 0.9 is the usual choice).

@@ -1,8 +1,8 @@
 use std::path::Path;
 
-use super::constitutive::{
-    Elastic, Mat3, determinant, mul, mul_transpose, polar_rotation, rotation_svd,
-};
+use perifrac_math::{mul_transpose, rotation_svd};
+
+use super::constitutive::{Elastic, Mat3, determinant, mul, polar_rotation};
 use super::plasticity::{FlowInput, Plasticity};
 use super::*;
 use crate::run::{Prepared, prepare};
@@ -659,7 +659,7 @@ fn fast_projections_match_the_svd_ones() {
         let exact = if solved {
             let to_mat =
                 |r: nalgebra::Matrix3<f64>| [0, 1, 2].map(|i| [0, 1, 2].map(|j| r[(i, j)]));
-            constitutive::RotationSvd {
+            perifrac_math::RotationSvd {
                 u: to_mat(u),
                 sigma,
                 v: to_mat(v),

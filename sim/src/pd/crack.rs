@@ -1,73 +1,15 @@
-//! Initial cracks (`[[body.crack]]`): bonds of a body that cross the crack plane inside
-//! the crack's region are cut before the run starts.
-
-use perifrac_math::{add, dot, scale, sub};
+//! Initial cracks (`[[body.crack]]`) in a peridynamic body: bonds that cross the crack
+//! plane inside the crack's region ([`Cracks`]) are cut before the run starts.
 
 use super::PdModel;
-use crate::error::{Result, SimError};
-use crate::geometry::sdf::Sdf;
-use crate::geometry::shape::to_sdf;
+use crate::error::Result;
+use crate::family::Cracks;
 use crate::scene::Scene;
-
-/// One crack: its body, a point on its plane, its normal and its region.
-struct Crack {
-    body: u32,
-    point: [f64; 3],
-    normal: [f64; 3],
-    region: Box<dyn Sdf>,
-}
-
-/// The initial cracks of a scene, for any model with bonds: [`Cracks::cuts`] says
-/// whether a bond of body b from x_i to x_j is cut.
-pub struct Cracks {
-    cracks: Vec<Crack>,
-}
-
-impl std::fmt::Debug for Cracks {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "Cracks({})", self.cracks.len())
-    }
-}
-
-impl Cracks {
-    /// Reads the crack regions of every body (a primitive, CSG shape or closed mesh
-    /// file); an unreadable region names its body and crack.
-    pub fn of_scene(scene: &Scene) -> Result<Cracks> {
-        let mut cracks = Vec::new();
-        for (b, spec) in scene.bodies.iter().enumerate() {
-            for (k, crack) in spec.cracks.iter().enumerate() {
-                let region =
-                    to_sdf(&crack.region, &scene.base_dir).map_err(|message| SimError::Mesh {
-                        body: spec.name.clone(),
-                        message: format!("crack {} region: {message}", k + 1),
-                    })?;
-                cracks.push(Crack {
-                    body: b as u32,
-                    point: crack.point,
-                    normal: crack.normal,
-                    region,
-                });
-            }
-        }
-        Ok(Cracks { cracks })
-    }
-
-    /// Whether the bond of body `body` from `xi` to `xj` is cut: i and j lie on
-    /// opposite sides of a crack plane of that body and the bond's midpoint is inside
-    /// the crack's region.
-    pub fn cuts(&self, body: u32, xi: [f64; 3], xj: [f64; 3]) -> bool {
-        self.cracks.iter().any(|c| {
-            let side = |x: [f64; 3]| dot(sub(x, c.point), c.normal);
-            let mid = scale(add(xi, xj), 0.5);
-            c.body == body && side(xi) * side(xj) < 0.0 && c.region.distance(mid) <= 0.0
-        })
-    }
-}
 
 /// Cuts every bond of the scene's initial cracks (see [`Cracks::cuts`]).
 pub fn cut_initial_cracks(model: &mut PdModel, scene: &Scene) -> Result<()> {
     let cracks = Cracks::of_scene(scene)?;
-    if cracks.cracks.is_empty() {
+    if cracks.is_empty() {
         return Ok(());
     }
     let body = model.reference.body.clone();

@@ -9,7 +9,7 @@ use rayon::iter::Either;
 use rayon::prelude::*;
 
 use super::{PdModel, family_volume};
-use crate::family::{BROKEN, INDEX};
+use crate::family::{BROKEN, INDEX, rows_mut};
 
 /// Wall time spent in each stage, in seconds, accumulated over a run.
 #[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -20,36 +20,6 @@ pub struct StageTimes {
     /// Force densities (Eq. 2–4, 8, 12), with bond breaking and damage
     /// (Eq. 18–19) in the same pass when the scene can fracture.
     pub forces: f64,
-}
-
-/// Splits `data` into the CSR rows given by `offsets`.
-pub(crate) fn rows_mut<'a, T>(mut data: &'a mut [T], offsets: &[usize]) -> Vec<&'a mut [T]> {
-    let mut rows = Vec::with_capacity(offsets.len().saturating_sub(1));
-    for w in offsets.windows(2) {
-        let (row, rest) = data.split_at_mut(w[1] - w[0]);
-        rows.push(row);
-        data = rest;
-    }
-    rows
-}
-
-/// Splits `data` into the CSR rows given by `offsets`, `block` rows at a time: for
-/// each run of `block` consecutive rows (the last may be shorter), its first row
-/// and the slice holding its rows.
-pub(crate) fn blocks_mut<'a, T>(
-    mut data: &'a mut [T],
-    offsets: &[usize],
-    block: usize,
-) -> Vec<(usize, &'a mut [T])> {
-    let rows = offsets.len().saturating_sub(1);
-    let mut blocks = Vec::with_capacity(rows.div_ceil(block));
-    for first in (0..rows).step_by(block) {
-        let last = (first + block).min(rows);
-        let (part, rest) = data.split_at_mut(offsets[last] - offsets[first]);
-        blocks.push((first, part));
-        data = rest;
-    }
-    blocks
 }
 
 macro_rules! dispatch_features {

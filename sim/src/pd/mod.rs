@@ -43,9 +43,8 @@ use crate::family::{BROKEN, Bonds, Corrections, INDEX};
 use crate::material::{Material, PdConstants};
 use crate::scene::DilatationForm;
 
-pub use crack::{Cracks, cut_initial_cracks};
+pub use crack::cut_initial_cracks;
 pub use kernel::StageTimes;
-pub(crate) use kernel::{blocks_mut, rows_mut};
 pub use solver::Peridynamics;
 pub use stable::stable_time_step;
 

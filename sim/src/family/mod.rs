@@ -14,6 +14,12 @@
 //! discrete moment equal the continuum one, so θ and the energy are exact for every
 //! homogeneous deformation wherever positive weights can do it.
 
+mod crack;
+mod rows;
+
+pub use crack::Cracks;
+pub use rows::{blocks_mut, rows_mut};
+
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use perifrac_math::{UnionFind, dist, lerp, sub};
 use rayon::prelude::*;
