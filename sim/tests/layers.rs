@@ -46,5 +46,9 @@ fn no_model_imports_another_model() {
             }
         }
     }
-    assert!(found.is_empty(), "a model imports another model:\n{}", found.join("\n"));
+    assert!(
+        found.is_empty(),
+        "a model imports another model:\n{}",
+        found.join("\n")
+    );
 }
