@@ -62,8 +62,8 @@ impl Plane {
     }
 }
 
-/// `x = 0.5 m, normal +x` for a plane normal to a scene axis, else the point and the
-/// normal.
+/// `x = 0.5 m, normal +x` for a plane normal to a scene axis (to the micrometre), else
+/// the point and the normal.
 impl std::fmt::Display for Plane {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let axis = (0..3).find(|&a| self.normal[a].abs() == 1.0);
@@ -72,7 +72,10 @@ impl std::fmt::Display for Plane {
                 f,
                 "{} = {} m, normal {}{}",
                 ["x", "y", "z"][a],
-                self.point[a],
+                // To the micrometre: −0.1 + 0.01 reads −0.09, not −0.09000000000000001.
+                format!("{:.6}", self.point[a])
+                    .trim_end_matches('0')
+                    .trim_end_matches('.'),
                 if self.normal[a] > 0.0 { '+' } else { '-' },
                 ["x", "y", "z"][a]
             ),

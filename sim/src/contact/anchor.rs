@@ -206,8 +206,8 @@ pub fn centroid(x: &[[f64; 3]], weight: &[f64], members: &[usize]) -> [f64; 3] {
 /// A clamp's points within the body's δ behind the plane are its ghosts
 /// ([`crate::clamp`]), extrapolated from the body's points in front of the plane that
 /// no anchor holds. The clamp is the anchor's `clamp` plane, or by default the face
-/// where a fixed box meets the body ([`face_clamps`]; kept held when that face's
-/// ghosts cannot be extrapolated).
+/// where a fixed box meets the body ([`face_clamps`](super::face_clamps); kept held
+/// when that face's ghosts cannot be extrapolated).
 pub fn anchors(
     scene: &Scene,
     position: &[[f64; 3]],
