@@ -503,6 +503,7 @@ pub fn check(path: &Path) -> Result<(), Failure> {
         before.bonds
     );
     let mut prepared = run::prepare_discretized(&scene, disc)?;
+    print_face_clamps(&prepared.world, &scene);
     let (stable, dt) = (prepared.stable_dt, prepared.world.dt);
     prepared.world.reset_times();
     print_cost(&scene, stable, dt, prepared.steps_per_frame, || {
@@ -615,6 +616,21 @@ fn print_contact(world: &perifrac_sim::world::World) {
         contact.stable_time_step().0,
         100.0 * contact.time / total.max(f64::MIN_POSITIVE)
     );
+}
+
+/// The anchors clamped at their region's face by default, one line each (issue 33:
+/// users should see that the plain held region became a clamp, and how to undo it).
+fn print_face_clamps(world: &perifrac_sim::world::World, scene: &Scene) {
+    for part in &world.parts {
+        for (b, k, plane) in perifrac_sim::contact::face_clamps(scene, &part.anchors) {
+            println!(
+                "  body {} anchor {}: clamped at the face where its box meets the body, {plane} \
+                 (body.{b}.anchor.{k}: clamp = false holds the whole region instead)",
+                scene.bodies[b].name,
+                k + 1
+            );
+        }
+    }
 }
 
 /// The stable step, the step count and the run time estimated from three timed steps.

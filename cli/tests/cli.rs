@@ -107,6 +107,35 @@ fn check_prints_the_cost() {
     }
 }
 
+/// Issue 33, item 6: `check` prints one line for each anchor that became a clamp by
+/// default (a fixed box over a body's end), none for `clamp = false` or a moving one.
+#[test]
+fn check_says_which_anchors_became_clamps() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let scene = write_scene(
+        dir.path(),
+        "[scene]\nname = \"beam\"\nduration = 0.01\n[materials.m]\ndensity = 1000.0\n\
+         youngs_modulus = 1.0e6\npoisson_ratio = 0.3\n[[body]]\nname = \"beam\"\nmaterial = \"m\"\n\
+         resolution = 0.01\nshape = { type = \"box\", center = [0, 0, 0], size = [0.2, 0.04, 0.04] }\n\
+         [[body.anchor]]\nregion = { type = \"box\", center = [-0.1, 0, 0], size = [0.02, 0.1, 0.1] }\n\
+         [[body.anchor]]\nregion = { type = \"box\", center = [0.1, 0, 0], size = [0.02, 0.1, 0.1] }\n\
+         clamp = false\n\
+         [[body.anchor]]\nregion = { type = \"box\", center = [0, 0, 0], size = [0.02, 0.1, 0.1] }\n\
+         velocity = [0, 0.1, 0]\n",
+    );
+    let result = perifrac(&["check", &scene]);
+    let text = String::from_utf8_lossy(&result.stdout);
+    assert!(result.status.success(), "{text}");
+    let lines: Vec<&str> = text.lines().filter(|l| l.contains("clamped")).collect();
+    assert_eq!(lines.len(), 1, "{text}");
+    assert!(
+        lines[0].contains("body beam anchor 1")
+            && lines[0].contains("x = -0.09 m, normal +x")
+            && lines[0].contains("clamp = false"),
+        "{text}"
+    );
+}
+
 /// Output into a pipe whose reader is gone (`perifrac check … | head`) ends the process
 /// quietly, as SIGPIPE ends any Unix tool, never with a panic.
 #[test]

@@ -62,11 +62,35 @@ impl Plane {
     }
 }
 
+/// `x = 0.5 m, normal +x` for a plane normal to a scene axis (to the micrometre), else
+/// the point and the normal.
+impl std::fmt::Display for Plane {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let axis = (0..3).find(|&a| self.normal[a].abs() == 1.0);
+        match axis {
+            Some(a) => write!(
+                f,
+                "{} = {} m, normal {}{}",
+                ["x", "y", "z"][a],
+                // To the micrometre: −0.1 + 0.01 reads −0.09, not −0.09000000000000001.
+                format!("{:.6}", self.point[a])
+                    .trim_end_matches('0')
+                    .trim_end_matches('.'),
+                if self.normal[a] > 0.0 { '+' } else { '-' },
+                ["x", "y", "z"][a]
+            ),
+            None => write!(f, "through {:?} m, normal {:?}", self.point, self.normal),
+        }
+    }
+}
+
 /// The ghost layer of a clamp: each ghost's displacement as fixed weights of free
 /// particles' displacements, in CSR arrays (ghost `g`'s sources are
 /// `source[offsets[g]..offsets[g + 1]]`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Ghosts {
+    /// The clamp's plane.
+    pub plane: Plane,
     /// The ghost particles.
     pub ghost: Vec<u32>,
     /// Start of each ghost's sources; one more entry than ghosts.
@@ -115,6 +139,7 @@ impl Ghosts {
             })
             .collect();
         let mut out = Ghosts {
+            plane,
             ghost,
             offsets: vec![0],
             source: Vec::new(),

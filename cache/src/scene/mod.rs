@@ -5,6 +5,7 @@
 //! the dotted key. Unknown keys are errors. The resolved scene (defaults filled in)
 //! is written next to the cache by [`Scene::to_toml`].
 
+mod clamp;
 mod collider;
 mod color;
 mod exact;
@@ -16,6 +17,7 @@ mod rigid;
 mod shape;
 mod validate;
 
+pub use clamp::{Clamp, ClampSpec};
 pub use collider::{ColliderSpec, ContactSpec, KeyframeSpec};
 pub use color::{ColorSpec, PALETTE};
 pub use membrane::{
@@ -337,30 +339,24 @@ pub struct AnchorSpec {
     /// Time in s after which the anchor releases. Default: never.
     #[serde(default = "default_inf")]
     pub until: f64,
-    /// Makes the anchor a fixed clamp at a plane (peridynamic bodies only): the body's
-    /// displacement is zero *at the plane*, not throughout a held slab. Of the
-    /// region's particles, those behind the plane and farther than the horizon δ
-    /// from it are held at rest; those within δ behind it are a ghost layer that
-    /// continues the free particles' displacement smoothly through zero at the plane
-    /// (recomputed each step), and the forces on the ghosts act on the particles they
-    /// are made from; the region's particles in front of the plane are free.
-    /// `velocity` and `angular_velocity` must be zero. Default: none (the whole
-    /// region held, which acts as a clamp about λ/2 inside its face and is softer).
+    /// Where the body is clamped (peridynamic bodies only). A clamp puts the body's
+    /// displacement to zero *at a plane*, not throughout a held slab: of the region's
+    /// particles, those behind the plane and farther than the horizon δ from it are
+    /// held at rest; those within δ behind it are a ghost layer that continues the free
+    /// particles' displacement smoothly through zero at the plane (recomputed each
+    /// step), and the forces on the ghosts act on the particles they are made from; the
+    /// region's particles in front of the plane are free.
+    ///
+    /// Default (no key): a fixed anchor (`velocity` and `angular_velocity` zero) of a
+    /// peridynamic body whose material does not break, whose region is a `box` or
+    /// `slab` meeting the body's free particles across exactly one face, is clamped at
+    /// that face, its normal out of the box (`perifrac check` lists these anchors);
+    /// every other anchor holds its whole region. `clamp = false` holds the whole
+    /// region (a clamp about λ/2 inside its face, softer by an O(δ) boundary layer:
+    /// docs/lattice.md, "Bending"). `clamp = { point, normal }` clamps at that plane;
+    /// `velocity` and `angular_velocity` must then be zero.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub clamp: Option<ClampSpec>,
-}
-
-/// `clamp = { point, normal }` of an anchor: the clamp's plane, through `point`, with
-/// `normal` pointing out of the clamp into the free body.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ClampSpec {
-    /// A point of the plane (m).
-    #[serde(deserialize_with = "exact::array")]
-    pub point: [f64; 3],
-    /// The plane's normal, into the free body (any non-zero length).
-    #[serde(deserialize_with = "exact::array")]
-    pub normal: [f64; 3],
+    pub clamp: Option<Clamp>,
 }
 
 /// `[[body.crack]]`: bonds crossing the plane through `point` with `normal`, whose

@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use super::Scene;
+use super::{Clamp, Scene};
 use crate::CacheError;
 
 const GOOD: &str = "[scene]\nname = \"t\"\n[materials.m]\ndensity = 1000.0\n\
@@ -145,6 +145,45 @@ fn bad_clamps_are_refused_with_their_key_and_fix() {
     assert!(message.contains("peridynamics"), "{message}");
     let unknown = clamp.replace("normal = [1, 0, 0]", "normal = [1, 0, 0], depth = 1");
     assert!(error(&unknown).3.contains("depth"));
+}
+
+/// Issue 33, item 6: `clamp = false` asks for the whole region held (no clamp by
+/// default at the box's face), for moving anchors too, and is written back as such;
+/// `clamp = true` and other values are refused with what to write.
+#[test]
+fn clamp_false_holds_the_region_and_other_values_are_refused() {
+    let plain = format!(
+        "{GOOD}[[body.anchor]]\nregion = {{ type = \"box\", center = [-0.5, 0, 0], size = [0.2, 2, 2] }}\n"
+    );
+    let parse = |text: &str| Scene::parse(text, Path::new("ok.toml"), Path::new(".")).expect(text);
+    assert_eq!(parse(&plain).bodies[0].anchors[0].clamp, None);
+    let held = format!("{plain}clamp = false\n");
+    let scene = parse(&held);
+    assert_eq!(scene.bodies[0].anchors[0].clamp, Some(Clamp::Held));
+    let again = parse(&scene.to_toml());
+    assert_eq!(again.bodies[0].anchors[0].clamp, Some(Clamp::Held));
+    let plane = held.replace(
+        "clamp = false",
+        "clamp = { point = [-0.4, 0, 0], normal = [1, 0, 0] }",
+    );
+    let scene = parse(&plane);
+    assert_eq!(
+        parse(&scene.to_toml()).bodies[0].anchors[0].clamp,
+        scene.bodies[0].anchors[0].clamp
+    );
+    parse(&held.replace("clamp = false", "velocity = [0, 1, 0]\nclamp = false"));
+    let (line, _, key, message) = error(&held.replace("clamp = false", "clamp = true"));
+    assert_eq!((line, key.as_str()), (13, "body.anchor.clamp"), "{message}");
+    assert!(
+        message.contains("clamp = false") && message.contains("perifrac check"),
+        "{message}"
+    );
+    let (line, _, key, message) = error(&held.replace("clamp = false", "clamp = \"held\""));
+    assert_eq!((line, key.as_str()), (13, "body.anchor.clamp"), "{message}");
+    assert!(
+        message.contains("false (the whole region held)"),
+        "{message}"
+    );
 }
 
 /// Regression (issue 34): `gravity` with 4 or 2,000,001 components was read as its

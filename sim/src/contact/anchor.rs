@@ -8,9 +8,9 @@ use crate::clamp::{Ghosts, Plane};
 use crate::error::{Result, SimError};
 use crate::geometry::shape::to_sdf;
 use crate::model::Points;
-use crate::scene::Scene;
+use crate::scene::{Clamp, Scene};
 
-use super::{Collider, ColliderShape};
+use super::{Collider, ColliderShape, face};
 
 /// Particles held at a prescribed rigid motion until a release time, and the ghost
 /// layer of a clamp ([`crate::clamp`]).
@@ -205,7 +205,9 @@ pub fn centroid(x: &[[f64; 3]], weight: &[f64], members: &[usize]) -> [f64; 3] {
 /// a default centre of rotation is the held points' centroid weighted by `weight`.
 /// A clamp's points within the body's δ behind the plane are its ghosts
 /// ([`crate::clamp`]), extrapolated from the body's points in front of the plane that
-/// no anchor holds.
+/// no anchor holds. The clamp is the anchor's `clamp` plane, or by default the face
+/// where a fixed box meets the body ([`face_clamps`](super::face_clamps); kept held
+/// when that face's ghosts cannot be extrapolated).
 pub fn anchors(
     scene: &Scene,
     position: &[[f64; 3]],
@@ -220,7 +222,10 @@ pub fn anchors(
                 body: spec.name.clone(),
                 message: format!("anchor {} region: {message}", k + 1),
             })?;
-            let plane = a.clamp.map(|c| Plane::new(c.point, c.normal));
+            let plane = match a.clamp {
+                Some(Clamp::Plane(c)) => Some(Plane::new(c.point, c.normal)),
+                _ => None,
+            };
             let members: Vec<usize> = (0..position.len())
                 .into_par_iter()
                 .filter(|&i| body[i] == b as u32 && region.distance(position[i]) <= 0.0)
@@ -248,9 +253,13 @@ pub fn anchors(
         .enumerate()
         .flat_map(|(b, spec)| spec.anchors.iter().enumerate().map(move |(k, a)| (b, k, a)));
     for (anchor, (b, k, spec)) in out.iter_mut().zip(specs) {
-        if let Some(c) = spec.clamp {
+        let body_spec = &scene.bodies[b];
+        // A scene's other models' points: the body is not here.
+        if !body.contains(&(b as u32)) {
+            continue;
+        }
+        if let Some(Clamp::Plane(c)) = spec.clamp {
             let plane = Plane::new(c.point, c.normal);
-            let body_spec = &scene.bodies[b];
             clamp(anchor, plane, body_spec, b as u32, position, body, &held).map_err(
                 |message| SimError::Mesh {
                     body: body_spec.name.clone(),
@@ -262,6 +271,13 @@ pub fn anchors(
                     ),
                 },
             )?;
+        } else if let Some(bounds) = face::candidate(scene, b, spec) {
+            let delta = body_spec.delta();
+            let face = face::meeting_face(bounds, position, body, b as u32, &held, delta);
+            if let (Some(plane), false) = (face, anchor.particles.is_empty()) {
+                // A face whose ghosts cannot be extrapolated stays held (not asked for).
+                clamp(anchor, plane, body_spec, b as u32, position, body, &held).ok();
+            }
         }
     }
     Ok(out)

@@ -22,11 +22,13 @@ use crate::geometry::shape::placement;
 use crate::scene::{ColliderSpec, KeyframeSpec, Scene};
 
 mod anchor;
+mod face;
 
 pub use anchor::{
     Anchor, anchor_power, anchors, apply_anchors, carry_clamp_forces, centroid, energy_budget,
     mark_anchored, rotate,
 };
+pub use face::face_clamps;
 
 /// A collider's shape.
 #[derive(Debug, Clone, PartialEq)]

@@ -8,8 +8,8 @@ mod world;
 use self::material::{bond_keys, material};
 use self::world::{collider, contact, rigid, schedule};
 use super::{
-    BodySpec, ClampSpec, MaterialSpec, MembraneFormulation, MembraneLaw, MembraneSpec, ModelKind,
-    MpmElasticity, MpmPlasticity, MpmSpec, Scene, ShapeSpec, SurfaceMethod, VdbSpec,
+    BodySpec, Clamp, ClampSpec, MaterialSpec, MembraneFormulation, MembraneLaw, MembraneSpec,
+    ModelKind, MpmElasticity, MpmPlasticity, MpmSpec, Scene, ShapeSpec, SurfaceMethod, VdbSpec,
 };
 
 /// One problem: where (dotted path) and what, with the fix.
@@ -229,7 +229,7 @@ fn body(scene: &Scene, i: &str, b: &BodySpec) -> Check {
                 ),
             ));
         }
-        if let Some(clamp) = &a.clamp {
+        if let Some(Clamp::Plane(clamp)) = &a.clamp {
             clamp_spec(b, i, &k, a.velocity, a.angular_velocity, clamp)?;
         }
     }
