@@ -21,6 +21,7 @@ mod accuracy;
 mod args;
 mod bench;
 mod bench_render;
+mod check;
 mod commands;
 mod export;
 mod memory;
@@ -53,7 +54,7 @@ fn main() -> ExitCode {
             Ok(config) => render::command(&config, cli.quiet),
             Err(message) => Err(commands::Failure::input(anyhow::anyhow!(message))),
         },
-        Command::Check { scene } => commands::check(&scene),
+        Command::Check { scene } => check::command(&scene),
         Command::Verify { out } => verify::command(&out),
         Command::Demo {
             out,
