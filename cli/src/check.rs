@@ -78,15 +78,20 @@ pub fn command(path: &Path) -> Result<(), Failure> {
         before.particles,
         before.bonds
     );
-    let mut prepared = run::prepare_discretized(&scene, disc)?;
-    print_face_clamps(&prepared.world, &scene);
+    print_prepared(&scene, run::prepare_discretized(&scene, disc)?)
+}
+
+/// What the prepared world tells of a scene: its clamps by default, the cost of its
+/// steps, particle contact and the rigid phase.
+fn print_prepared(scene: &Scene, mut prepared: run::Prepared) -> Result<(), Failure> {
+    print_face_clamps(&prepared.world, scene);
     let (stable, dt) = (prepared.stable_dt, prepared.world.dt);
     prepared.world.reset_times();
-    print_cost(&scene, stable, dt, prepared.steps_per_frame, || {
+    print_cost(scene, stable, dt, prepared.steps_per_frame, || {
         prepared.world.step()
     })?;
     print_contact(&prepared.world);
-    print_rigid(&prepared.world, &scene);
+    print_rigid(&prepared.world, scene);
     Ok(())
 }
 
@@ -146,7 +151,7 @@ fn print_rigid(world: &perifrac_sim::world::World, scene: &Scene) {
 /// ([`PARTICLES_PER_CELL_AXIS`]³ a cell), so they are counted once it has, with the
 /// memory they need.
 fn check_mpm(scene: &Scene, disc: Discretization, before: &MemoryEstimate) -> Result<(), Failure> {
-    let mut prepared = run::prepare_discretized(scene, disc)?;
+    let prepared = run::prepare_discretized(scene, disc)?;
     let owners = &prepared.discretization.body;
     for (b, spec) in scene.bodies.iter().enumerate() {
         let n = owners.iter().filter(|&&owner| owner as usize == b).count();
@@ -170,13 +175,7 @@ fn check_mpm(scene: &Scene, disc: Discretization, before: &MemoryEstimate) -> Re
         before.bytes / (1 << 20) as f64,
         before.particles
     );
-    let (stable, dt) = (prepared.stable_dt, prepared.world.dt);
-    prepared.world.reset_times();
-    print_cost(scene, stable, dt, prepared.steps_per_frame, || {
-        prepared.world.step()
-    })?;
-    print_contact(&prepared.world);
-    Ok(())
+    print_prepared(scene, prepared)
 }
 
 /// Particle contact's pairs and share of the timed steps, when the scene has it.
@@ -273,12 +272,6 @@ fn check_fem(
         "  FEM reference: {} tets, {vertices} vertices (no bonds)",
         disc.position.len()
     );
-    let mut prepared = run::prepare_discretized(scene, disc)?;
-    let (stable, dt) = (prepared.stable_dt, prepared.world.dt);
-    prepared.world.reset_times();
-    print_cost(scene, stable, dt, prepared.steps_per_frame, || {
-        prepared.world.step()
-    })?;
-    print_contact(&prepared.world);
-    Ok(())
+    let prepared = run::prepare_discretized(scene, disc)?;
+    print_prepared(scene, prepared)
 }

@@ -21,7 +21,7 @@ impl RigidPhase {
             &self.mirrors,
             &self.calm,
             &self.contact,
-            (&self.holds, self.thaws),
+            &self.holds,
             &self.physics,
         );
         let mut bytes = Vec::new();
@@ -51,10 +51,10 @@ impl RigidPhase {
             Vec<(usize, RigidBodyHandle)>,
             BTreeMap<(u32, u32), f64>,
             Vec<([f64; 3], [f64; 3])>,
-            (Vec<Hold>, usize),
+            Vec<Hold>,
             Physics,
         );
-        let (pieces, mirrors, calm, contact, (holds, thaws), physics): State =
+        let (pieces, mirrors, calm, contact, holds, physics): State =
             ciborium::from_reader(bytes.as_slice())
                 .map_err(|e| input.error("rigid phase", format!("does not read: {e}")))?;
         for (k, piece) in pieces.iter().enumerate() {
@@ -105,7 +105,6 @@ impl RigidPhase {
         }
         self.contact = contact;
         self.holds = holds;
-        self.thaws = thaws;
         self.pieces = pieces;
         self.mirrors = mirrors;
         self.calm = calm;

@@ -150,8 +150,6 @@ pub struct RigidPhase {
     contact: Vec<([f64; 3], [f64; 3])>,
     /// Pieces given back to their models and not yet free to go rigid again.
     holds: Vec<Hold>,
-    /// Pieces given back to their models so far.
-    pub thaws: usize,
     /// Wall time spent (s).
     pub time: f64,
 }
@@ -190,7 +188,6 @@ impl RigidPhase {
             calm,
             contact: Vec::new(),
             holds: Vec::new(),
-            thaws: 0,
             time: 0.0,
         };
         phase.mirror(colliders);

@@ -24,6 +24,8 @@
 //! rigid again before the hit it was thawed for is over: not before the end of the
 //! step it was thawed for plus `settle_time`.
 
+use perifrac_math::{add, cross, dist, dot, norm, sub};
+
 use super::{Hold, Piece, RigidPhase};
 use crate::contact::{Collider, ColliderShape};
 use crate::model::Points;
@@ -46,7 +48,7 @@ fn collider_closing(c: &Collider, x: [f64; 3], v: [f64; 3], rounding: f64, dt: f
     let (gap, normal) = match c.shape {
         ColliderShape::Ground => (x[1] - c.center[1], [0.0, 1.0, 0.0]),
         ColliderShape::Sphere(r) => {
-            let d = [0, 1, 2].map(|k| x[k] - c.center[k]);
+            let d = sub(x, c.center);
             let l = norm(d);
             if l == 0.0 {
                 return 0.0;
@@ -54,30 +56,23 @@ fn collider_closing(c: &Collider, x: [f64; 3], v: [f64; 3], rounding: f64, dt: f
             (l - r, d.map(|a| a / l))
         }
         ColliderShape::Box(h) => {
-            let d = [0, 1, 2].map(|k| x[k] - c.center[k]);
+            let d = sub(x, c.center);
             let out = [0, 1, 2].map(|k| d[k] - d[k].clamp(-h[k], h[k]));
             let l = norm(out);
             if l == 0.0 {
                 // Inside the box: closing at its whole relative speed.
-                let rel = [0, 1, 2].map(|k| v[k] - c.velocity[k]);
-                return norm(rel);
+                return dist(v, c.velocity);
             }
             (l, out.map(|a| a / l))
         }
         ColliderShape::Mesh(_) => return 0.0,
     };
-    let closing = -(0..3)
-        .map(|k| (v[k] - c.velocity[k]) * normal[k])
-        .sum::<f64>();
+    let closing = -dot(sub(v, c.velocity), normal);
     if closing > 0.0 && gap - rounding <= closing * dt {
         closing
     } else {
         0.0
     }
-}
-
-fn norm(a: [f64; 3]) -> f64 {
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
 }
 
 /// A piece's bounding sphere: its centre of mass and radius (half its size plus half
@@ -114,23 +109,18 @@ impl Pair {
         let mut fastest: f64 = 0.0;
         for &i in from.0 {
             let (p, v) = (xf.position[i as usize], xf.velocity[i as usize]);
-            let r = [0, 1, 2].map(|k| p[k] - bound.center[k]);
+            let r = sub(p, bound.center);
             if norm(r) > bound.radius + self.dt * (norm(v) + bound.reach) {
                 continue;
             }
-            let w = bound.spin;
-            let carried = [
-                bound.velocity[0] + w[1] * r[2] - w[2] * r[1],
-                bound.velocity[1] + w[2] * r[0] - w[0] * r[2],
-                bound.velocity[2] + w[0] * r[1] - w[1] * r[0],
-            ];
-            if norm([0, 1, 2].map(|k| v[k] - carried[k])) < self.limit {
+            let carried = add(bound.velocity, cross(bound.spin, r));
+            if dist(v, carried) < self.limit {
                 continue;
             }
             let (mut nearest, mut d2) = (0, f64::INFINITY);
             for &j in onto.0 {
                 let q = xo.position[j as usize];
-                let e = (0..3).map(|k| (q[k] - p[k]).powi(2)).sum::<f64>();
+                let e = dot(sub(q, p), sub(q, p));
                 if e < d2 {
                     (nearest, d2) = (j as usize, e);
                 }
@@ -140,9 +130,7 @@ impl Pair {
                 continue;
             }
             let (q, vq) = (xo.position[nearest], xo.velocity[nearest]);
-            let closing = (0..3)
-                .map(|k| (v[k] - vq[k]) * (q[k] - p[k]) / d)
-                .sum::<f64>();
+            let closing = dot(sub(v, vq), sub(q, p)) / d;
             if closing >= self.limit && d - self.rounding <= closing * self.dt {
                 fastest = fastest.max(closing);
             }
@@ -176,6 +164,9 @@ impl RigidPhase {
         parts: &mut [Part],
         colliders: &[Collider],
     ) -> Vec<Thawed> {
+        if self.settings.reenter == 0.0 {
+            return Vec::new();
+        }
         self.holds.retain(|h| h.until > time);
         if !self.pieces.iter().any(|p| p.limit.is_finite()) {
             return Vec::new();
@@ -194,12 +185,8 @@ impl RigidPhase {
             for c in colliders {
                 let near = match c.shape {
                     ColliderShape::Ground => ba.center[1] - ba.radius - c.center[1],
-                    ColliderShape::Sphere(r) => {
-                        norm([0, 1, 2].map(|k| ba.center[k] - c.center[k])) - ba.radius - r
-                    }
-                    ColliderShape::Box(h) => {
-                        norm([0, 1, 2].map(|k| ba.center[k] - c.center[k])) - ba.radius - norm(h)
-                    }
+                    ColliderShape::Sphere(r) => dist(ba.center, c.center) - ba.radius - r,
+                    ColliderShape::Box(h) => dist(ba.center, c.center) - ba.radius - norm(h),
                     ColliderShape::Mesh(_) => continue,
                 };
                 if near > dt * (ba.reach + norm(c.velocity)) {
@@ -220,8 +207,7 @@ impl RigidPhase {
                     continue;
                 }
                 let bb = &bounds[b];
-                let apart =
-                    norm([0, 1, 2].map(|k| ba.center[k] - bb.center[k])) - ba.radius - bb.radius;
+                let apart = dist(ba.center, bb.center) - ba.radius - bb.radius;
                 if apart > dt * (ba.reach + bb.reach) {
                     continue;
                 }
@@ -261,7 +247,6 @@ impl RigidPhase {
                 points: piece.points.clone(),
                 until: time + dt + self.settings.settle_time,
             });
-            self.thaws += 1;
             thawed.push(Thawed {
                 part: piece.part as usize,
                 points: piece.points,
