@@ -226,8 +226,62 @@ impl Frame {
         call(self.frame, "writing the .vdb file", |err, len| {
             // SAFETY: `raw` is live and `c_path` is a NUL-terminated string.
             unsafe { sys::pvdb_frame_write(raw, c_path.as_ptr(), err, len) }
-        })
+        })?;
+        content_uuid(path).map_err(|e| SurfaceError::io(path, e))
     }
+}
+
+/// Where a .vdb file's archive UUID sits: after the magic number (8 bytes), the file
+/// format version and the library's major and minor versions (4 each) and the
+/// grid-offsets flag (1) (`openvdb::io::Archive::writeHeader`), 36 ASCII characters.
+const UUID_AT: std::ops::Range<usize> = 21..57;
+
+/// Replaces the random UUID OpenVDB writes into every file's header (a fresh
+/// `boost::uuids::random_generator` value each write, so no two writes of one frame
+/// had the same bytes) with one made from the file's other bytes, in the UUID
+/// layout (version 8, RFC 9562's custom version): the same frame gives the same file,
+/// and two files with the same UUID hold the same grids, which is what OpenVDB's
+/// readers use it for (recognising a file they have already loaded). A file whose
+/// header is not as expected is left as it is.
+fn content_uuid(path: &Path) -> std::io::Result<()> {
+    use std::io::{Seek, SeekFrom, Write};
+    let bytes = std::fs::read(path)?;
+    let is_uuid = |b: &[u8]| {
+        b.len() == 36
+            && b.iter().enumerate().all(|(i, &c)| match i {
+                8 | 13 | 18 | 23 => c == b'-',
+                _ => c.is_ascii_hexdigit(),
+            })
+    };
+    if bytes.len() < UUID_AT.end || &bytes[..4] != b" BDV" || !is_uuid(&bytes[UUID_AT]) {
+        return Ok(());
+    }
+    // Two FNV-1a 64-bit hashes (different offsets) of everything but the UUID.
+    let fnv = |offset: u64| {
+        bytes[..UUID_AT.start]
+            .iter()
+            .chain(&bytes[UUID_AT.end..])
+            .fold(offset, |h, &b| {
+                (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+            })
+    };
+    let mut id = [0u8; 16];
+    id[..8].copy_from_slice(&fnv(0xcbf2_9ce4_8422_2325).to_be_bytes());
+    id[8..].copy_from_slice(&fnv(0x8422_2325_cbf2_9ce4).to_be_bytes());
+    id[6] = (id[6] & 0x0f) | 0x80;
+    id[8] = (id[8] & 0x3f) | 0x80;
+    let hex: String = id.iter().map(|b| format!("{b:02x}")).collect();
+    let text = format!(
+        "{}-{}-{}-{}-{}",
+        &hex[..8],
+        &hex[8..12],
+        &hex[12..16],
+        &hex[16..20],
+        &hex[20..]
+    );
+    let mut file = std::fs::OpenOptions::new().write(true).open(path)?;
+    file.seek(SeekFrom::Start(UUID_AT.start as u64))?;
+    file.write_all(text.as_bytes())
 }
 
 impl Drop for Frame {
