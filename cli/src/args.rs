@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use clap::{Parser, Subcommand};
+use perifrac_cache::frames::FrameRange;
 
 /// Exit codes, shown under `perifrac --help`.
 const EXIT_CODES: &str = "Exit codes: 0 success; 1 the run failed (I/O, full disk, blow-up); \
@@ -194,9 +195,20 @@ pub struct RenderArgs {
     /// the last frame.
     #[arg(long)]
     pub turntable: Option<String>,
-    /// Render only this frame (default: every frame, and the contact sheet).
-    #[arg(long)]
+    /// Render only this frame, as `preview/frame_NNNN.png` (default: every frame, and
+    /// the contact sheet).
+    #[arg(long, conflicts_with = "frames")]
     pub frame: Option<String>,
+    /// Render only the sequence's frames FIRST..LAST (both included) as
+    /// `preview/NNNN.png`, each through the camera of a render of every frame, so
+    /// that ranges run side by side on a farm fill one sequence; `--join` makes the
+    /// contact sheet and the movies once all are there.
+    #[arg(long, conflicts_with_all = ["turntable", "movie"])]
+    pub frames: Option<String>,
+    /// Render nothing: make the contact sheet (and with `--movie` the movies) from the
+    /// frames `preview/NNNN.png` that `--frames` ranges rendered.
+    #[arg(long, conflicts_with_all = ["frame", "frames", "turntable", "color_by", "azimuth", "overlay"])]
+    pub join: bool,
     /// Image size, WIDTHxHEIGHT.
     #[arg(long, default_value = "960x540")]
     pub size: String,
@@ -247,6 +259,10 @@ pub struct RenderConfig {
     pub turntable: usize,
     /// Only this frame.
     pub frame: Option<usize>,
+    /// Only these frames of the sequence.
+    pub frames: Option<FrameRange>,
+    /// Join the rendered frames into the contact sheet and movies.
+    pub join: bool,
     /// Width and height in pixels.
     pub size: (u32, u32),
     /// Colouring.
@@ -261,6 +277,11 @@ pub struct RenderConfig {
     pub overlay: bool,
     /// The sequence's camera.
     pub camera: CameraArg,
+}
+
+/// Parses `--frames FIRST..LAST`, if given.
+fn frame_range(text: Option<&str>) -> Result<Option<FrameRange>, String> {
+    text.map(|t| FrameRange::parse("--frames", t)).transpose()
 }
 
 /// Parses `WIDTHxHEIGHT` (each 1–8192).
@@ -284,6 +305,8 @@ impl TryFrom<RenderArgs> for RenderConfig {
         Ok(RenderConfig {
             turntable: positive("--turntable", a.turntable.as_deref())?.unwrap_or(0),
             frame: positive("--frame", a.frame.as_deref())?,
+            frames: frame_range(a.frames.as_deref())?,
+            join: a.join,
             size: parse_size("--size", &a.size)?,
             color_by: a.color_by,
             threads: positive("--threads", a.threads.as_deref())?,
@@ -351,6 +374,11 @@ pub struct SurfaceArgs {
     /// The surface method.
     #[arg(long, value_enum, default_value_t = SurfaceMethodArg::Vdb)]
     pub method: SurfaceMethodArg,
+    /// Surface only frames FIRST..LAST (both included), writing only their files, so
+    /// that ranges run side by side on a farm fill one cache; the whole-shot
+    /// `surface/animated.glb` of the embedded and sheet methods needs every frame.
+    #[arg(long)]
+    pub frames: Option<String>,
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<String>,
@@ -363,6 +391,8 @@ pub struct SurfaceConfig {
     pub out: PathBuf,
     /// The method.
     pub method: SurfaceMethodArg,
+    /// Only these frames.
+    pub frames: Option<FrameRange>,
     /// Thread count.
     pub threads: Option<usize>,
 }
@@ -373,6 +403,7 @@ impl TryFrom<SurfaceArgs> for SurfaceConfig {
     fn try_from(a: SurfaceArgs) -> Result<Self, Self::Error> {
         Ok(SurfaceConfig {
             threads: positive("--threads", a.threads.as_deref())?,
+            frames: frame_range(a.frames.as_deref())?,
             out: a.out,
             method: a.method,
         })
@@ -421,181 +452,4 @@ impl TryFrom<RunArgs> for RunConfig {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn parse(args: &[&str]) -> Result<RunConfig, String> {
-        let cli = Cli::try_parse_from(args).map_err(|e| e.to_string())?;
-        match cli.command {
-            Command::Run(r) => RunConfig::try_from(r),
-            other => Err(format!("not run: {other:?}")),
-        }
-    }
-
-    #[test]
-    fn run_flags() {
-        let c = parse(&[
-            "perifrac",
-            "run",
-            "a.toml",
-            "-o",
-            "x",
-            "--frames",
-            "3",
-            "--threads",
-            "2",
-            "--resume",
-        ])
-        .unwrap();
-        assert_eq!(c.frames, Some(3));
-        assert_eq!(c.threads, Some(2));
-        assert_eq!(c.out, Some(PathBuf::from("x")));
-        assert!(c.resume && !c.force);
-        assert!(
-            parse(&["perifrac", "run", "a.toml", "--force"])
-                .unwrap()
-                .force
-        );
-        assert!(
-            parse(&["perifrac", "run", "a.toml", "--force", "--resume"])
-                .unwrap_err()
-                .contains("cannot be used with")
-        );
-    }
-
-    #[test]
-    fn bad_numbers_are_refused() {
-        assert!(
-            parse(&["perifrac", "run", "a.toml", "--frames", "0"])
-                .unwrap_err()
-                .contains("--frames")
-        );
-        assert!(
-            parse(&["perifrac", "run", "a.toml", "--threads", "two"])
-                .unwrap_err()
-                .contains("--threads")
-        );
-        assert!(parse(&["perifrac", "run"]).is_err());
-    }
-
-    #[test]
-    fn surface_flags() {
-        let parse = |args: &[&str]| -> Result<SurfaceConfig, String> {
-            let cli = Cli::try_parse_from(args).map_err(|e| e.to_string())?;
-            match cli.command {
-                Command::Surface(s) => SurfaceConfig::try_from(s),
-                other => Err(format!("not surface: {other:?}")),
-            }
-        };
-        let c = parse(&[
-            "perifrac",
-            "surface",
-            "out/x",
-            "--method",
-            "vdb",
-            "--threads",
-            "2",
-        ])
-        .unwrap();
-        assert_eq!(c.out, PathBuf::from("out/x"));
-        assert_eq!(c.method, SurfaceMethodArg::Vdb);
-        assert_eq!(c.threads, Some(2));
-        assert_eq!(
-            parse(&["perifrac", "surface", "o"]).unwrap().method,
-            SurfaceMethodArg::Vdb
-        );
-        assert!(parse(&["perifrac", "surface", "o", "--method", "marching"]).is_err());
-        assert!(
-            parse(&["perifrac", "surface", "o", "--threads", "0"])
-                .unwrap_err()
-                .contains("--threads")
-        );
-    }
-
-    #[test]
-    fn render_flags() {
-        let parse = |args: &[&str]| -> Result<RenderConfig, String> {
-            let cli = Cli::try_parse_from(args).map_err(|e| e.to_string())?;
-            match cli.command {
-                Command::Render(r) => RenderConfig::try_from(r),
-                other => Err(format!("not render: {other:?}")),
-            }
-        };
-        let c = parse(&[
-            "perifrac",
-            "render",
-            "out/x",
-            "--turntable",
-            "12",
-            "--frame",
-            "7",
-            "--size",
-            "320x200",
-            "--color-by",
-            "fragment",
-        ])
-        .unwrap();
-        assert_eq!(c.turntable, 12);
-        assert_eq!(c.frame, Some(7));
-        assert_eq!(c.size, (320, 200));
-        assert_eq!(c.color_by, Some(ColorByArg::Fragment));
-        let q = parse(&["perifrac", "render", "o", "--color-by", "quantity"]).unwrap();
-        assert_eq!(q.color_by, Some(ColorByArg::Quantity));
-        let d = parse(&["perifrac", "render", "o"]).unwrap();
-        assert_eq!(
-            (d.turntable, d.frame, d.size, d.color_by, d.movie),
-            (0, None, (960, 540), None, false)
-        );
-        let m = parse(&[
-            "perifrac",
-            "render",
-            "o",
-            "--movie",
-            "--color-by",
-            "material",
-        ])
-        .unwrap();
-        assert_eq!((m.movie, m.color_by), (true, Some(ColorByArg::Material)));
-        assert!(
-            !m.overlay
-                && parse(&["perifrac", "render", "o", "--overlay"])
-                    .unwrap()
-                    .overlay
-        );
-        for bad in ["0x10", "10", "axb", "9000x10"] {
-            assert!(
-                parse(&["perifrac", "render", "o", "--size", bad])
-                    .unwrap_err()
-                    .contains("--size"),
-                "{bad}"
-            );
-        }
-        assert!(
-            parse(&["perifrac", "render", "o", "--frame", "0"])
-                .unwrap_err()
-                .contains("--frame")
-        );
-        assert!(parse(&["perifrac", "render", "o", "--color-by", "heat"]).is_err());
-        assert_eq!(
-            parse(&["perifrac", "render", "o", "--azimuth", "-90"])
-                .unwrap()
-                .azimuth,
-            Some(-90.0)
-        );
-        assert_eq!(
-            d.azimuth, None,
-            "the azimuth follows the projectile unless given"
-        );
-        assert!(
-            parse(&["perifrac", "render", "o", "--azimuth", "left"])
-                .unwrap_err()
-                .contains("--azimuth")
-        );
-    }
-
-    #[test]
-    fn quiet_is_global() {
-        let cli = Cli::try_parse_from(["perifrac", "check", "a.toml", "--quiet"]).unwrap();
-        assert!(cli.quiet);
-    }
-}
+mod tests;
