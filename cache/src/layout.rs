@@ -15,6 +15,7 @@ use std::path::{Path, PathBuf};
 use std::sync::{PoisonError, RwLock, RwLockReadGuard};
 
 use crate::error::{CacheError, Result};
+use crate::frames::FrameRange;
 use crate::manifest::Manifest;
 
 /// Paths inside an output directory. No other code derives a cache path.
@@ -22,6 +23,18 @@ use crate::manifest::Manifest;
 pub struct Layout {
     /// The output directory.
     pub root: PathBuf,
+}
+
+/// Waits for an exclusive advisory lock on `file` (flock(2); std's `File::lock` is
+/// newer than the workspace's rust-version), released when the file closes.
+fn lock_exclusive(file: &std::fs::File) -> std::io::Result<()> {
+    use rustix::fs::{FlockOperation, flock};
+    loop {
+        match flock(file, FlockOperation::LockExclusive) {
+            Err(rustix::io::Errno::INTR) => continue,
+            result => return result.map_err(std::io::Error::from),
+        }
+    }
 }
 
 /// `NNNN.ext`, the file name of frame `frame`.
@@ -39,16 +52,46 @@ impl Layout {
     /// ([`Manifest::record_folders`]) and writes it; a cache whose manifest does not
     /// read is left as it is (`perifrac verify` reports that).
     pub fn record_outputs(&self, folders: &[PathBuf]) -> Result<()> {
+        self.update_manifest(|m| m.record_folders(&self.root, folders))
+    }
+
+    /// Records in the manifest the files of frames `range` the stages left in
+    /// `folders` ([`Manifest::record_frames`]), keeping every other record: what a
+    /// stage over a frame range does, side by side with others on the same cache.
+    pub fn record_frame_outputs(&self, folders: &[PathBuf], range: FrameRange) -> Result<()> {
+        self.update_manifest(|m| m.record_frames(&self.root, folders, range))
+    }
+
+    /// Reads the manifest, changes it with `change` and writes it back, holding an
+    /// exclusive lock on `.manifest.lock` throughout, so that stages updating it side
+    /// by side (frame ranges of a farm writing into one cache) never lose each other's
+    /// changes. A manifest that does not read is left as it is (`perifrac verify`
+    /// reports that).
+    pub fn update_manifest(&self, change: impl FnOnce(&mut Manifest) -> Result<()>) -> Result<()> {
+        let path = self.manifest_lock();
+        let lock = std::fs::OpenOptions::new()
+            .create(true)
+            .truncate(false)
+            .write(true)
+            .open(&path)
+            .map_err(|e| CacheError::io(&path, e))?;
+        lock_exclusive(&lock).map_err(|e| CacheError::io(&path, e))?;
         let Ok(mut manifest) = Manifest::read(&self.manifest()) else {
             return Ok(());
         };
-        manifest.record_folders(&self.root, folders)?;
+        change(&mut manifest)?;
         manifest.write(&self.manifest())
+        // The lock goes with the file handle.
     }
 
     /// `manifest.json`.
     pub fn manifest(&self) -> PathBuf {
         self.root.join("manifest.json")
+    }
+
+    /// `.manifest.lock`, the lock [`update_manifest`](Self::update_manifest) holds.
+    pub fn manifest_lock(&self) -> PathBuf {
+        self.root.join(".manifest.lock")
     }
 
     /// `scene.toml` (the resolved scene).
@@ -224,7 +267,7 @@ impl Layout {
         self.manifest().exists() || !self.particle_frames().is_empty() || self.checkpoint().exists()
     }
 
-    /// Removes the cache in the directory: the manifest, the resolved scene, `cache.usd`
+    /// Removes the cache in the directory: the manifest (and its lock), the resolved scene, `cache.usd`
     /// (whose clips are in `usd/`) and the
     /// `particles/`, `tets/`, `sheet/`, `colliders/`, `surface/`, `vdb/`, `preview/`,
     /// `checkpoint/` and `usd/` directories (nothing else). `perifrac run --force` calls it before
@@ -238,7 +281,12 @@ impl Layout {
                 _ => {}
             }
         }
-        for file in [self.manifest(), self.scene(), self.usd()] {
+        for file in [
+            self.manifest(),
+            self.manifest_lock(),
+            self.scene(),
+            self.usd(),
+        ] {
             match std::fs::remove_file(&file) {
                 Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
                     return Err(CacheError::io(&file, e));

@@ -10,7 +10,8 @@
 //! | [`scene::Scene`] | the scene file format, its defaults and validation; [`scene::Scene::load`] also reads the resolved `OUT/scene.toml` |
 //! | [`ply::ParticleFrame`] | a particle frame (float PLY: standard columns, then a model's extra columns); [`ply::encode_points`] / [`ply::FloatPly`] for other point files |
 //! | [`vtu::TetFrame`] | the split tet mesh of a frame (VTK XML); [`vtu::write_collection`] the ParaView `.pvd` that gives the frames their times |
-//! | [`manifest::Manifest`] | `manifest.json`: what a run produced and what it cost |
+//! | [`manifest::Manifest`] | `manifest.json`: what a run produced and what it cost; [`Layout::update_manifest`] changes it under a lock, so stages running side by side on one cache keep each other's records |
+//! | [`frames::FrameRange`] | the frames a stage works on (`--frames 10..20`), for a farm's array jobs |
 //! | [`checkpoint::Checkpoint`] | the versioned, checksummed checkpoint container; a model writes its state into the payload with [`checkpoint::Encoder`] and reads it with [`checkpoint::Decoder`] |
 //! | [`collider::ColliderMesh`] | a mesh collider's triangles in its own frame (`colliders/mesh_N.ply`), written once by the run; [`collider::mesh_colliders`] reads them with their poses per frame for the previews, `cache.usd` and `animated.glb` |
 //! | [`mesh::SurfaceMesh`] | a surface as the surface stage makes it and the glTF writer writes it; [`mesh::SurfaceEncoder`] is how the surface stage has it encoded |
@@ -21,6 +22,7 @@
 pub mod checkpoint;
 pub mod collider;
 pub mod error;
+pub mod frames;
 mod layout;
 pub mod manifest;
 pub mod mesh;

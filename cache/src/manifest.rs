@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{CacheError, Result};
+use crate::frames::{FrameRange, frame_of_file};
 
 /// The manifest of an output directory.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
@@ -216,6 +217,42 @@ impl Manifest {
             let mut paths: Vec<PathBuf> = entries
                 .flatten()
                 .filter(|e| !e.file_name().to_string_lossy().starts_with('.'))
+                .map(|e| e.path())
+                .filter(|p| p.is_file())
+                .collect();
+            paths.sort();
+            for path in paths {
+                let bytes = std::fs::read(&path).map_err(|e| CacheError::io(&path, e))?;
+                self.record(root, &path, FileRecord::of(&bytes));
+            }
+        }
+        Ok(())
+    }
+
+    /// Records the files of frames `range` in each of `folders` (`NNNN.ext`,
+    /// `NNNN_what.ext`), dropping first the records of those frames' files there (and
+    /// of files there that are gone: a contact sheet the range made stale) and
+    /// leaving every other record: what a stage run over a frame range left
+    /// ([`record_folders`](Self::record_folders) for a whole shot).
+    pub fn record_frames(
+        &mut self,
+        root: &Path,
+        folders: &[PathBuf],
+        range: FrameRange,
+    ) -> Result<()> {
+        let ours = |name: &str| frame_of_file(name).is_some_and(|k| range.contains(k));
+        for dir in folders {
+            let prefix = dir.strip_prefix(root).unwrap_or(dir);
+            let prefix = format!("{}/", prefix.to_string_lossy().replace('\\', "/"));
+            self.files.retain(|name, _| {
+                !name.starts_with(&prefix) || (!ours(name) && root.join(name).is_file())
+            });
+            let Ok(entries) = std::fs::read_dir(dir) else {
+                continue;
+            };
+            let mut paths: Vec<PathBuf> = entries
+                .flatten()
+                .filter(|e| e.file_name().to_str().is_some_and(ours))
                 .map(|e| e.path())
                 .filter(|p| p.is_file())
                 .collect();

@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressStyle};
+use perifrac_cache::frames::FrameRange;
 use perifrac_cache::manifest::Manifest;
 use perifrac_cache::scene::{Scene, SurfaceMethod};
 use perifrac_cache::{CacheError, Layout};
@@ -35,6 +36,24 @@ impl Failure {
             code: EXIT_INPUT,
         }
     }
+}
+
+/// `range` cut to the frames of the cache in `out` ([`FrameRange::within`]), printing
+/// the note when frames past the end were left out; a range starting past the end,
+/// or a cache without a readable manifest, is bad input.
+pub fn frames_within(out: &Path, range: Option<FrameRange>) -> Result<Option<FrameRange>, Failure> {
+    let Some(range) = range else {
+        return Ok(None);
+    };
+    let manifest = Layout::new(out).manifest();
+    let frames = Manifest::read(&manifest)?.frames();
+    let (range, note) = range
+        .within(frames)
+        .map_err(|e| Failure::input(anyhow::anyhow!("{}: {e}", manifest.display())))?;
+    if let Some(note) = note {
+        eprintln!("note: {note}");
+    }
+    Ok(Some(range))
 }
 
 impl From<SimError> for Failure {
@@ -413,9 +432,9 @@ pub fn simulate(
     }
     match scene.output.surface {
         SurfaceMethod::None => {}
-        SurfaceMethod::Vdb => crate::surface::stage(out, &scene.output, quiet)?,
-        SurfaceMethod::Embedded => crate::surface::embedded_stage(out, &scene.output, quiet)?,
-        SurfaceMethod::Sheet => crate::surface::sheet_stage(out, &scene.output, quiet)?,
+        SurfaceMethod::Vdb => crate::surface::stage(out, &scene.output, None, quiet)?,
+        SurfaceMethod::Embedded => crate::surface::embedded_stage(out, &scene.output, None, quiet)?,
+        SurfaceMethod::Sheet => crate::surface::sheet_stage(out, &scene.output, None, quiet)?,
     }
     let usd = if scene.output.usd {
         Some(crate::export::usd(out, quiet)?)

@@ -71,7 +71,10 @@ pub fn previews(
     let report = report?;
     // The manifest records the images, so `perifrac verify` checks them too.
     let layout = Layout::new(out);
-    layout.record_outputs(&[layout.preview_dir()])?;
+    match options.frames {
+        Some(range) => layout.record_frame_outputs(&[layout.preview_dir()], range)?,
+        None => layout.record_outputs(&[layout.preview_dir()])?,
+    }
     for w in &report.warnings {
         eprintln!("warning: {w}");
     }
@@ -106,6 +109,34 @@ pub fn previews(
     Ok(report.seconds)
 }
 
+/// `perifrac render --join`: the contact sheet (and movies) from the frames ranges
+/// rendered, recorded in the manifest.
+#[cfg(feature = "gl")]
+fn join(out: &Path, movie: bool, quiet: bool) -> Result<(), perifrac_render::RenderError> {
+    let report = perifrac_render::preview::join(out, movie)?;
+    let layout = Layout::new(out);
+    layout.record_outputs(&[layout.preview_dir()])?;
+    if report.mp4_skipped && !quiet {
+        eprintln!(
+            "note: movie written as {} (animated PNG); no ffmpeg on the PATH, so no MP4",
+            layout.movie().display()
+        );
+    }
+    if !quiet {
+        let files: Vec<String> = report
+            .files
+            .iter()
+            .map(|f| f.display().to_string())
+            .collect();
+        eprintln!(
+            "joined the frames in {:.1} s: {}",
+            report.seconds,
+            files.join(", ")
+        );
+    }
+    Ok(())
+}
+
 /// `perifrac render`.
 pub fn command(config: &RenderConfig, quiet: bool) -> Result<(), Failure> {
     #[cfg(feature = "gl")]
@@ -117,6 +148,7 @@ pub fn command(config: &RenderConfig, quiet: bool) -> Result<(), Failure> {
             height: config.size.1,
             color_by: color_by(config.color_by),
             frame: config.frame,
+            frames: crate::commands::frames_within(&config.out, config.frames)?,
             turntable: config.turntable,
             workers: workers(config.threads),
             azimuth: config.azimuth.map(f32::to_radians),
@@ -129,7 +161,12 @@ pub fn command(config: &RenderConfig, quiet: bool) -> Result<(), Failure> {
             },
         };
         crate::verify::warn(&config.out)?;
-        previews(&config.out, &options, quiet).map_err(|e| {
+        let result = if config.join {
+            join(&config.out, config.movie, quiet)
+        } else {
+            previews(&config.out, &options, quiet).map(|_| ())
+        };
+        result.map_err(|e| {
             let code = match &e {
                 RenderError::Input { .. } | RenderError::Size(_) => EXIT_INPUT,
                 // A malformed scene.toml or particle frame is bad input (as in

@@ -14,6 +14,8 @@ use std::time::Instant;
 
 use image::RgbImage;
 
+use perifrac_cache::frames::FrameRange;
+
 use crate::RenderError;
 use crate::cache::{Cache, ColorBy, Framing, Ranges};
 use crate::camera::{Bounds, Camera, Subject};
@@ -30,8 +32,12 @@ pub struct PreviewOptions {
     pub height: u32,
     /// Colouring.
     pub color_by: ColorBy,
-    /// Only this frame (else every frame).
+    /// Only this frame, into `preview/frame_NNNN.png` (else every frame).
     pub frame: Option<usize>,
+    /// Only these frames of the sequence, into `preview/NNNN.png` through the cameras
+    /// of the whole sequence (a farm's array job; [`join`] makes the contact sheet and
+    /// the movies once every range is there).
+    pub frames: Option<FrameRange>,
     /// Turntable views (0: none) of `frame`, or of the last frame.
     pub turntable: usize,
     /// Worker threads (each with its own GL context).
@@ -74,6 +80,7 @@ impl Default for PreviewOptions {
             height: 540,
             color_by: ColorBy::Material,
             frame: None,
+            frames: None,
             turntable: 0,
             workers: 1,
             azimuth: None,
@@ -161,10 +168,21 @@ pub fn render_cache(
     let layout = &cache.layout;
     let dir = layout.preview_dir();
     std::fs::create_dir_all(&dir).map_err(|e| RenderError::io(&dir, e))?;
-    let frames: Vec<usize> = match options.frame {
-        Some(k) => vec![k],
-        None => cache.frames.clone(),
+    if let Some(range) = options.frames {
+        range
+            .check(cache.frames.len())
+            .map_err(|message| RenderError::Input {
+                path: out.to_path_buf(),
+                message,
+            })?;
+    }
+    let frames: Vec<usize> = match (options.frame, options.frames) {
+        (Some(k), _) => vec![k],
+        (None, Some(range)) => range.frames().collect(),
+        (None, None) => cache.frames.clone(),
     };
+    // Every frame of the sequence: it makes the contact sheet (and the movie).
+    let sequence = options.frame.is_none() && options.frames.is_none();
     let mut jobs: Vec<Job> = frames
         .iter()
         .map(|&frame| {
@@ -177,7 +195,7 @@ pub fn render_cache(
                     Some(_) => layout.single_preview(frame),
                     None => layout.preview(frame),
                 },
-                thumbnail: options.frame.is_none(),
+                thumbnail: sequence,
                 overlay: options.overlay.then(|| {
                     sheet::overlay_text(
                         frame,
@@ -206,7 +224,7 @@ pub fn render_cache(
         });
     }
     let mut report = run_jobs(&cache, &jobs, options, &framing.ranges, ground, progress)?;
-    if options.frame.is_none() && report.thumbnails.len() > 1 {
+    if sequence && report.thumbnails.len() > 1 {
         report.thumbnails.sort_by_key(|(frame, _)| *frame);
         let path = layout.contact_sheet();
         sheet::write_png(&path, &sheet::contact_sheet(&report.thumbnails))?;
@@ -220,6 +238,10 @@ pub fn render_cache(
         let mut stale = Vec::new();
         if options.frame.is_none() {
             stale.extend([layout.movie(), layout.movie_mp4()]);
+        }
+        if options.frames.is_some() {
+            // So is the contact sheet; `join` makes both again.
+            stale.push(layout.contact_sheet());
         }
         if options.turntable > 0 {
             stale.push(layout.turntable_movie());
@@ -237,6 +259,68 @@ pub fn render_cache(
     Ok(report.preview)
 }
 
+/// Makes `preview/contact_sheet.png` (and with `movie` the sequence's movies,
+/// `preview/movie.png` and `movie.mp4` when ffmpeg is there) from the frames
+/// `preview/NNNN.png` already rendered, by `--frames` ranges on a farm: the files a
+/// render of every frame writes, as it makes them from the same images. Every frame of
+/// the cache must be there; the missing ones are named.
+pub fn join(out: &Path, movie: bool) -> Result<PreviewReport, RenderError> {
+    let start = Instant::now();
+    let cache = Cache::open(out)?;
+    let layout = &cache.layout;
+    let paths: Vec<PathBuf> = cache.frames.iter().map(|&k| layout.preview(k)).collect();
+    let missing: Vec<usize> = cache
+        .frames
+        .iter()
+        .zip(&paths)
+        .filter(|(_, p)| !p.is_file())
+        .map(|(&k, _)| k)
+        .collect();
+    if !missing.is_empty() {
+        return Err(RenderError::Input {
+            path: layout.preview_dir(),
+            message: format!(
+                "{} of the {} frames not rendered yet ({}); render them with `perifrac render \
+                 {} --frames FIRST..LAST` before joining",
+                missing.len(),
+                cache.frames.len(),
+                sheet::frame_list(&missing),
+                out.display()
+            ),
+        });
+    }
+    let mut report = PreviewReport::default();
+    let mut thumbnails = Vec::with_capacity(paths.len());
+    for (&k, path) in cache.frames.iter().zip(&paths) {
+        let image = image::open(path)
+            .map_err(|e| RenderError::Input {
+                path: path.clone(),
+                message: format!("not a readable PNG ({e}); render frame {k} again"),
+            })?
+            .into_rgb8();
+        let (w, h) = sheet::thumbnail_size(image.width(), image.height());
+        thumbnails.push((k, image::imageops::thumbnail(&image, w, h)));
+    }
+    if thumbnails.len() > 1 {
+        let path = layout.contact_sheet();
+        sheet::write_png(&path, &sheet::contact_sheet(&thumbnails))?;
+        report.files.push(path);
+    }
+    if movie {
+        let fps = cache.playback_fps();
+        movie::write_apng(&layout.movie(), &paths, fps)?;
+        report.files.push(layout.movie());
+        if movie::ffmpeg_available() {
+            movie::write_mp4(&layout.movie_mp4(), &paths, fps)?;
+            report.files.push(layout.movie_mp4());
+        } else {
+            report.mp4_skipped = true;
+        }
+    }
+    report.seconds = start.elapsed().as_secs_f64();
+    Ok(report)
+}
+
 /// The movies of the rendered `jobs`: the sequence's frames (unless one frame was
 /// asked for) and the turntable's views, each as an animated PNG at the playback rate;
 /// the sequence also as an MP4 when ffmpeg is there.
@@ -249,7 +333,7 @@ fn write_movies(
     let fps = cache.playback_fps();
     let layout = &cache.layout;
     let (sequence, turntable) = jobs.split_at(jobs.len() - options.turntable);
-    if options.frame.is_none() && !sequence.is_empty() {
+    if options.frame.is_none() && options.frames.is_none() && !sequence.is_empty() {
         let frames: Vec<PathBuf> = sequence.iter().map(|j| j.path.clone()).collect();
         movie::write_apng(&layout.movie(), &frames, fps)?;
         report.files.push(layout.movie());
@@ -318,8 +402,7 @@ fn run_jobs(
         thumbnails: Vec::new(),
     });
     let workers = options.workers.clamp(1, jobs.len().max(1));
-    let thumb_width = (options.width / 4).clamp(1, 320);
-    let thumb_height = (options.height * thumb_width / options.width).max(1);
+    let (thumb_width, thumb_height) = sheet::thumbnail_size(options.width, options.height);
     // A failing worker returns the index of the job that failed, so that the error
     // reported is the first failing job in order, whichever thread met it first.
     let worker = || -> Result<(), (usize, RenderError)> {

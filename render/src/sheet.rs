@@ -26,6 +26,37 @@ pub fn write_png(path: &Path, image: &RgbImage) -> Result<(), RenderError> {
     Ok(perifrac_cache::write_atomic(path, &bytes)?)
 }
 
+/// The size of a frame's thumbnail on the contact sheet, for a frame of `width` ×
+/// `height` pixels: a quarter of its width, at most 320 pixels, the same aspect.
+pub fn thumbnail_size(width: u32, height: u32) -> (u32, u32) {
+    let w = (width / 4).clamp(1, 320);
+    (w, (height * w / width.max(1)).max(1))
+}
+
+/// Frame numbers as runs, `3..5, 9`, at most a dozen of them shown.
+pub fn frame_list(frames: &[usize]) -> String {
+    let mut runs: Vec<(usize, usize)> = Vec::new();
+    for &k in frames {
+        match runs.last_mut() {
+            Some(run) if run.1 + 1 == k => run.1 = k,
+            _ => runs.push((k, k)),
+        }
+    }
+    let shown: Vec<String> = runs
+        .iter()
+        .take(12)
+        .map(|&(a, b)| {
+            if a == b {
+                a.to_string()
+            } else {
+                format!("{a}..{b}")
+            }
+        })
+        .collect();
+    let more = if runs.len() > 12 { ", …" } else { "" };
+    format!("{}{more}", shown.join(", "))
+}
+
 /// 5×7 glyphs of the digits 0–9, one byte a row, bit 4 leftmost.
 const DIGITS: [[u8; 7]; 10] = [
     [0x0E, 0x11, 0x13, 0x15, 0x19, 0x11, 0x0E],

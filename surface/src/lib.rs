@@ -55,3 +55,25 @@ fn write_encoded(
     })?;
     Ok(perifrac_cache::write_atomic(path, &bytes)?)
 }
+
+/// The frames a stage works on: `range` checked against the cache's frames, or every
+/// frame; an empty cache or a range past its end is an input error naming the
+/// manifest.
+fn frame_range(
+    layout: &perifrac_cache::Layout,
+    manifest: &perifrac_cache::manifest::Manifest,
+    range: Option<perifrac_cache::frames::FrameRange>,
+) -> error::Result<perifrac_cache::frames::FrameRange> {
+    let frames = manifest.frame_times.len();
+    if frames == 0 {
+        return Err(SurfaceError::Input(format!(
+            "{}: the cache has no frames to surface",
+            layout.manifest().display()
+        )));
+    }
+    let range = range.unwrap_or(perifrac_cache::frames::FrameRange::all(frames));
+    range
+        .check(frames)
+        .map_err(|e| SurfaceError::Input(format!("{}: {e}", layout.manifest().display())))?;
+    Ok(range)
+}

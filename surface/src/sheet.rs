@@ -11,6 +11,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use perifrac_cache::Layout;
 use perifrac_cache::collider::mesh_colliders;
+use perifrac_cache::frames::FrameRange;
 use perifrac_cache::manifest::Manifest;
 use perifrac_cache::mesh::{SurfaceEncoder, SurfaceMesh};
 use perifrac_cache::scene::Scene;
@@ -19,6 +20,7 @@ use perifrac_math::{add, cross, normalize, scale, sub};
 use rayon::prelude::*;
 
 use crate::error::{Result, SurfaceError};
+use crate::frame_range;
 use crate::write_encoded as write;
 
 /// Directed edges used by exactly one triangle: the open edges, each in the direction
@@ -132,18 +134,24 @@ pub fn quantity_range(layout: &Layout, frames: usize) -> Result<[f32; 2]> {
     Ok(if lo <= hi { [lo, hi] } else { [0.0, 0.0] })
 }
 
-/// Runs the `sheet` method over every frame of the cache at `layout`, frames in
-/// parallel: reads `sheet/NNNN.ply`, writes `surface/NNNN.glb` and
-/// `surface/animated.glb` (the last frame's topology, one morph target a frame, θ of
-/// every frame beside the positions) through `encoder`, θ's colour range the run's
-/// ([`quantity_range`]), records the time in the manifest and calls
-/// `progress(done, total)` after each frame. Returns the frames surfaced.
+/// One frame of `animated.glb`: its vertex positions and θ in the last frame's topology.
+type Morph = (Vec<[f32; 3]>, Vec<f32>);
+
+/// Runs the `sheet` method over frames `range` of the cache at `layout` (every frame
+/// with `None`), frames in parallel: reads `sheet/NNNN.ply`, writes `surface/NNNN.glb`
+/// through `encoder`, θ's colour range the run's ([`quantity_range`], over every frame
+/// whatever the range, so a range's files are the bytes a run over every frame
+/// writes), and calls `progress(done, total)` after each frame. Over every frame it
+/// also writes `surface/animated.glb` (the last frame's topology, one morph target a
+/// frame, θ of every frame beside the positions) and records the time in the
+/// manifest. Returns the frames surfaced.
 pub fn stage(
     layout: &Layout,
+    range: Option<FrameRange>,
     encoder: &dyn SurfaceEncoder,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<usize> {
-    let mut manifest = Manifest::read(&layout.manifest())?;
+    let manifest = Manifest::read(&layout.manifest())?;
     let frames = manifest.frame_times.len();
     if frames == 0 || !layout.sheet(1).is_file() {
         return Err(SurfaceError::Input(format!(
@@ -152,18 +160,18 @@ pub fn stage(
             layout.sheet(1).display()
         )));
     }
-    // The scene's mesh colliders, which animated.glb carries beside the surface.
-    let scene = Scene::load_cached(&layout.scene())?;
-    let colliders = mesh_colliders(layout, &scene, Some(&manifest))?;
+    let range = frame_range(layout, &manifest, range)?;
+    let whole = range.is_all(frames);
     let dir = layout.surface_dir();
     std::fs::create_dir_all(&dir).map_err(|e| SurfaceError::io(&dir, e))?;
     let start = std::time::Instant::now();
     let first = SheetFrame::read(&layout.sheet(1))?;
     let outline: HashSet<(u32, u32)> = open_edges(&first.triangles).into_iter().collect();
     let last = SheetFrame::read(&layout.sheet(frames))?;
-    let range = quantity_range(layout, frames)?;
+    let quantities = quantity_range(layout, frames)?;
     let done = AtomicUsize::new(0);
-    let animated: Vec<(Vec<[f32; 3]>, Vec<f32>)> = (1..=frames)
+    let animated: Vec<Option<Morph>> = range
+        .frames()
         .into_par_iter()
         .map(|frame| -> Result<_> {
             let sheet = if frame == frames {
@@ -179,30 +187,40 @@ pub fn stage(
                     last.positions.len()
                 )));
             }
-            let mut mesh = shell(&sheet, &sheet.triangles, &outline, range);
+            let mut mesh = shell(&sheet, &sheet.triangles, &outline, quantities);
             mesh.name = manifest.scene.clone();
             write(
                 &layout.surface(frame),
                 format!("frame {frame}"),
                 encoder.fractured(&mesh),
             )?;
-            progress(done.fetch_add(1, Ordering::Relaxed) + 1, frames);
-            let animated = shell(&sheet, &last.triangles, &outline, range);
-            Ok((animated.positions, animated.quantity))
+            progress(done.fetch_add(1, Ordering::Relaxed) + 1, range.len());
+            Ok(whole.then(|| {
+                let animated = shell(&sheet, &last.triangles, &outline, quantities);
+                (animated.positions, animated.quantity)
+            }))
         })
         .collect::<Result<_>>()?;
-    let (positions, quantities): (Vec<_>, Vec<_>) = animated.into_iter().unzip();
-    let mut base = shell(&first, &last.triangles, &outline, range);
-    base.name = manifest.scene.clone();
-    let times: Vec<f32> = manifest.frame_times.iter().map(|&t| t as f32).collect();
-    write(
-        &layout.animated_surface(),
-        "surface/animated.glb".into(),
-        encoder.animated(&base, &times, &positions, &quantities, &colliders),
-    )?;
-    manifest.timings.surface = start.elapsed().as_secs_f64();
-    manifest.write(&layout.manifest())?;
-    Ok(frames)
+    if whole {
+        // The scene's mesh colliders, which animated.glb carries beside the surface.
+        let scene = Scene::load_cached(&layout.scene())?;
+        let colliders = mesh_colliders(layout, &scene, Some(&manifest))?;
+        let (positions, quantity): (Vec<_>, Vec<_>) = animated.into_iter().flatten().unzip();
+        let mut base = shell(&first, &last.triangles, &outline, quantities);
+        base.name = manifest.scene.clone();
+        let times: Vec<f32> = manifest.frame_times.iter().map(|&t| t as f32).collect();
+        write(
+            &layout.animated_surface(),
+            "surface/animated.glb".into(),
+            encoder.animated(&base, &times, &positions, &quantity, &colliders),
+        )?;
+        let seconds = start.elapsed().as_secs_f64();
+        layout.update_manifest(|m| {
+            m.timings.surface = seconds;
+            Ok(())
+        })?;
+    }
+    Ok(range.len())
 }
 
 #[cfg(test)]

@@ -1,5 +1,5 @@
-//! The `embedded` surface stage over a whole cache: every frame's split tet mesh
-//! (`tets/NNNN.vtu`) becomes `surface/NNNN.glb`, and the frames together
+//! The `embedded` surface stage over a cache or a range of its frames: each frame's
+//! split tet mesh (`tets/NNNN.vtu`) becomes `surface/NNNN.glb`, and the whole shot's frames together
 //! `surface/animated.glb` (the last frame's topology, one morph target a frame, crack
 //! faces folded to a point of the surface until they open: `animated`);
 //! the extraction time goes into the manifest (`timings.surface`).
@@ -9,6 +9,7 @@ use std::time::Instant;
 
 use perifrac_cache::Layout;
 use perifrac_cache::collider::mesh_colliders;
+use perifrac_cache::frames::FrameRange;
 use perifrac_cache::manifest::Manifest;
 use perifrac_cache::mesh::SurfaceEncoder;
 use perifrac_cache::scene::{EmbeddedSpec, Scene};
@@ -18,6 +19,7 @@ use rayon::prelude::*;
 use super::animated::{FrameView, animate, view};
 use super::{EmbeddedSurface, RenderMesh, SmoothingStats, surface};
 use crate::error::{Result, SurfaceError};
+use crate::frame_range;
 use crate::write_encoded as write;
 
 /// What an `embedded` stage did, for its summary line.
@@ -66,49 +68,48 @@ fn normals_at(mesh: &RenderMesh, positions: &[[f64; 3]]) -> Vec<[f32; 3]> {
     EmbeddedSurface::default().normals(&local, positions)
 }
 
-/// Runs the `embedded` method over every frame of the cache at `layout`, frames in
-/// parallel (rayon): reads `tets/NNNN.vtu`, writes `surface/NNNN.glb` and
-/// `surface/animated.glb` through `encoder`, records the extraction time in the
-/// manifest, and calls `progress(done, total)` after each frame.
+/// Runs the `embedded` method over frames `range` of the cache at `layout` (every
+/// frame with `None`), frames in parallel (rayon): reads `tets/NNNN.vtu`, writes
+/// `surface/NNNN.glb` through `encoder` and calls `progress(done, total)` after each
+/// frame. Over every frame it also writes `surface/animated.glb` (which needs them
+/// all) and records the extraction time in the manifest; over a range (a farm's
+/// array job) it writes that range's frames only, the bytes a run over every frame
+/// writes for them. The report's last-frame figures are of the range's last frame.
 pub fn stage(
     layout: &Layout,
     spec: &EmbeddedSpec,
+    range: Option<FrameRange>,
     encoder: &dyn SurfaceEncoder,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<EmbeddedReport> {
-    let mut manifest = Manifest::read(&layout.manifest())?;
+    let manifest = Manifest::read(&layout.manifest())?;
+    let range = frame_range(layout, &manifest, range)?;
     let frames = manifest.frame_times.len();
-    if frames == 0 {
-        return Err(SurfaceError::Input(format!(
-            "{}: the cache has no frames to surface",
-            layout.manifest().display()
-        )));
-    }
-    if !layout.tets(1).is_file() {
+    let whole = range.is_all(frames);
+    if !layout.tets(range.first).is_file() {
         return Err(SurfaceError::Input(format!(
             "{} is missing: the embedded method reads the split tet meshes; run the scene with \
              [output] tets = true (or surface = \"embedded\")",
-            layout.tets(1).display()
+            layout.tets(range.first).display()
         )));
     }
-    // The scene's mesh colliders, which animated.glb carries beside the surface.
-    let scene = Scene::load_cached(&layout.scene())?;
-    let colliders = mesh_colliders(layout, &scene, Some(&manifest))?;
     let dir = layout.surface_dir();
     std::fs::create_dir_all(&dir).map_err(|e| SurfaceError::io(&dir, e))?;
     let start = Instant::now();
-    // The last frame first: its topology is the animation's.
-    let last = TetFrame::read(&layout.tets(frames))?;
+    // The range's last frame first: over the whole shot its topology is the
+    // animation's.
+    let last = TetFrame::read(&layout.tets(range.last))?;
     let t = Instant::now();
     let final_surface = surface(&last, spec.smoothing_passes);
     let mut final_mesh = final_surface.render_mesh(&last.damage);
     final_mesh.mesh.name = manifest.scene.clone();
     let mut extraction = t.elapsed().as_secs_f64();
     let done = AtomicUsize::new(0);
-    let per_frame: Vec<(FrameView, f64, SmoothingStats)> = (1..=frames)
+    let per_frame: Vec<(Option<FrameView>, f64, SmoothingStats)> = range
+        .frames()
         .into_par_iter()
         .map(|frame| -> Result<_> {
-            let tets = if frame == frames {
+            let tets = if frame == range.last {
                 last.clone()
             } else {
                 TetFrame::read(&layout.tets(frame))?
@@ -123,29 +124,37 @@ pub fn stage(
                 format!("frame {frame}"),
                 encoder.fractured(&mesh.mesh),
             )?;
-            progress(done.fetch_add(1, Ordering::Relaxed) + 1, frames);
-            Ok((view(&final_mesh, &last.parent, &surf), seconds, surf.stats))
+            progress(done.fetch_add(1, Ordering::Relaxed) + 1, range.len());
+            let view = whole.then(|| view(&final_mesh, &last.parent, &surf));
+            Ok((view, seconds, surf.stats))
         })
         .collect::<Result<_>>()?;
     extraction += per_frame.iter().map(|f| f.1).sum::<f64>();
-    let times: Vec<f32> = manifest.frame_times.iter().map(|&t| t as f32).collect();
     let report = per_frame
         .iter()
         .fold(EmbeddedReport::default(), |r, f| r.add(&f.2));
-    let views: Vec<FrameView> = per_frame.into_iter().map(|f| f.0).collect();
-    let (mut base, positions) = animate(&final_mesh, &views);
-    let base_points: Vec<[f64; 3]> = positions[0].iter().map(|p| p.map(f64::from)).collect();
-    base.mesh.positions = positions[0].clone();
-    base.mesh.normals = normals_at(&base, &base_points);
-    write(
-        &layout.animated_surface(),
-        "surface/animated.glb".into(),
-        encoder.animated(&base.mesh, &times, &positions, &[], &colliders),
-    )?;
-    manifest.timings.surface = extraction;
-    manifest.write(&layout.manifest())?;
+    if whole {
+        // The scene's mesh colliders, which animated.glb carries beside the surface.
+        let scene = Scene::load_cached(&layout.scene())?;
+        let colliders = mesh_colliders(layout, &scene, Some(&manifest))?;
+        let times: Vec<f32> = manifest.frame_times.iter().map(|&t| t as f32).collect();
+        let views: Vec<FrameView> = per_frame.into_iter().filter_map(|f| f.0).collect();
+        let (mut base, positions) = animate(&final_mesh, &views);
+        let base_points: Vec<[f64; 3]> = positions[0].iter().map(|p| p.map(f64::from)).collect();
+        base.mesh.positions = positions[0].clone();
+        base.mesh.normals = normals_at(&base, &base_points);
+        write(
+            &layout.animated_surface(),
+            "surface/animated.glb".into(),
+            encoder.animated(&base.mesh, &times, &positions, &[], &colliders),
+        )?;
+        layout.update_manifest(|m| {
+            m.timings.surface = extraction;
+            Ok(())
+        })?;
+    }
     Ok(EmbeddedReport {
-        frames,
+        frames: range.len(),
         seconds: start.elapsed().as_secs_f64(),
         extraction,
         triangles: final_surface.triangles.len(),

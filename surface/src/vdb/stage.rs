@@ -1,4 +1,4 @@
-//! The `vdb` surface stage over a whole cache: every frame's particles become
+//! The `vdb` surface stage over a cache or a range of its frames: each frame's particles become
 //! `vdb/NNNN.vdb`, `surface/NNNN_debris.ply` and `surface/NNNN.glb` (one mesh a
 //! fragment), frames in parallel (rayon; OpenVDB's TBB pool capped at the same
 //! thread count).
@@ -8,6 +8,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use perifrac_cache::Layout;
+use perifrac_cache::frames::FrameRange;
 use perifrac_cache::manifest::Manifest;
 use perifrac_cache::mesh::{SurfaceEncoder, SurfaceMesh};
 use perifrac_cache::scene::VdbSpec;
@@ -15,6 +16,7 @@ use rayon::prelude::*;
 
 use super::{FrameStats, StepSeconds, initialize, surface_frame};
 use crate::error::{Result, SurfaceError};
+use crate::frame_range;
 use crate::write_encoded as write;
 
 impl FrameStats {
@@ -39,30 +41,28 @@ impl FrameStats {
     }
 }
 
-/// Runs the `vdb` method over every frame of the cache at `layout`: writes the
-/// `.vdb` and debris files, and each frame's meshes as `surface/NNNN.glb` through
-/// `encoder`; calls `progress(done, total)` after each frame. Returns the number of
-/// frames and their counts and times summed.
+/// Runs the `vdb` method over frames `range` of the cache at `layout` (every frame
+/// with `None`): writes the `.vdb` and debris files, and each frame's meshes as
+/// `surface/NNNN.glb` through `encoder`; calls `progress(done, total)` after each
+/// frame. A frame's files depend on that frame alone, so ranges run side by side
+/// (a farm's array job) give the bytes one run over every frame gives. Returns the
+/// number of frames and their counts and times summed.
 pub fn stage(
     layout: &Layout,
     spec: &VdbSpec,
+    range: Option<FrameRange>,
     encoder: &dyn SurfaceEncoder,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<(usize, FrameStats)> {
     let manifest = Manifest::read(&layout.manifest())?;
-    let frames = manifest.frame_times.len();
-    if frames == 0 {
-        return Err(SurfaceError::Input(format!(
-            "{}: the cache has no frames to surface",
-            layout.manifest().display()
-        )));
-    }
+    let range = frame_range(layout, &manifest, range)?;
     let dir = layout.surface_dir();
     std::fs::create_dir_all(&dir).map_err(|e| SurfaceError::io(&dir, e))?;
     initialize(rayon::current_num_threads());
     let total = Mutex::new(FrameStats::default());
     let done = AtomicUsize::new(0);
-    (1..=frames)
+    range
+        .frames()
         .into_par_iter()
         .try_for_each(|frame| -> Result<()> {
             let surface = surface_frame(layout, &manifest, frame, spec)?;
@@ -79,8 +79,8 @@ pub fn stage(
             if let Ok(mut total) = total.lock() {
                 total.add(&stats);
             }
-            progress(done.fetch_add(1, Ordering::Relaxed) + 1, frames);
+            progress(done.fetch_add(1, Ordering::Relaxed) + 1, range.len());
             Ok(())
         })?;
-    Ok((frames, total.into_inner().unwrap_or_default()))
+    Ok((range.len(), total.into_inner().unwrap_or_default()))
 }
