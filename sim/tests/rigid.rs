@@ -1,7 +1,7 @@
 //! The rigid phase (`sim/src/rigid`, docs/rigid.md): a fragment's momenta and kinetic
 //! energy across the switch, pieces that land and come to rest, a rigid piece that
-//! breaks a deformable wall, and the same bytes with 1 and 2 threads and after a
-//! resume in the rigid phase. Small resolutions; figures with `--nocapture`.
+//! breaks a deformable wall, pieces on a mesh collider, and the same bytes with 1 and
+//! 2 threads and after a resume in the rigid phase. Small resolutions; figures with `--nocapture`.
 
 mod common;
 
@@ -279,14 +279,106 @@ fn a_rigid_piece_striking_a_deformable_wall_breaks_bonds_in_it() {
 /// A glass cube cut in two by a pre-cut plane and dropped corner first on the ground
 /// at `speed` m/s from 5 mm: its halves go rigid in the air and land. `rigid`:
 /// "" (all peridynamics) or the `[rigid]` table's keys.
+#[test]
+fn rigid_pieces_land_on_a_mesh_collider_instead_of_falling_through_it() {
+    // The cut cube set down on a slab that is a mesh collider (its top at y = 0.1 m),
+    // the ground 0.1 m below: the halves go rigid before they land, so rapier, not
+    // particle contact, must hold them up.
+    let dir = tempfile::tempdir().expect("temp dir");
+    let slab = "v -0.2 0 -0.2\nv 0.2 0 -0.2\nv 0.2 0.1 -0.2\nv -0.2 0.1 -0.2\n\
+                v -0.2 0 0.2\nv 0.2 0 0.2\nv 0.2 0.1 0.2\nv -0.2 0.1 0.2\n\
+                f 1 4 3\nf 1 3 2\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 4 8 7\n\
+                f 4 7 3\nf 1 5 8\nf 1 8 4\nf 2 3 7\nf 2 7 6\n";
+    std::fs::write(dir.path().join("slab.obj"), slab).expect("writes the slab");
+    // Static, then sliding 5 cm along x and turning 10° about y over 0.3 s: the pieces
+    // ride on it.
+    let mut shifts = Vec::new();
+    for keyframes in [
+        "",
+        "keyframes = [{ time = 0.0 }, { time = 0.3, translation = [0.05, 0.0, 0.0], \
+         rotation = [0.0, 10.0, 0.0] }]\n",
+    ] {
+        let mut text = cut_cube_text(dir.path(), 0.5, "[rigid]\nenabled = true\n")
+            .replace("duration = 0.006\nfps = 500", "duration = 1.0\nfps = 10")
+            .replace(
+                "translation = [0, 0.0799, 0]",
+                "translation = [0, 0.1849, 0]",
+            )
+            .replace("point = [0, 0.08, 0]", "point = [0, 0.185, 0]")
+            .replace("center = [0, 0.08, 0]", "center = [0, 0.185, 0]");
+        text.push_str(&format!(
+            "[[collider]]\ntype = \"mesh\"\npath = \"slab.obj\"\nfriction = 0.6\n{keyframes}"
+        ));
+        let s = Scene::parse(&text, &dir.path().join("drop.toml"), dir.path()).expect("scene");
+        let out = dir.path().join(if keyframes.is_empty() {
+            "still"
+        } else {
+            "moving"
+        });
+        let manifest = run::run(&s, &out, &RunOptions::default(), &mut |_| {}).expect("runs");
+        let frame = |k: usize| {
+            perifrac_sim::cache::ply::ParticleFrame::read(
+                &out.join(format!("particles/{k:04}.ply")),
+            )
+            .expect("reads")
+        };
+        let (first, last) = (frame(1), frame(manifest.frames()));
+        let lowest = last.position.iter().map(|x| x[1]).fold(f32::MAX, f32::min);
+        let fastest = last
+            .velocity
+            .iter()
+            .map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt())
+            .fold(0.0f32, f32::max);
+        let mean_x = |f: &perifrac_sim::cache::ply::ParticleFrame| {
+            f.position.iter().map(|x| x[0]).sum::<f32>() / f.position.len() as f32
+        };
+        let moved = mean_x(&last) - mean_x(&first);
+        println!(
+            "{} steps; lowest particle {lowest:.4} m (slab top 0.1 m); fastest {fastest:.2e} \
+             m/s; moved {moved:.4} m along x",
+            manifest.steps
+        );
+        assert!(
+            manifest.steps < 20_000,
+            "{} steps: the halves never went rigid",
+            manifest.steps
+        );
+        // On the slab (a particle's centre at most a quarter spacing into it), at rest.
+        assert!(
+            lowest > 0.1 - 0.25 * 0.025,
+            "through the slab: lowest {lowest} m"
+        );
+        assert!(fastest < 0.05, "at rest: {fastest} m/s");
+        shifts.push(moved);
+        if !keyframes.is_empty() {
+            // Stopped while the pieces ride the moving slab (its pose and velocity
+            // are set again each step), resumed to the same bytes.
+            stopped_and_resumed(&s, &out, 500);
+        }
+    }
+    // Carried along by the slab: 5 cm further than on the still one (where the
+    // halves topple; the 10° turn moves them a little too).
+    let carried = shifts[1] - shifts[0];
+    assert!(
+        (carried - 0.05).abs() < 0.015,
+        "carried {carried} m by a slab moving 0.05 m"
+    );
+}
+
 fn cut_cube_drop(dir: &Path, speed: f64, rigid: &str) -> Scene {
+    let text = cut_cube_text(dir, speed, rigid);
+    Scene::parse(&text, &dir.join("drop.toml"), dir).expect("scene")
+}
+
+/// The text of [`cut_cube_drop`]'s scene (the cube written into `dir`).
+fn cut_cube_text(dir: &Path, speed: f64, rigid: &str) -> String {
     let cube = "v -0.05 -0.05 -0.025\nv 0.05 -0.05 -0.025\nv 0.05 0.05 -0.025\n\
                 v -0.05 0.05 -0.025\nv -0.05 -0.05 0.025\nv 0.05 -0.05 0.025\n\
                 v 0.05 0.05 0.025\nv -0.05 0.05 0.025\nf 1 4 3\nf 1 3 2\nf 5 6 7\n\
                 f 5 7 8\nf 1 2 6\nf 1 6 5\nf 4 8 7\nf 4 7 3\nf 1 5 8\nf 1 8 4\n\
                 f 2 3 7\nf 2 7 6\n";
     std::fs::write(dir.join("cube.obj"), cube).expect("writes the cube");
-    let text = format!(
+    format!(
         "[scene]\nduration = 0.006\nfps = 500\n{GLASS}critical_compression = 0.01\n\
          [[body]]\nmaterial = \"glass\"\nresolution = 0.025\nvelocity = [0, -{speed}, 0]\n\
          shape = {{ type = \"mesh\", path = \"cube.obj\", rotation = [30, 0, 40], \
@@ -296,8 +388,7 @@ fn cut_cube_drop(dir: &Path, speed: f64, rigid: &str) -> Scene {
          [[collider]]\ntype = \"ground\"\n\
          [contact]\ndamping = 0.5\nfriction = 0.6\ndistance = 1.0\n{rigid}\
          [output]\npreview = false\nusd = false\n"
-    );
-    Scene::parse(&text, &dir.join("drop.toml"), dir).expect("scene")
+    )
 }
 
 #[test]

@@ -118,6 +118,18 @@ impl MeshCollider {
         }
     }
 
+    /// The placed mesh less the pivot, and its triangles: the geometry in the frame
+    /// that the collider's pose (centre pivot + T, rotation R) places.
+    pub fn local_surface(&self) -> (Vec<[f64; 3]>, &[[u32; 3]]) {
+        let positions = self
+            .surface
+            .vertices
+            .iter()
+            .map(|&v| sub(v, self.pivot))
+            .collect();
+        (positions, &self.surface.triangles)
+    }
+
     /// The fastest any point of the mesh moves over its keyframes (m/s): |Ṫ| + |ω| ×
     /// the farthest corner of its bounds from the pivot, over the segments.
     pub fn max_speed(&self) -> f64 {

@@ -37,7 +37,7 @@
 //! centres rounded by half a spacing up to [`HULL_POINTS`] points (or, where the hull
 //! is flat, the union of the particles' cubes), and above that the union of the
 //! particles' cubes (concave where the piece is). Rigid pieces collide with each other,
-//! the ground and the scene's colliders in rapier; with the particles still deformable
+//! the ground and the scene's colliders in rapier (meshes as their triangle meshes); with the particles still deformable
 //! through particle contact, its force on a piece's points summed into a force and a
 //! torque and given to the piece as two half impulses, as velocity Verlet gives it to
 //! the particles, so the two sides exchange the same momentum. A dynamic scene collider
@@ -61,6 +61,7 @@ use crate::world::Part;
 mod checkpoint;
 mod fit;
 mod reenter;
+mod shape;
 
 use fit::{Fit, fit};
 pub use reenter::Thawed;
@@ -194,23 +195,12 @@ impl RigidPhase {
         phase
     }
 
-    /// Puts the ground and the sphere and box colliders into rapier: the ground
-    /// fixed, colliders with a mass dynamic, the others moved at their velocity.
-    /// Mesh colliders are not mirrored (docs/rigid.md).
+    /// Puts the scene's colliders into rapier ([`shape::mirrored`]).
     fn mirror(&mut self, colliders: &[Collider]) {
         let s = &self.settings;
         for (i, c) in colliders.iter().enumerate() {
-            let (body, shape) = match c.shape {
-                ColliderShape::Ground => (
-                    RigidBodyBuilder::fixed().translation(vector([0.0, c.center[1], 0.0])),
-                    ColliderBuilder::halfspace(Vector3::y_axis()),
-                ),
-                ColliderShape::Sphere(r) => (self.moving(c), ColliderBuilder::ball(r)),
-                ColliderShape::Box(h) => (
-                    self.moving(c).enabled_rotations(false, false, false),
-                    ColliderBuilder::cuboid(h[0], h[1], h[2]),
-                ),
-                ColliderShape::Mesh(_) => continue,
+            let Some((body, shape)) = shape::mirrored(c) else {
+                continue;
             };
             let handle = self.physics.bodies.insert(body.build());
             let mut collider = shape.friction(c.friction).restitution(s.restitution);
@@ -224,18 +214,6 @@ impl RigidPhase {
             );
             self.mirrors.push((i, handle));
         }
-    }
-
-    fn moving(&self, c: &Collider) -> RigidBodyBuilder {
-        let builder = match c.mass {
-            Some(_) => RigidBodyBuilder::dynamic()
-                .ccd_enabled(true)
-                .gravity_scale(if c.gravity { 1.0 } else { 0.0 }),
-            None => RigidBodyBuilder::kinematic_velocity_based(),
-        };
-        builder
-            .translation(vector(c.center))
-            .linvel(vector(c.velocity))
     }
 
     /// Resets what rapier keeps between steps but does not save: the counters of
@@ -394,35 +372,16 @@ impl RigidPhase {
                 [0, 1, 2].map(|k| x[k] - fit.center[k])
             })
             .collect();
-        let spacing = |i: u32| {
-            volume
-                .as_ref()
-                .map_or(0.0, |v| v[i as usize].cbrt())
-                .max(1e-9)
-        };
-        let radius = 0.5 * fit.spacing;
-        let balls = || {
-            let shapes = local
-                .iter()
-                .zip(&points)
-                .map(|(r, &i)| {
-                    let h = 0.5 * spacing(i);
-                    (
-                        Isometry::translation(r[0], r[1], r[2]),
-                        SharedShape::cuboid(h, h, h),
-                    )
-                })
-                .collect();
-            ColliderBuilder::compound(shapes)
-        };
-        let shape = if points.len() == 1 {
-            ColliderBuilder::cuboid(radius, radius, radius)
-        } else if points.len() <= HULL_POINTS {
-            let hull: Vec<Point3<f64>> = local.iter().map(|r| Point3::from(vector(*r))).collect();
-            ColliderBuilder::round_convex_hull(&hull, radius).unwrap_or_else(balls)
-        } else {
-            balls()
-        };
+        let spacing: Vec<f64> = points
+            .iter()
+            .map(|&i| {
+                volume
+                    .as_ref()
+                    .map_or(0.0, |v| v[i as usize].cbrt())
+                    .max(1e-9)
+            })
+            .collect();
+        let shape = shape::piece(&local, &spacing, 0.5 * fit.spacing);
         let body = RigidBodyBuilder::dynamic()
             .translation(vector(fit.center))
             .linvel(vector(fit.velocity))
@@ -485,6 +444,11 @@ impl RigidPhase {
         for &(i, handle) in &self.mirrors {
             let c = &colliders[i];
             let body = &mut self.physics.bodies[handle];
+            if let ColliderShape::Mesh(_) = c.shape {
+                // At its keyframed pose, turning as the segment does.
+                body.set_position(shape::pose(c), true);
+                body.set_angvel(vector(c.angular_velocity), true);
+            }
             if c.mass.is_none() && !matches!(c.shape, ColliderShape::Ground) {
                 body.set_linvel(vector(c.velocity), true);
             }

@@ -42,8 +42,9 @@ pub struct Thawed {
 
 /// The closing speed (m/s) at which point `x`, moving at `v`, meets the collider
 /// within `dt`, with `rounding` (half the piece's spacing) around the point; 0 when
-/// it does not meet it. Mesh colliders are not mirrored in rapier and are left
-/// out (docs/rigid.md).
+/// it does not meet it. Mesh colliders are left out: rapier holds pieces on them,
+/// but their distance is only known inside them ([`Collider::penetration`]), so a
+/// hit on one does not send a piece back (docs/rigid.md).
 fn collider_closing(c: &Collider, x: [f64; 3], v: [f64; 3], rounding: f64, dt: f64) -> f64 {
     let (gap, normal) = match c.shape {
         ColliderShape::Ground => (x[1] - c.center[1], [0.0, 1.0, 0.0]),
