@@ -100,6 +100,45 @@ fn a_vibrating_fragment_keeps_its_momenta_and_loses_only_its_vibration() {
     assert!(k2 < kinetic * 0.999 && k2 > 0.5 * 2200.0 * 0.12 * 0.06 * 0.08 * 14.0 * 0.9);
 }
 
+#[test]
+fn the_air_slows_a_flying_piece_as_quadratic_drag_does() {
+    // A glass block thrown at 200 m/s without gravity: m v̇ = −½ ρ_air C_d A |v| v
+    // halves its speed after t = 1/(k v₀), k = ρ_air C_d A / 2m, A = 1.5 V^{2/3} (the
+    // defaults: ρ_air 1.2 kg/m³, C_d 1), here V the block's own volume.
+    let text = format!(
+        "[scene]\ngravity = [0, 0, 0]\n{GLASS}[[body]]\nmaterial = \"glass\"\nresolution = 0.02\n\
+         shape = {{ type = \"box\", center = [0.3, 0.2, -0.1], size = [0.12, 0.06, 0.08] }}\n\
+         velocity = [120.0, 0.0, 160.0]\nangular_velocity = [5.0, -3.0, 2.0]\n\
+         [rigid]\nenabled = true\nsmall_fragment = 100000\n"
+    );
+    let mut p = run::prepare(&scene(&text)).expect("prepares");
+    let settings = p.world.rigid_settings.clone().expect("rigid phase");
+    let mut rigid = RigidPhase::new(settings, &p.world.colliders, Default::default());
+    assert_eq!(rigid.look(&mut p.world.parts, 0.0), 1, "one piece");
+    let (v0, volume) = (200.0, 0.12 * 0.06 * 0.08f64);
+    let k = 1.2 * 1.0 * 1.5 * volume.powf(2.0 / 3.0) / (2.0 * 2200.0 * volume);
+    let dt = 1.0 / 600.0;
+    let steps = (1.0 / (k * v0) / dt).round() as usize;
+    for _ in 0..steps {
+        rigid.step(dt, [0.0; 3], &mut p.world.parts, &mut p.world.colliders);
+    }
+    let (linear, _, _) = momenta(&p);
+    let mass: f64 = p.world.parts[0].model.points().mass.iter().sum();
+    let speed = (0..3)
+        .map(|a| (linear[a] / mass).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    let expected = v0 / (1.0 + k * v0 * steps as f64 * dt);
+    println!(
+        "after {:.3} s: {speed:.2} m/s, quadratic drag {expected:.2} m/s",
+        steps as f64 * dt
+    );
+    assert!(
+        (speed / expected - 1.0).abs() < 0.03,
+        "{speed} m/s, expected {expected}"
+    );
+}
+
 /// A glass plate dropped on the ground: it shatters, its pieces go rigid and land.
 fn plate_drop(duration: f64) -> Scene {
     plate_drop_at(duration, 10.0)

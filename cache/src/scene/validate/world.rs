@@ -73,6 +73,25 @@ pub(super) fn rigid(scene: &Scene) -> Check {
             format!("restitution must be in [0, 1], got {}", r.restitution),
         ));
     }
+    if !(r.drag.is_finite() && r.drag >= 0.0) {
+        return Err(issue(
+            &p("drag"),
+            format!(
+                "drag is the air's drag coefficient C_d on rigid pieces: ≥ 0 (about 1 for \
+                 a tumbling fragment, 0 without air), got {}",
+                r.drag
+            ),
+        ));
+    }
+    if !(r.air_density.is_finite() && r.air_density >= 0.0) {
+        return Err(issue(
+            &p("air_density"),
+            format!(
+                "air_density is in kg/m³: ≥ 0 (1.2 at sea level), got {}",
+                r.air_density
+            ),
+        ));
+    }
     if !(r.reenter.is_finite() && r.reenter >= 0.0) {
         return Err(issue(
             &p("reenter"),
