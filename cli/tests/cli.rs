@@ -107,6 +107,36 @@ fn check_prints_the_cost() {
     }
 }
 
+/// With the rigid phase and a frame schedule, `check` prints the run as such shots go
+/// (deformable through the schedule's first segment, then the rigid phase's steps)
+/// beside the upper bound at dt.
+#[test]
+fn check_prints_the_likely_run_of_a_shot() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let scene = write_scene(
+        dir.path(),
+        "[scene]\nname = \"shot\"\nduration = 1.0\nfps = 24.0\n[materials.glass]\n\
+         density = 2200.0\nbulk_modulus = 3.3e10\nshear_modulus = 2.0e10\n\
+         critical_stretch = 0.0005\n[[body]]\nmaterial = \"glass\"\nresolution = 0.05\n\
+         shape = { type = \"box\", center = [0, 0.2, 0], size = [0.2, 0.2, 0.05] }\n\
+         [rigid]\nenabled = true\n[output]\nschedule = [{ until = 0.002, fps = 5000.0 }]\n",
+    );
+    let result = perifrac(&["check", &scene]);
+    let text = String::from_utf8_lossy(&result.stdout);
+    assert!(result.status.success(), "{text}");
+    assert!(
+        text.contains("an upper bound with the rigid phase"),
+        "{text}"
+    );
+    // 0.998 s of rigid steps at 1/600 s.
+    assert!(
+        text.contains("likely:")
+            && text.contains("(0.002 s:")
+            && text.contains("then 599 rigid-phase steps"),
+        "{text}"
+    );
+}
+
 /// Issue 33, item 6: `check` prints one line for each anchor that became a clamp by
 /// default (a fixed box over a body's end), none for `clamp = false` or a moving one.
 #[test]
