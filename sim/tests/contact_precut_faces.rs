@@ -1,14 +1,15 @@
-//! Issue 33 item 7 (open): particle contact bends the Kalthoff–Winkler cracks because
-//! the faces of its notches, sheared past each other, push on each other: diagonal
-//! pairs across a cut come closer than their contact distance when one face slides
-//! along the other, and their springs carry shear across the cut even without
-//! friction (`docs/contact.md`, "Fracture inside a body"). A block cut through by a
-//! zero-width pre-cut (`[[body.crack]]`), its upper half slid along the cut: the
-//! contact impulse on it should be zero. It is not yet (3.99e-3 N s with today's
-//! contact), so the test is ignored until contact waits for a pair of one body to come
-//! apart before it touches.
+//! Issue 33 item 7: particle contact bent the Kalthoff–Winkler cracks because the
+//! faces of its notches, sheared past each other, pushed on each other: diagonal pairs
+//! across a cut come closer than their contact distance when one face slides along
+//! the other, and their springs carried shear across the cut even without friction
+//! (`docs/contact.md`). The faces of a pre-existing cut now touch only once they have
+//! come apart. A block cut through by a zero-width pre-cut (`[[body.crack]]`), its
+//! upper half slid along the cut: the contact impulse on it is zero (3.99e-3 N s
+//! before).
 
 use std::path::Path;
+
+mod common;
 
 use perifrac_sim::run;
 use perifrac_sim::scene::Scene;
@@ -60,7 +61,6 @@ fn run_block(text: &str) -> (f64, f64) {
 }
 
 #[test]
-#[ignore = "issue 33 item 7, open: today's contact pushes sliding pre-cut faces (3.99e-3 N s)"]
 fn a_precut_slid_along_itself_carries_no_contact_force() {
     // The upper half moved rigidly along the cut by 6 mm (more than two spacings).
     let text = block(
@@ -76,4 +76,18 @@ fn a_precut_slid_along_itself_carries_no_contact_force() {
         impulse == 0.0,
         "the faces pushed on each other: {impulse:e} N s"
     );
+}
+
+/// Which faces have come apart is state: the block sheared along its cut by an anchor
+/// on its top layer only (the particles along the cut free), with 1 and 2 threads and
+/// stopped and resumed, gives the same bytes.
+#[test]
+fn closed_faces_thread_and_resume_to_the_same_bytes() {
+    let text = block(
+        "[[body.anchor]]\nregion = { type = \"box\", center = [0, 0.517, 0], size = [1, 1, 1] }\n\
+         velocity = [0.06, 0, 0]\nclamp = false\n",
+    )
+    .replace("[scene]\n", "[scene]\ngravity = [0, 0, 0]\n");
+    let scene = Scene::parse(&text, Path::new("block.toml"), Path::new(".")).expect("scene");
+    common::threads_and_resume(&scene, 5);
 }
