@@ -29,8 +29,9 @@ pub const MAGIC: &[u8; 8] = b"PFCKPT02";
 
 /// Version of the layout after the magic: the container and the models' payloads
 /// (2: the embedded mesh's crack-face set, for checkpoints taken during a frame; 3: the
-/// crushed bonds' e^c of a crushing material).
-pub const FORMAT_VERSION: u32 = 4;
+/// crushed bonds' e^c of a crushing material; 5: particle contact's closed faces, after
+/// the world's state).
+pub const FORMAT_VERSION: u32 = 5;
 
 /// Bytes before the payload: magic, version, four u64, time, payload length.
 const HEADER_LEN: usize = 8 + 4 + 4 * 8 + 8 + 8;

@@ -19,6 +19,17 @@
 //! momentum is conserved to rounding. Two points of one body never touch beyond their
 //! reference distance, even at ϱ > 1: unbonded, they stand there at rest.
 //!
+//! The faces of a cut made before the first step (a `[[body.crack]]`, a slot narrower
+//! than δ that no bond crosses) touch only once they have **come apart**: a pair of
+//! one body, no intact bond joining it at set-up, closer than [`PRECUT_RANGE`] mean
+//! spacings, touches only after it has been farther apart than |x_i − x_j| + (|x_i −
+//! x_j| − d_ij) (opened by as much as it must close to touch). Until then its faces
+//! slide past each other freely: sheared, diagonal pairs across a cut come within d_ij
+//! and their springs carried the shear across it, which bent the Kalthoff–Winkler
+//! cracks by 8–10° (issue 33 item 7, `docs/contact.md`). The velocity constraint of
+//! [`apart`] still holds them at half their distance. These pairs stay in the list
+//! until they come apart, and which have not is saved in checkpoints.
+//!
 //! After the forces, [`apart`] keeps every such pair at least half a spacing apart
 //! with pairwise impulses (a velocity-level constraint, no stiffer spring).
 //!
@@ -33,6 +44,8 @@ use std::f64::consts::PI;
 use perifrac_math::{dot, sub};
 use rayon::prelude::*;
 
+use crate::cache::checkpoint::{Decoder, Encoder};
+use crate::error::Result;
 use crate::family::{BROKEN, Bonds, INDEX};
 use crate::material::Material;
 use crate::model::Model;
@@ -45,6 +58,10 @@ const NO_BOND: u32 = u32::MAX;
 
 /// The skin of the Verlet list, as a fraction of the largest contact distance.
 const SKIN: f64 = 0.3;
+
+/// The faces of a pre-existing cut: pairs of one body closer than this many mean
+/// spacings at set-up, no intact bond joining them (module doc).
+pub const PRECUT_RANGE: f64 = 2.0;
 
 /// A candidate partner of a point.
 #[derive(Debug, Clone, Copy)]
@@ -60,6 +77,10 @@ struct Pair {
     reach: f64,
     /// The closest the pair may come, r_min (m): [`apart`].
     limit: f64,
+    /// Faces of a pre-existing cut that have not come apart: no spring (module doc).
+    closed: bool,
+    /// The distance beyond which such a pair has come apart (m).
+    open: f64,
 }
 
 /// The particle-contact settings of `[contact]`.
@@ -124,6 +145,14 @@ pub struct ParticleContact {
     pub time: f64,
     /// Builds of the Verlet list so far.
     pub builds: u64,
+    /// The faces of pre-existing cuts that have not come apart, (i, j) and (j, i) in
+    /// increasing order; found at the first build, then read from the list before each
+    /// build (or from a checkpoint: `restored`).
+    closed: Vec<(u32, u32)>,
+    /// Whether `closed` has been found or restored.
+    closed_known: bool,
+    /// Whether `closed` was just read from a checkpoint (the next build takes it as is).
+    restored: bool,
 }
 
 impl ParticleContact {
@@ -169,6 +198,9 @@ impl ParticleContact {
             frozen: Vec::new(),
             time: 0.0,
             builds: 0,
+            closed: Vec::new(),
+            closed_known: false,
+            restored: false,
         };
         for (p, model) in models.iter().enumerate() {
             out.offsets.push(out.part.len());
@@ -272,6 +304,9 @@ impl ParticleContact {
             .iter()
             .map(|m| m.contact_points().and_then(|c| c.bonds))
             .collect();
+        if !self.closed.is_empty() {
+            self.mark_opened();
+        }
         let mut force = std::mem::take(&mut self.force);
         let mut near = std::mem::take(&mut self.near);
         let this = &*self;
@@ -317,6 +352,17 @@ impl ParticleContact {
     /// pair closer than its contact distance plus the skin, in increasing partner
     /// order, with the bond joining it if any.
     fn build(&mut self, models: &[&dyn Model]) {
+        let bonds: Vec<Option<&Bonds>> = models
+            .iter()
+            .map(|m| m.contact_points().and_then(|c| c.bonds))
+            .collect();
+        if !self.closed_known {
+            self.closed = self.precut_faces(&bonds);
+            self.closed_known = true;
+        } else if !self.restored {
+            self.closed = self.closed_in_list();
+        }
+        self.restored = false;
         let n = self.len();
         let skin = SKIN * self.max_reach;
         let cell = self.max_reach + skin;
@@ -334,10 +380,6 @@ impl ParticleContact {
                 start = k;
             }
         }
-        let bonds: Vec<Option<&Bonds>> = models
-            .iter()
-            .map(|m| m.contact_points().and_then(|c| c.bonds))
-            .collect();
         let this = &*self;
         let lists: Vec<Vec<Pair>> = (0..n)
             .into_par_iter()
@@ -354,11 +396,24 @@ impl ParticleContact {
                                 continue;
                             };
                             for &(_, j) in &sorted[a..b] {
-                                if let Some(pair) = this.candidate(i, j as usize, skin, &bonds) {
+                                if let Some(pair) =
+                                    this.candidate(i, j as usize, skin, &bonds, false)
+                                {
                                     out.push(pair);
                                 }
                             }
                         }
+                    }
+                }
+                // Closed faces stay in the list, however far they are, until they
+                // have come apart.
+                let first = this.closed.partition_point(|&(a, _)| (a as usize) < i);
+                for &(_, j) in this.closed[first..]
+                    .iter()
+                    .take_while(|&&(a, _)| a as usize == i)
+                {
+                    if !out.iter().any(|p| p.j == j) {
+                        out.extend(this.candidate(i, j as usize, skin, &bonds, true));
                     }
                 }
                 out.sort_unstable_by_key(|p| p.j);
@@ -376,8 +431,15 @@ impl ParticleContact {
         self.builds += 1;
     }
 
-    /// The pair (i, j) if it belongs in the list.
-    fn candidate(&self, i: usize, j: usize, skin: f64, bonds: &[Option<&Bonds>]) -> Option<Pair> {
+    /// The pair (i, j) if it belongs in the list (`force`: whatever its distance).
+    fn candidate(
+        &self,
+        i: usize,
+        j: usize,
+        skin: f64,
+        bonds: &[Option<&Bonds>],
+        force: bool,
+    ) -> Option<Pair> {
         if i == j {
             return None;
         }
@@ -391,15 +453,16 @@ impl ParticleContact {
         let mean = 0.5
             * (self.body_spacing[self.body[i] as usize] + self.body_spacing[self.body[j] as usize]);
         let mut limit = apart::LIMIT * mean;
+        let mut rest = 0.0;
         if one_body {
-            let rest = sub(self.reference[i], self.reference[j]);
-            let rest = dot(rest, rest).sqrt();
+            let xi = sub(self.reference[i], self.reference[j]);
+            rest = dot(xi, xi).sqrt();
             reach = reach.min(self.settings.distance.min(1.0) * rest);
             limit = limit.min(apart::LIMIT * rest);
         }
         let d = sub(self.position[i], self.position[j]);
         let cutoff = reach.max(apart::WATCH * limit) + skin;
-        if dot(d, d) >= cutoff * cutoff {
+        if !force && dot(d, d) >= cutoff * cutoff {
             return None;
         }
         let (mut bond, mut reverse) = (NO_BOND, NO_BOND);
@@ -410,12 +473,15 @@ impl ParticleContact {
                 reverse = bond_index(b, local(j), local(i));
             }
         }
+        let closed = one_body && self.closed.binary_search(&(i as u32, j as u32)).is_ok();
         Some(Pair {
             j: j as u32,
             bond,
             reverse,
             reach,
             limit,
+            closed,
+            open: 2.0 * rest - reach,
         })
     }
 
@@ -445,7 +511,7 @@ impl ParticleContact {
                 continue;
             }
             near |= r2 < watch * watch;
-            if !touches {
+            if !touches || pair.closed {
                 continue;
             }
             let r = r2.sqrt();
@@ -455,6 +521,155 @@ impl ParticleContact {
             }
         }
         (total, near)
+    }
+
+    /// The faces of pre-existing cuts at set-up (module doc): pairs of one body with
+    /// self-contact, no intact bond joining them, closer than [`PRECUT_RANGE`] mean
+    /// spacings; (i, j) and (j, i), in increasing order.
+    fn precut_faces(&self, bonds: &[Option<&Bonds>]) -> Vec<(u32, u32)> {
+        let n = self.len();
+        let widest = self.spacing.iter().fold(0.0f64, |m, &l| m.max(l));
+        let cell = PRECUT_RANGE * widest;
+        if n == 0 || cell <= 0.0 {
+            return Vec::new();
+        }
+        let key = |y: [f64; 3]| y.map(|x| (x / cell).floor() as i64);
+        let mut cells: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
+        for i in 0..n {
+            if self.self_contact[self.part[i] as usize] {
+                cells
+                    .entry(key(self.reference[i]))
+                    .or_default()
+                    .push(i as u32);
+            }
+        }
+        let lists: Vec<Vec<(u32, u32)>> = (0..n)
+            .into_par_iter()
+            .with_min_len(256)
+            .map(|i| {
+                let mut out = Vec::new();
+                let part = self.part[i] as usize;
+                if !self.self_contact[part] {
+                    return out;
+                }
+                let c = key(self.reference[i]);
+                for dx in -1..=1 {
+                    for dy in -1..=1 {
+                        for dz in -1..=1 {
+                            let Some(list) = cells.get(&[c[0] + dx, c[1] + dy, c[2] + dz]) else {
+                                continue;
+                            };
+                            for &j in list {
+                                let j = j as usize;
+                                if j == i
+                                    || self.part[j] as usize != part
+                                    || self.body[j] != self.body[i]
+                                {
+                                    continue;
+                                }
+                                let xi = sub(self.reference[i], self.reference[j]);
+                                let range =
+                                    PRECUT_RANGE * 0.5 * (self.spacing[i] + self.spacing[j]);
+                                if dot(xi, xi) >= range * range {
+                                    continue;
+                                }
+                                let intact = bonds[part].is_some_and(|b| {
+                                    let local = |x: usize| x - self.offsets[part];
+                                    [
+                                        bond_index(b, local(i), local(j)),
+                                        bond_index(b, local(j), local(i)),
+                                    ]
+                                    .iter()
+                                    .any(|&k| {
+                                        k != NO_BOND && b.neighbours[k as usize] & BROKEN == 0
+                                    })
+                                });
+                                if !intact {
+                                    out.push((i as u32, j as u32));
+                                }
+                            }
+                        }
+                    }
+                }
+                out.sort_unstable();
+                out
+            })
+            .collect();
+        lists.concat()
+    }
+
+    /// The closed faces still in the list, (i, j) in increasing order.
+    fn closed_in_list(&self) -> Vec<(u32, u32)> {
+        let mut out = Vec::new();
+        for i in 0..self.pair_offsets.len().saturating_sub(1) {
+            for pair in &self.pairs[self.pair_offsets[i]..self.pair_offsets[i + 1]] {
+                if pair.closed {
+                    out.push((i as u32, pair.j));
+                }
+            }
+        }
+        out
+    }
+
+    /// Opens the closed faces now farther apart than their `open` distance. Each
+    /// point updates its own pairs from the same positions, so i and j agree.
+    fn mark_opened(&mut self) {
+        let position = &self.position;
+        let mut rows = crate::family::rows_mut(&mut self.pairs, &self.pair_offsets);
+        rows.par_iter_mut()
+            .enumerate()
+            .with_min_len(512)
+            .for_each(|(i, row)| {
+                for pair in row.iter_mut().filter(|p| p.closed) {
+                    let d = sub(position[i], position[pair.j as usize]);
+                    if dot(d, d) > pair.open * pair.open {
+                        pair.closed = false;
+                    }
+                }
+            });
+    }
+
+    /// Writes the closed faces (module doc): the state a resumed run needs.
+    pub fn save(&self, out: &mut Encoder) {
+        let closed = self.closed_in_list();
+        out.put_u64(closed.len() as u64);
+        let flat: Vec<u32> = closed.iter().flat_map(|&(i, j)| [i, j]).collect();
+        out.put_u32_slice(&flat);
+    }
+
+    /// Reads what [`ParticleContact::save`] wrote, every pair checked to name two
+    /// points of one body in increasing order; the next build takes it.
+    pub fn restore(&mut self, input: &mut Decoder<'_>) -> Result<()> {
+        let field = "particle contact: closed faces";
+        let count = input.take_u64(field)?;
+        let n = self.len() as u64;
+        if count > n.saturating_mul(n) {
+            return Err(input
+                .error(field, format!("{count} pairs of {n} points"))
+                .into());
+        }
+        let flat = input.take_u32_slice(field, 2 * count as usize)?;
+        let pairs: Vec<(u32, u32)> = flat.chunks_exact(2).map(|c| (c[0], c[1])).collect();
+        let bad = pairs.iter().enumerate().position(|(k, &(i, j))| {
+            i as u64 >= n
+                || j as u64 >= n
+                || i == j
+                || self.part[i as usize] != self.part[j as usize]
+                || self.body[i as usize] != self.body[j as usize]
+                || k > 0 && pairs[k - 1] >= (i, j)
+        });
+        if let Some(k) = bad {
+            let message = format!(
+                "pair {k}, {:?}, is not two points of one body in increasing order",
+                pairs[k]
+            );
+            return Err(input.error(field, message).into());
+        }
+        self.closed = pairs;
+        self.closed_known = true;
+        self.restored = true;
+        self.invalidate();
+        Ok(())
     }
 
     /// The force on i from j (module doc), written so that swapping i and j gives

@@ -95,7 +95,7 @@ fn recrc(bytes: &[u8], change: impl FnOnce(&mut Vec<u8>)) -> Vec<u8> {
 /// the way [`perifrac_sim::world::World::save`] and the peridynamic model write
 /// them: `(name, offset, length of one value)`.
 fn payload_fields(payload: &[u8]) -> Vec<(&'static str, usize, usize)> {
-    let layout: [(&str, Option<usize>); 15] = [
+    let layout: [(&str, Option<usize>); 17] = [
         ("models", None),
         ("acceleration", Some(24)),
         ("positions", Some(24)),
@@ -111,6 +111,8 @@ fn payload_fields(payload: &[u8]) -> Vec<(&'static str, usize, usize)> {
         ("time step", None),
         ("frame length", None),
         ("rigid phase", None),
+        ("closed faces count", None),
+        ("closed faces", Some(4)),
     ];
     let mut at = 0;
     let mut out = Vec::new();

@@ -49,6 +49,9 @@ impl World {
                 }
             }
         }
+        if let Some(contact) = &self.contact {
+            contact.save(out);
+        }
     }
 
     /// Restores what [`World::save`] wrote, at `time` after `steps` steps with
@@ -206,7 +209,7 @@ impl World {
         self.clock = clock;
         self.dt = dt;
         if let Some(contact) = &mut self.contact {
-            contact.invalidate();
+            contact.restore(input)?;
         }
         for part in &mut self.parts {
             contact::mark_anchored(&part.anchors, time, &mut part.anchored);
