@@ -324,11 +324,6 @@ fn rigid_pieces_land_on_a_mesh_collider_instead_of_falling_through_it() {
     // the ground 0.1 m below: the halves go rigid before they land, so rapier, not
     // particle contact, must hold them up.
     let dir = tempfile::tempdir().expect("temp dir");
-    let slab = "v -0.2 0 -0.2\nv 0.2 0 -0.2\nv 0.2 0.1 -0.2\nv -0.2 0.1 -0.2\n\
-                v -0.2 0 0.2\nv 0.2 0 0.2\nv 0.2 0.1 0.2\nv -0.2 0.1 0.2\n\
-                f 1 4 3\nf 1 3 2\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 4 8 7\n\
-                f 4 7 3\nf 1 5 8\nf 1 8 4\nf 2 3 7\nf 2 7 6\n";
-    std::fs::write(dir.path().join("slab.obj"), slab).expect("writes the slab");
     // Static, then sliding 5 cm along x and turning 10° about y over 0.3 s: the pieces
     // ride on it.
     let mut shifts = Vec::new();
@@ -337,17 +332,14 @@ fn rigid_pieces_land_on_a_mesh_collider_instead_of_falling_through_it() {
         "keyframes = [{ time = 0.0 }, { time = 0.3, translation = [0.05, 0.0, 0.0], \
          rotation = [0.0, 10.0, 0.0] }]\n",
     ] {
-        let mut text = cut_cube_text(dir.path(), 0.5, "[rigid]\nenabled = true\n")
-            .replace("duration = 0.006\nfps = 500", "duration = 1.0\nfps = 10")
-            .replace(
-                "translation = [0, 0.0799, 0]",
-                "translation = [0, 0.1849, 0]",
-            )
-            .replace("point = [0, 0.08, 0]", "point = [0, 0.185, 0]")
-            .replace("center = [0, 0.08, 0]", "center = [0, 0.185, 0]");
-        text.push_str(&format!(
-            "[[collider]]\ntype = \"mesh\"\npath = \"slab.obj\"\nfriction = 0.6\n{keyframes}"
-        ));
+        let text = cut_cube_on_slab(
+            dir.path(),
+            0.5,
+            "[rigid]\nenabled = true\n",
+            keyframes,
+            0.105,
+        )
+        .replace("duration = 0.006\nfps = 500", "duration = 1.0\nfps = 10");
         let s = Scene::parse(&text, &dir.path().join("drop.toml"), dir.path()).expect("scene");
         let out = dir.path().join(if keyframes.is_empty() {
             "still"
@@ -401,6 +393,69 @@ fn rigid_pieces_land_on_a_mesh_collider_instead_of_falling_through_it() {
     assert!(
         (carried - 0.05).abs() < 0.015,
         "carried {carried} m by a slab moving 0.05 m"
+    );
+}
+
+/// [`cut_cube_drop`]'s cube `lift` higher, over a slab that is a mesh collider (its
+/// top at y = 0.1 m, the ground 0.1 m below), moved by `keyframes` (a TOML line, or
+/// empty); the slab written into `dir`.
+fn cut_cube_on_slab(dir: &Path, speed: f64, rigid: &str, keyframes: &str, lift: f64) -> String {
+    let slab = "v -0.2 0 -0.2\nv 0.2 0 -0.2\nv 0.2 0.1 -0.2\nv -0.2 0.1 -0.2\n\
+                v -0.2 0 0.2\nv 0.2 0 0.2\nv 0.2 0.1 0.2\nv -0.2 0.1 0.2\n\
+                f 1 4 3\nf 1 3 2\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 4 8 7\n\
+                f 4 7 3\nf 1 5 8\nf 1 8 4\nf 2 3 7\nf 2 7 6\n";
+    std::fs::write(dir.join("slab.obj"), slab).expect("writes the slab");
+    let mut text = cut_cube_text(dir, speed, rigid)
+        .replace(
+            "translation = [0, 0.0799, 0]",
+            &format!("translation = [0, {}, 0]", 0.0799 + lift),
+        )
+        .replace(
+            "point = [0, 0.08, 0]",
+            &format!("point = [0, {}, 0]", 0.08 + lift),
+        )
+        .replace(
+            "center = [0, 0.08, 0]",
+            &format!("center = [0, {}, 0]", 0.08 + lift),
+        );
+    text.push_str(&format!(
+        "[[collider]]\ntype = \"mesh\"\npath = \"slab.obj\"\nfriction = 0.6\n{keyframes}"
+    ));
+    text
+}
+
+#[test]
+fn a_rigid_piece_hit_hard_on_a_mesh_collider_goes_back_too() {
+    // The corner drop at 3 m/s onto the slab mesh instead of the ground: going back
+    // breaks about what peridynamics breaks, staying rigid nothing.
+    let dir = tempfile::tempdir().expect("temp dir");
+    let broken = |rigid: &str, name: &str| {
+        let text = cut_cube_on_slab(dir.path(), 3.0, rigid, "", 0.1);
+        let s = Scene::parse(&text, &dir.path().join("drop.toml"), dir.path()).expect("scene");
+        let m = run::run(
+            &s,
+            &dir.path().join(name),
+            &RunOptions::default(),
+            &mut |_| {},
+        )
+        .expect("runs");
+        m.broken_bonds
+    };
+    let pd = broken("", "pd");
+    let went_back = broken("[rigid]\nenabled = true\nreenter = 1\n", "back");
+    let stayed = broken("[rigid]\nenabled = true\n", "stay");
+    println!(
+        "on the slab mesh at 3 m/s: {pd} bonds broken in peridynamics, {went_back} going \
+         back, {stayed} staying rigid"
+    );
+    assert!(
+        pd > 100,
+        "the corner drop breaks bonds in peridynamics: {pd}"
+    );
+    assert_eq!(stayed, 0, "a rigid piece breaks nothing");
+    assert!(
+        went_back as f64 > 0.5 * pd as f64 && (went_back as f64) < 2.0 * pd as f64,
+        "going back on a mesh breaks about what peridynamics breaks: {went_back} against {pd}"
     );
 }
 

@@ -439,6 +439,30 @@ impl Collider {
         }
     }
 
+    /// For a mesh collider and a point `p` outside it, the distance to its surface and
+    /// the outward normal there; `None` inside it (or for the other shapes).
+    pub fn outside(&self, p: [f64; 3]) -> Option<(f64, [f64; 3])> {
+        let ColliderShape::Mesh(mesh) = &self.shape else {
+            return None;
+        };
+        let d = sub(p, self.center);
+        let r = &self.rotation;
+        let local =
+            [0, 1, 2].map(|k| mesh.pivot[k] + r[0][k] * d[0] + r[1][k] * d[1] + r[2][k] * d[2]);
+        let gap = mesh.sdf.distance(local);
+        if gap <= 0.0 {
+            return None;
+        }
+        let out = sub(local, mesh.sdf.closest_point(local));
+        let l = norm(out);
+        let n = if l > 0.0 {
+            out.map(|x| x / l)
+        } else {
+            [0.0, 1.0, 0.0]
+        };
+        Some((gap, mat_vec(self.rotation, n)))
+    }
+
     /// Kinetic energy ½ M v² (zero for kinematic colliders).
     pub fn kinetic_energy(&self) -> f64 {
         self.mass

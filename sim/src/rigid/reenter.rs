@@ -42,9 +42,7 @@ pub struct Thawed {
 
 /// The closing speed (m/s) at which point `x`, moving at `v`, meets the collider
 /// within `dt`, with `rounding` (half the piece's spacing) around the point; 0 when
-/// it does not meet it. Mesh colliders are left out: rapier holds pieces on them,
-/// but their distance is only known inside them ([`Collider::penetration`]), so a
-/// hit on one does not send a piece back (docs/rigid.md).
+/// it does not meet it.
 fn collider_closing(c: &Collider, x: [f64; 3], v: [f64; 3], rounding: f64, dt: f64) -> f64 {
     let (gap, normal) = match c.shape {
         ColliderShape::Ground => (x[1] - c.center[1], [0.0, 1.0, 0.0]),
@@ -66,9 +64,13 @@ fn collider_closing(c: &Collider, x: [f64; 3], v: [f64; 3], rounding: f64, dt: f
             }
             (l, out.map(|a| a / l))
         }
-        ColliderShape::Mesh(_) => return 0.0,
+        ColliderShape::Mesh(_) => match c.outside(x) {
+            Some(gap) => gap,
+            // Inside it: closing at its whole relative speed, as in a box.
+            None => return dist(v, c.velocity_at(x)),
+        },
     };
-    let closing = -dot(sub(v, c.velocity), normal);
+    let closing = -dot(sub(v, c.velocity_at(x)), normal);
     if closing > 0.0 && gap - rounding <= closing * dt {
         closing
     } else {
@@ -188,9 +190,12 @@ impl RigidPhase {
                     ColliderShape::Ground => ba.center[1] - ba.radius - c.center[1],
                     ColliderShape::Sphere(r) => dist(ba.center, c.center) - ba.radius - r,
                     ColliderShape::Box(h) => dist(ba.center, c.center) - ba.radius - norm(h),
-                    ColliderShape::Mesh(_) => continue,
+                    ColliderShape::Mesh(_) => {
+                        c.outside(ba.center).map_or(0.0, |(gap, _)| gap) - ba.radius
+                    }
                 };
-                if near > dt * (ba.reach + norm(c.velocity)) {
+                let collider_speed = norm(c.velocity) + norm(c.angular_velocity) * ba.radius;
+                if near > dt * (ba.reach + collider_speed) {
                     continue;
                 }
                 for &i in &piece.points {
