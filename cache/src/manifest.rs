@@ -207,26 +207,7 @@ impl Manifest {
     /// under them, so that `perifrac verify` checks what the stage left. The files are
     /// read back for their checksums; temporary files (`.NAME.tmp-PID`) are skipped.
     pub fn record_folders(&mut self, root: &Path, folders: &[PathBuf]) -> Result<()> {
-        for dir in folders {
-            let prefix = dir.strip_prefix(root).unwrap_or(dir);
-            let prefix = format!("{}/", prefix.to_string_lossy().replace('\\', "/"));
-            self.files.retain(|name, _| !name.starts_with(&prefix));
-            let Ok(entries) = std::fs::read_dir(dir) else {
-                continue;
-            };
-            let mut paths: Vec<PathBuf> = entries
-                .flatten()
-                .filter(|e| !e.file_name().to_string_lossy().starts_with('.'))
-                .map(|e| e.path())
-                .filter(|p| p.is_file())
-                .collect();
-            paths.sort();
-            for path in paths {
-                let bytes = std::fs::read(&path).map_err(|e| CacheError::io(&path, e))?;
-                self.record(root, &path, FileRecord::of(&bytes));
-            }
-        }
-        Ok(())
+        self.record_in(root, folders, |_| false, |name| !name.starts_with('.'))
     }
 
     /// Records the files of frames `range` in each of `folders` (`NNNN.ext`,
@@ -241,18 +222,35 @@ impl Manifest {
         range: FrameRange,
     ) -> Result<()> {
         let ours = |name: &str| frame_of_file(name).is_some_and(|k| range.contains(k));
+        self.record_in(
+            root,
+            folders,
+            |name| !ours(name) && root.join(name).is_file(),
+            ours,
+        )
+    }
+
+    /// In each of `folders`: keeps the records of files under it for which `keep`
+    /// (given the record's name) holds and drops the others, then records the files
+    /// there whose name `take` accepts, read back for their checksums.
+    fn record_in(
+        &mut self,
+        root: &Path,
+        folders: &[PathBuf],
+        keep: impl Fn(&str) -> bool,
+        take: impl Fn(&str) -> bool,
+    ) -> Result<()> {
         for dir in folders {
             let prefix = dir.strip_prefix(root).unwrap_or(dir);
             let prefix = format!("{}/", prefix.to_string_lossy().replace('\\', "/"));
-            self.files.retain(|name, _| {
-                !name.starts_with(&prefix) || (!ours(name) && root.join(name).is_file())
-            });
+            self.files
+                .retain(|name, _| !name.starts_with(&prefix) || keep(name));
             let Ok(entries) = std::fs::read_dir(dir) else {
                 continue;
             };
             let mut paths: Vec<PathBuf> = entries
                 .flatten()
-                .filter(|e| e.file_name().to_str().is_some_and(ours))
+                .filter(|e| e.file_name().to_str().is_some_and(&take))
                 .map(|e| e.path())
                 .filter(|p| p.is_file())
                 .collect();

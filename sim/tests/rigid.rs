@@ -139,6 +139,17 @@ fn the_air_slows_a_flying_piece_as_quadratic_drag_does() {
     );
 }
 
+/// The lowest particle's height (m) and the fastest particle's speed (m/s) of a frame.
+fn lowest_and_fastest(frame: &perifrac_sim::cache::ply::ParticleFrame) -> (f32, f32) {
+    let lowest = frame.position.iter().map(|x| x[1]).fold(f32::MAX, f32::min);
+    let fastest = frame
+        .velocity
+        .iter()
+        .map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt())
+        .fold(0.0f32, f32::max);
+    (lowest, fastest)
+}
+
 /// A glass plate dropped on the ground: it shatters, its pieces go rigid and land.
 fn plate_drop(duration: f64) -> Scene {
     plate_drop_at(duration, 10.0)
@@ -169,12 +180,7 @@ fn a_dropped_glass_plate_shatters_and_every_piece_comes_to_rest() {
     )
     .expect("reads");
     let fragments = frame.fragment.iter().fold(0.0f32, |m, &f| m.max(f)) as u32 + 1;
-    let fastest = frame
-        .velocity
-        .iter()
-        .map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt())
-        .fold(0.0f32, f32::max);
-    let lowest = frame.position.iter().map(|x| x[1]).fold(f32::MAX, f32::min);
+    let (lowest, fastest) = lowest_and_fastest(&frame);
     println!(
         "{fragments} fragments; {} steps; fastest particle {fastest:.2e} m/s; lowest {lowest:.4} m",
         manifest.steps
@@ -354,12 +360,7 @@ fn rigid_pieces_land_on_a_mesh_collider_instead_of_falling_through_it() {
             .expect("reads")
         };
         let (first, last) = (frame(1), frame(manifest.frames()));
-        let lowest = last.position.iter().map(|x| x[1]).fold(f32::MAX, f32::min);
-        let fastest = last
-            .velocity
-            .iter()
-            .map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt())
-            .fold(0.0f32, f32::max);
+        let (lowest, fastest) = lowest_and_fastest(&last);
         let mean_x = |f: &perifrac_sim::cache::ply::ParticleFrame| {
             f.position.iter().map(|x| x[0]).sum::<f32>() / f.position.len() as f32
         };
