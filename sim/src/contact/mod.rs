@@ -422,10 +422,18 @@ pub fn resolve(
     impulses
 }
 
-/// Moves the colliders by one step: dynamic ones take their impulses and gravity,
-/// meshes go to their pose at the new time.
-pub fn advance(colliders: &mut [Collider], impulses: &[[f64; 3]], gravity: [f64; 3], dt: f64) {
-    advance_except(colliders, impulses, gravity, dt, &[]);
+/// Moves the colliders by one step of `dt` ending at `time`: dynamic ones take their
+/// impulses and gravity, meshes go to their pose at `time` (the world's clock, not a
+/// sum of steps, so that a resumed run, whose clock restarts at the checkpoint's time,
+/// puts them where the whole run does to the bit).
+pub fn advance(
+    colliders: &mut [Collider],
+    impulses: &[[f64; 3]],
+    gravity: [f64; 3],
+    dt: f64,
+    time: f64,
+) {
+    advance_except(colliders, impulses, gravity, dt, time, &[]);
 }
 
 /// [`advance`] for the colliders whose `skip` entry is not true (the rigid phase
@@ -435,6 +443,7 @@ pub fn advance_except(
     impulses: &[[f64; 3]],
     gravity: [f64; 3],
     dt: f64,
+    time: f64,
     skip: &[bool],
 ) {
     for (i, (c, j)) in colliders.iter_mut().zip(impulses).enumerate() {
@@ -442,7 +451,7 @@ pub fn advance_except(
             continue;
         }
         if matches!(c.shape, ColliderShape::Mesh(_)) {
-            c.set_time(c.time + dt);
+            c.set_time(time);
             continue;
         }
         if let Some(m) = c.mass {
@@ -512,7 +521,7 @@ mod tests {
         let mut v = vec![[0.0; 3]];
         let j = resolve(&cols, &mut p, &mut v, &[2.0], &[false]);
         assert!((v[0][0] - 1.0).abs() < 1e-12);
-        advance(&mut cols, &j, [0.0; 3], 0.0);
+        advance(&mut cols, &j, [0.0; 3], 0.0, 0.0);
         let momentum = 2.0 * v[0][0] + 10.0 * cols[0].velocity[0];
         assert!(
             (momentum - 10.0).abs() < 1e-12,

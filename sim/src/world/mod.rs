@@ -251,9 +251,16 @@ impl World {
                 let moved: Vec<bool> = (0..self.colliders.len())
                     .map(|i| rigid.moves_collider(i, &self.colliders))
                     .collect();
-                contact::advance_except(&mut self.colliders, &impulses, self.gravity, dt, &moved);
+                contact::advance_except(
+                    &mut self.colliders,
+                    &impulses,
+                    self.gravity,
+                    dt,
+                    time,
+                    &moved,
+                );
             }
-            None => contact::advance(&mut self.colliders, &impulses, self.gravity, dt),
+            None => contact::advance(&mut self.colliders, &impulses, self.gravity, dt, time),
         }
         if let Some(settings) = &self.rigid_settings
             && (self.steps + 1) % settings.check_every as u64 == 0

@@ -76,7 +76,7 @@ impl World {
                 .map(|i| rigid.moves_collider(i, &self.colliders))
                 .collect();
             let none = vec![[0.0; 3]; self.colliders.len()];
-            contact::advance_except(&mut self.colliders, &none, self.gravity, dt, &moved);
+            contact::advance_except(&mut self.colliders, &none, self.gravity, dt, time, &moved);
         }
         self.time = time;
         self.steps += 1;
