@@ -80,6 +80,18 @@ pub struct ContactPoints<'a> {
     pub self_contact: bool,
 }
 
+/// A fragment's surface in the reference configuration ([`Model::reference_surface`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PieceSurface {
+    /// Vertex positions X (m).
+    pub vertices: Vec<[f64; 3]>,
+    /// Triangles over `vertices`, wound outward.
+    pub triangles: Vec<[u32; 3]>,
+    /// How far the surface reaches beyond the points (m): the largest distance from a
+    /// point to a vertex of a surface face it owns.
+    pub reach: f64,
+}
+
 /// What the rigid phase ([`crate::rigid`]) reads of a model whose fragments may go
 /// rigid: one entry a point.
 #[derive(Debug, Clone, PartialEq)]
@@ -224,6 +236,14 @@ pub trait Model: Any + Debug + Send + Sync {
     /// it was). Models that return no fragments are never asked.
     fn thaw(&mut self, points: &[u32]) {
         let _ = points;
+    }
+
+    /// The surface of `points` (a fragment going rigid) in the reference
+    /// configuration, for its rigid body's collider; `None` (the default) for a model without a tet mesh, whose pieces
+    /// collide as their particles (docs/rigid.md, "Colliders and contact").
+    fn reference_surface(&self, points: &[u32]) -> Option<PieceSurface> {
+        let _ = points;
+        None
     }
 
     /// Which points are in the rigid phase, `None` while none is.

@@ -328,15 +328,18 @@ fn a_rigid_piece_striking_a_deformable_wall_breaks_bonds_in_it() {
 fn rigid_pieces_land_on_a_mesh_collider_instead_of_falling_through_it() {
     // The cut cube set down on a slab that is a mesh collider (its top at y = 0.1 m),
     // the ground 0.1 m below: the halves go rigid before they land, so rapier, not
-    // particle contact, must hold them up.
+    // particle contact, must hold them up. Each half collides as its own surface (the
+    // faces of its tets), so the surface an artist renders rests on the slab: its
+    // lowest vertex within 1.5 mm of the top (as unions of the particles' cubes the
+    // halves floated 3.6 mm above it).
     let dir = tempfile::tempdir().expect("temp dir");
-    // Static, then sliding 5 cm along x and turning 10° about y over 0.3 s: the pieces
-    // ride on it.
-    let mut shifts = Vec::new();
+    // Static, then, once the halves have settled, sliding 5 cm along x and turning
+    // 10° about y from 0.6 s to 0.9 s: the halves ride on it.
+    let mut ends = Vec::new();
     for keyframes in [
         "",
-        "keyframes = [{ time = 0.0 }, { time = 0.3, translation = [0.05, 0.0, 0.0], \
-         rotation = [0.0, 10.0, 0.0] }]\n",
+        "keyframes = [{ time = 0.0 }, { time = 0.6 }, { time = 0.9, \
+         translation = [0.05, 0.0, 0.0], rotation = [0.0, 10.0, 0.0] }]\n",
     ] {
         let text = cut_cube_on_slab(
             dir.path(),
@@ -345,7 +348,8 @@ fn rigid_pieces_land_on_a_mesh_collider_instead_of_falling_through_it() {
             keyframes,
             0.105,
         )
-        .replace("duration = 0.006\nfps = 500", "duration = 1.0\nfps = 10");
+        .replace("duration = 0.006\nfps = 500", "duration = 1.5\nfps = 10")
+        .replace("usd = false\n", "usd = false\ntets = true\n");
         let s = Scene::parse(&text, &dir.path().join("drop.toml"), dir.path()).expect("scene");
         let out = dir.path().join(if keyframes.is_empty() {
             "still"
@@ -359,15 +363,20 @@ fn rigid_pieces_land_on_a_mesh_collider_instead_of_falling_through_it() {
             )
             .expect("reads")
         };
-        let (first, last) = (frame(1), frame(manifest.frames()));
-        let (lowest, fastest) = lowest_and_fastest(&last);
-        let mean_x = |f: &perifrac_sim::cache::ply::ParticleFrame| {
-            f.position.iter().map(|x| x[0]).sum::<f32>() / f.position.len() as f32
+        let last = manifest.frames();
+        let (before, end) = (frame(7), frame(last));
+        let (lowest, fastest) = lowest_and_fastest(&end);
+        let tets =
+            perifrac_sim::cache::vtu::TetFrame::read(&out.join(format!("tets/{last:04}.vtu")))
+                .expect("reads the tets");
+        let surface = tets.points.iter().map(|x| x[1]).fold(f64::MAX, f64::min);
+        let mean = |f: &perifrac_sim::cache::ply::ParticleFrame| {
+            let n = f.position.len() as f64;
+            [0, 2].map(|k| f.position.iter().map(|x| f64::from(x[k])).sum::<f64>() / n)
         };
-        let moved = mean_x(&last) - mean_x(&first);
         println!(
-            "{} steps; lowest particle {lowest:.4} m (slab top 0.1 m); fastest {fastest:.2e} \
-             m/s; moved {moved:.4} m along x",
+            "{} steps; lowest particle {lowest:.4} m, lowest surface vertex {surface:.4} m \
+             (slab top 0.1 m); fastest {fastest:.2e} m/s",
             manifest.steps
         );
         assert!(
@@ -375,26 +384,41 @@ fn rigid_pieces_land_on_a_mesh_collider_instead_of_falling_through_it() {
             "{} steps: the halves never went rigid",
             manifest.steps
         );
-        // On the slab (a particle's centre at most a quarter spacing into it), at rest.
+        assert!(
+            (surface - 0.1).abs() < 1.5e-3,
+            "the surface rests on the slab: lowest vertex {surface} m"
+        );
         assert!(
             lowest > 0.1 - 0.25 * 0.025,
             "through the slab: lowest {lowest} m"
         );
         assert!(fastest < 0.05, "at rest: {fastest} m/s");
-        shifts.push(moved);
+        ends.push((mean(&before), mean(&end)));
         if !keyframes.is_empty() {
             // Stopped while the pieces ride the moving slab (its pose and velocity
             // are set again each step), resumed to the same bytes.
             stopped_and_resumed(&s, &out, 500);
         }
     }
-    // Carried along by the slab: 5 cm further than on the still one (where the
-    // halves topple; the 10° turn moves them a little too).
-    let carried = shifts[1] - shifts[0];
-    assert!(
-        (carried - 0.05).abs() < 0.015,
-        "carried {carried} m by a slab moving 0.05 m"
+    // On the still slab the halves stay where they settled; on the moving one they
+    // go where the slab's motion takes the point they settled at.
+    let [still, moving] = [ends[0], ends[1]];
+    let moved =
+        |(a, b): ([f64; 2], [f64; 2])| ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
+    let turn = 10f64.to_radians();
+    let [x, z] = moving.0;
+    let carried = [
+        x * turn.cos() + z * turn.sin() + 0.05,
+        -x * turn.sin() + z * turn.cos(),
+    ];
+    let off = ((moving.1[0] - carried[0]).powi(2) + (moving.1[1] - carried[1]).powi(2)).sqrt();
+    println!(
+        "still slab: moved {:.4} m; moving slab: moved {:.4} m, {off:.4} m from where the slab took them",
+        moved(still),
+        moved(moving)
     );
+    assert!(moved(still) < 5e-3, "the halves stay put: {}", moved(still));
+    assert!(off < 5e-3, "carried by the slab: {off} m off");
 }
 
 /// [`cut_cube_drop`]'s cube `lift` higher, over a slab that is a mesh collider (its

@@ -44,12 +44,13 @@ mod placement;
 
 pub use gradient::{TRUSTED_CONDITIONING, TRUSTED_STRETCH, deformation_gradients};
 
-use perifrac_math::{TET_FACES, UnionFind, cross, dot, signed_volume, sub};
+use perifrac_math::{TET_FACES, UnionFind, cross, dot, norm, signed_volume, sub};
 use rayon::prelude::*;
 
 use crate::error::{Result, SimError};
 use crate::family::{BROKEN, Bonds, INDEX};
 use crate::geometry::discretize::Discretization;
+use crate::model::PieceSurface;
 
 /// No neighbour across a face (a face of the body's surface).
 pub const NONE: u32 = u32::MAX;
@@ -524,6 +525,46 @@ impl EmbeddedMesh {
     fn rest_volume(&self, p: usize) -> f64 {
         let [a, b, c, d] = self.tets[p].map(|v| self.reference[v as usize]);
         signed_volume(a, b, c, d)
+    }
+
+    /// The surface of the tets `tets` (a fragment's particles) in the reference
+    /// configuration: each face on the body's surface or shared with a tet outside the
+    /// set, wound outward, over the original vertices (a copy counts as the vertex it
+    /// was split from, so faces inside the set stay shut whatever cracked between
+    /// them), renumbered from 0 in order of first use; its reach, the largest distance
+    /// from a tet's barycentre (its particle) to a vertex of a surface face of it. The
+    /// rigid phase's collider of the piece (docs/rigid.md, "Colliders and contact").
+    pub fn piece_surface(&self, tets: &[u32]) -> PieceSurface {
+        let mut inside = tets.to_vec();
+        inside.sort_unstable();
+        let member = |q: u32| q != NONE && inside.binary_search(&q).is_ok();
+        let mut index = std::collections::HashMap::new();
+        let mut vertices = Vec::new();
+        let mut triangles = Vec::new();
+        let mut reach: f64 = 0.0;
+        for &p in tets {
+            let corners = self.tets[p as usize].map(|v| self.reference[v as usize]);
+            let centre = [0, 1, 2].map(|k| corners.iter().map(|c| c[k]).sum::<f64>() / 4.0);
+            for (f, &q) in self.adjacent[p as usize].iter().enumerate() {
+                if member(q) {
+                    continue;
+                }
+                let face = self.face_vertices(p, f).map(|v| {
+                    let v = self.root(v);
+                    reach = reach.max(norm(sub(self.reference[v as usize], centre)));
+                    *index.entry(v).or_insert_with(|| {
+                        vertices.push(self.reference[v as usize]);
+                        (vertices.len() - 1) as u32
+                    })
+                });
+                triangles.push(face);
+            }
+        }
+        PieceSurface {
+            vertices,
+            triangles,
+            reach,
+        }
     }
 
     /// Boundary faces of the split mesh, wound outward from the tet owning them

@@ -584,3 +584,68 @@ fn a_tet_no_vertex_can_lift_within_the_bound_is_still_turned_right_side_out() {
     assert!(smallest >= FLOOR_FRACTION * (1.0 - 1e-9), "{smallest}");
     assert!(longest < 3.0, "{longest}λ");
 }
+
+/// The volume a closed, outward-wound triangle surface encloses (divergence theorem),
+/// and whether it is closed: every directed edge's reverse used exactly once.
+fn enclosed(vertices: &[[f64; 3]], triangles: &[[u32; 3]]) -> (f64, bool) {
+    let mut edges: HashMap<(u32, u32), i32> = HashMap::new();
+    let mut volume = 0.0;
+    for t in triangles {
+        let [a, b, c] = t.map(|v| vertices[v as usize]);
+        volume += dot(a, cross(b, c)) / 6.0;
+        for k in 0..3 {
+            *edges.entry((t[k], t[(k + 1) % 3])).or_default() += 1;
+        }
+    }
+    let closed = edges
+        .iter()
+        .all(|(&(a, b), &n)| n == 1 && edges.get(&(b, a)) == Some(&1));
+    (volume, closed)
+}
+
+#[test]
+fn a_piece_surface_is_closed_and_holds_its_tets_volume() {
+    // The rigid phase's colliders: the whole block's surface encloses its tets, each
+    // half of it (split at x = 0, its bonds intact or not) a closed surface around
+    // its own tets' volume, whatever split the crack made of the vertices.
+    let lambda = 0.02;
+    let (disc, mut bonds) = block([0.1, 0.06, 0.08], lambda);
+    let x = disc.position.clone();
+    cut(&mut bonds, |i, j| (x[i][0] < 0.0) != (x[j][0] < 0.0));
+    let mut mesh = EmbeddedMesh::build(&disc, &bonds, &names()).unwrap();
+    mesh.update(&bonds);
+    assert!(
+        mesh.vertex_count() > mesh.original_vertices(),
+        "the cut split vertices"
+    );
+    let all: Vec<u32> = (0..x.len() as u32).collect();
+    let whole = mesh.piece_surface(&all);
+    let (volume, closed) = enclosed(&whole.vertices, &whole.triangles);
+    assert!(
+        whole.reach > 0.3 * lambda && whole.reach < 1.5 * lambda,
+        "a surface vertex {} λ from its particle",
+        whole.reach / lambda
+    );
+    assert!(closed, "the block's surface is closed");
+    let tets: f64 = disc.volume.iter().sum();
+    assert!(
+        (volume - tets).abs() < 1e-12,
+        "the block's surface encloses {volume} m³, its tets {tets} m³"
+    );
+    for side in [true, false] {
+        let half: Vec<u32> = all
+            .iter()
+            .copied()
+            .filter(|&i| (x[i as usize][0] < 0.0) == side)
+            .collect();
+        let surface = mesh.piece_surface(&half);
+        let (volume, closed) = enclosed(&surface.vertices, &surface.triangles);
+        let tets: f64 = half.iter().map(|&i| disc.volume[i as usize]).sum();
+        assert!(closed, "a half's surface is closed");
+        assert!(
+            (volume - tets).abs() < 1e-12 * tets.max(1.0) + 1e-15,
+            "a half's surface encloses {volume} m³, its tets {tets} m³"
+        );
+        assert!(surface.vertices.len() < mesh.original_vertices());
+    }
+}

@@ -12,28 +12,36 @@ use crate::cache::vtu::TetFrame;
 use crate::embed::{EmbeddedMesh, NO_PARENT, deformation_gradients};
 use crate::error::Result;
 use crate::family::{BROKEN, INDEX};
-use crate::model::{ContactPoints, Fragments, Model, ParticleColumns, Points, PointsMut};
+use crate::model::{
+    ContactPoints, Fragments, Model, ParticleColumns, PieceSurface, Points, PointsMut,
+};
 
-/// A [`PdModel`] with its particle masses and, when the scene writes `tets/`, its
-/// embedded tet mesh.
+/// A [`PdModel`] with its particle masses and, when the scene writes `tets/` or hands
+/// fragments to rigid bodies, its embedded tet mesh.
 #[derive(Debug, Clone)]
 pub struct Peridynamics {
     /// The model.
     pub model: PdModel,
     /// Particle masses ρV (kg).
     mass: Vec<f64>,
-    /// The embedded tet mesh split along the cracks, when written.
+    /// The embedded tet mesh: split along the cracks when written (`writes_tets`),
+    /// else only the faces of rigid pieces' colliders ([`Model::reference_surface`]).
     embedded: Option<EmbeddedMesh>,
+    /// Whether the run writes the split mesh: then it is split at every frame and its
+    /// crack faces are checkpointed.
+    writes_tets: bool,
 }
 
 impl Peridynamics {
-    /// The model, writing the split tet mesh `embedded` if given.
-    pub fn new(model: PdModel, embedded: Option<EmbeddedMesh>) -> Peridynamics {
+    /// The model with the tet mesh `embedded` if given, writing it split along the
+    /// cracks if `writes_tets`.
+    pub fn new(model: PdModel, embedded: Option<EmbeddedMesh>, writes_tets: bool) -> Peridynamics {
         let mass = (0..model.len()).map(|i| model.mass(i)).collect();
         Peridynamics {
             model,
             mass,
             embedded,
+            writes_tets,
         }
     }
 }
@@ -234,9 +242,13 @@ impl Model for Peridynamics {
         if let Some(c) = &m.crushed {
             out.put_f32_slice(c);
         }
-        if let Some(mesh) = &self.embedded {
+        if let Some(mesh) = self.embedded.as_ref().filter(|_| self.writes_tets) {
             out.put_u32_slice(&mesh.crack_faces());
         }
+    }
+
+    fn reference_surface(&self, points: &[u32]) -> Option<PieceSurface> {
+        Some(self.embedded.as_ref()?.piece_surface(points))
     }
 
     fn broken_bonds(&self) -> u64 {
@@ -272,7 +284,7 @@ impl Model for Peridynamics {
             }
             *c = saved;
         }
-        if let Some(mesh) = &mut self.embedded {
+        if let Some(mesh) = self.embedded.as_mut().filter(|_| self.writes_tets) {
             let words = input.take_u32_slice("crack faces", mesh.crack_face_words())?;
             mesh.restore_crack_faces(&words, &m.bonds)
                 .map_err(|message| input.error("crack faces", message))?;
@@ -294,7 +306,7 @@ impl Model for Peridynamics {
     /// Updates the crack-face set and splits vertices, then places the vertices (see
     /// [`crate::embed`]).
     fn tet_frame(&mut self) -> Option<TetFrame> {
-        let mesh = self.embedded.as_mut()?;
+        let mesh = self.embedded.as_mut().filter(|_| self.writes_tets)?;
         let m = &self.model;
         mesh.update(&m.bonds);
         let reference = &m.reference.position;
@@ -314,7 +326,7 @@ impl Model for Peridynamics {
     }
 
     fn restore_tet_frame(&mut self, last: TetFrame) -> Result<()> {
-        let Some(mesh) = self.embedded.as_mut() else {
+        let Some(mesh) = self.embedded.as_mut().filter(|_| self.writes_tets) else {
             return Ok(());
         };
         let parent = last

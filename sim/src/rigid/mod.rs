@@ -49,6 +49,7 @@
 
 use std::collections::BTreeMap;
 
+use perifrac_math::mat_vec;
 use rapier3d_f64::na::{Point3, UnitQuaternion, Vector3};
 use rapier3d_f64::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -92,10 +93,23 @@ struct Piece {
     /// A checkpoint written before it was kept reads 0: no drag on that piece.
     #[serde(default)]
     volume: f64,
+    /// How far its collider reaches beyond its points (m): its surface's
+    /// [`crate::model::PieceSurface::reach`], or 0 for one of particles (then half a
+    /// spacing, [`Piece::rounding`]; also what a checkpoint written before it reads).
+    #[serde(default)]
+    reach: f64,
     /// The closing speed of a hit (m/s) before which it goes back to its model:
     /// `reenter` × s_c c_p, ∞ for small pieces and what cannot break ([`RigidPhase::reenter`]).
     #[serde(default = "never")]
     limit: f64,
+}
+
+impl Piece {
+    /// How far its collider reaches beyond its points' centres (m): at least half a
+    /// spacing (a collider of particles is rounded by that much).
+    fn rounding(&self) -> f64 {
+        self.reach.max(0.5 * self.thickness)
+    }
 }
 
 fn never() -> f64 {
@@ -386,7 +400,20 @@ impl RigidPhase {
                     .max(1e-9)
             })
             .collect();
-        let shape = shape::piece(&local, &spacing, 0.5 * fit.spacing);
+        // Its own surface where the model has one, turned as the piece has since the
+        // reference configuration; else its particles.
+        let surface = part.model.reference_surface(&points).and_then(|surface| {
+            let (rest, turn) = fit::reference_pose(part, &points, fit.center);
+            let vertices: Vec<[f64; 3]> = surface
+                .vertices
+                .iter()
+                .map(|x| mat_vec(turn, [0, 1, 2].map(|k| x[k] - rest[k])))
+                .collect();
+            let shape = shape::surface(&vertices, &surface.triangles, points.len())?;
+            Some((shape, surface.reach))
+        });
+        let (shape, reach) =
+            surface.unwrap_or_else(|| (shape::piece(&local, &spacing, 0.5 * fit.spacing), 0.0));
         let piece_volume: f64 = spacing.iter().map(|l| l * l * l).sum();
         let body = RigidBodyBuilder::dynamic()
             .translation(vector(fit.center))
@@ -417,6 +444,7 @@ impl RigidPhase {
             thickness: fit.spacing,
             size: fit.size,
             volume: piece_volume,
+            reach,
             limit,
         };
         place(&piece, &self.physics.bodies[handle], part);

@@ -11,10 +11,10 @@
 //! **When.** Before every step, each piece of more than `reenter_points` points (a piece
 //! a few particles across has next to no interior to crack) looks for a contact that
 //! the step would close at such a speed: its points against the ground and the sphere
-//! and box colliders (the gap under half a spacing, the collider's rounding, less what
-//! the step closes), and against the other pieces but debris (a point against the
+//! and box colliders (the gap under how far its collider reaches beyond its points,
+//! less what the step closes), and against the other pieces but debris (a point against the
 //! other piece's nearest point, the closing speed along the line between them). The bounding spheres (a piece's centre
-//! of mass, half its size plus half a spacing) leave out all but the pieces that can
+//! of mass, half its size plus that reach) leave out all but the pieces that can
 //! touch within the step, and a point moving relative to the other piece's rigid
 //! motion slower than the limit is not looked at further.
 //!
@@ -41,7 +41,8 @@ pub struct Thawed {
 }
 
 /// The closing speed (m/s) at which point `x`, moving at `v`, meets the collider
-/// within `dt`, with `rounding` (half the piece's spacing) around the point; 0 when
+/// within `dt`, with `rounding` (how far the piece's collider reaches beyond its
+/// points, [`Piece::rounding`]) around the point; 0 when
 /// it does not meet it.
 fn collider_closing(c: &Collider, x: [f64; 3], v: [f64; 3], rounding: f64, dt: f64) -> f64 {
     let (gap, normal) = match c.shape {
@@ -78,8 +79,8 @@ fn collider_closing(c: &Collider, x: [f64; 3], v: [f64; 3], rounding: f64, dt: f
     }
 }
 
-/// A piece's bounding sphere: its centre of mass and radius (half its size plus half
-/// a spacing), its linear velocity and the speed its spin adds at that radius.
+/// A piece's bounding sphere: its centre of mass and radius (half its size plus its
+/// collider's reach beyond its points), its linear velocity and the speed its spin adds at that radius.
 struct Bound {
     center: [f64; 3],
     radius: f64,
@@ -89,7 +90,7 @@ struct Bound {
 }
 
 /// Two pieces that may meet within a step of `dt`, their points `rounding` apart at
-/// contact (half a spacing each), and the closing speed that counts (`limit`).
+/// contact (each one's [`Piece::rounding`]), and the closing speed that counts (`limit`).
 struct Pair {
     rounding: f64,
     dt: f64,
@@ -145,7 +146,7 @@ impl Pair {
 impl RigidPhase {
     fn bound(&self, piece: &Piece) -> Bound {
         let body = &self.physics.bodies[piece.body];
-        let radius = 0.5 * (piece.size + piece.thickness);
+        let radius = 0.5 * piece.size + piece.rounding();
         let velocity = super::array(body.linvel());
         let spin = super::array(body.angvel());
         Bound {
@@ -183,7 +184,7 @@ impl RigidPhase {
             }
             let ba = &bounds[a];
             let x = parts[piece.part as usize].model.points();
-            let rounding = 0.5 * piece.thickness;
+            let rounding = piece.rounding();
             // The ground and the colliders.
             for c in colliders {
                 let near = match c.shape {
@@ -219,7 +220,7 @@ impl RigidPhase {
                 }
                 let xb = parts[other.part as usize].model.points();
                 let pair = Pair {
-                    rounding: 0.5 * (piece.thickness + other.thickness),
+                    rounding: piece.rounding() + other.rounding(),
                     dt,
                     limit: piece.limit,
                 };

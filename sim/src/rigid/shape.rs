@@ -2,6 +2,7 @@
 //! mirrored (docs/rigid.md, "Colliders and contact").
 
 use rapier3d_f64::na::{Point3, Translation3, UnitQuaternion, Vector3};
+use rapier3d_f64::parry::transformation::vhacd::{VHACD, VHACDParameters};
 use rapier3d_f64::prelude::*;
 
 use super::{HULL_POINTS, vector};
@@ -36,6 +37,33 @@ pub(super) fn piece(local: &[[f64; 3]], spacing: &[f64], radius: f64) -> Collide
     } else {
         cubes()
     }
+}
+
+/// A piece's collider from its own surface (docs/rigid.md, "Colliders and contact"):
+/// `vertices` in the body frame and their outward triangles (the faces of its
+/// particles' tets, [`crate::model::Model::reference_surface`]). The convex hull of the
+/// vertices for a piece of up to [`HULL_POINTS`] `points`; above that parry's convex
+/// decomposition (V-HACD, its defaults: 64 voxels along the longest side, concavity
+/// 0.01), each part the exact hull of the surface's vertices in it. `None` where parry
+/// finds no solid (a flat or degenerate surface): the piece then collides as its
+/// particles ([`piece`]).
+pub(super) fn surface(
+    vertices: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    points: usize,
+) -> Option<ColliderBuilder> {
+    let vertices: Vec<Point3<f64>> = vertices.iter().map(|&v| Point3::from(vector(v))).collect();
+    if points <= HULL_POINTS {
+        return ColliderBuilder::convex_hull(&vertices);
+    }
+    let decomposition = VHACD::decompose(&VHACDParameters::default(), &vertices, triangles, true);
+    let parts: Vec<(Isometry<f64>, SharedShape)> = decomposition
+        .compute_exact_convex_hulls(&vertices, triangles)
+        .into_iter()
+        .filter_map(|(hull, indices)| SharedShape::convex_mesh(hull, &indices))
+        .map(|shape| (Isometry::identity(), shape))
+        .collect();
+    (!parts.is_empty()).then(|| ColliderBuilder::compound(parts))
 }
 
 /// A scene collider's body and shape in rapier: the ground fixed, colliders with a

@@ -174,14 +174,19 @@ fn peridynamic_part(scene: &Scene, disc: &Discretization) -> Result<Part> {
     cut_initial_cracks(&mut model, scene)?;
     let r = &model.reference;
     let anchors = contact::anchors(scene, &r.position, &r.volume, &r.body)?;
-    let embedded = if scene.output.writes_tets() {
-        let names: Vec<String> = scene.bodies.iter().map(|b| b.name.clone()).collect();
+    // The rigid phase takes its pieces' colliders from the mesh's faces; a mesh it
+    // cannot build (face-adjacent tets without a bond) leaves them the particles'.
+    let writes_tets = scene.output.writes_tets();
+    let names: Vec<String> = scene.bodies.iter().map(|b| b.name.clone()).collect();
+    let embedded = if writes_tets {
         Some(EmbeddedMesh::build(disc, &model.bonds, &names)?)
+    } else if scene.rigid.enabled {
+        EmbeddedMesh::build(disc, &model.bonds, &names).ok()
     } else {
         None
     };
     Ok(Part::new(
-        Box::new(Peridynamics::new(model, embedded)),
+        Box::new(Peridynamics::new(model, embedded, writes_tets)),
         anchors,
     ))
 }
