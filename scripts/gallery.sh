@@ -31,12 +31,16 @@ LIST
 "$bin" render "$out/demo" --size 480x270 --movie --overlay --quiet
 cp "$out/demo/preview/movie.png" "$root/docs/gallery/demo-movie.png"
 echo "docs/gallery/demo-movie.png: the demo's $(ls "$out/demo/preview"/0*.png | wc -l) frames"
-# The demo as a finished shot (2 s, the pieces rigid once they stop breaking): its
-# movie, the camera following the shot.
+# The demo as a finished shot (4 s, the pieces rigid once they stop breaking): its
+# movie, the camera following the shot, and a still of the pieces flying (frame 33,
+# 0.13 s).
 "$bin" run "$root/assets/scenes/demo-shot.toml" -o "$out/demo-shot" --force --quiet
 "$bin" render "$out/demo-shot" --size 480x270 --movie --overlay --quiet
 cp "$out/demo-shot/preview/movie.png" "$root/docs/gallery/demo-shot-movie.png"
 echo "docs/gallery/demo-shot-movie.png: the demo shot's $(ls "$out/demo-shot/preview"/0*.png | wc -l) frames"
+"$bin" render "$out/demo-shot" --frame 33 --size 960x540 --quiet
+cp "$out/demo-shot/preview/frame_0033.png" "$root/docs/gallery/demo-shot.png"
+echo "docs/gallery/demo-shot.png: frame 33 of the demo shot"
 # The same demo cache surfaced by the OpenVDB method instead (a copy, so the embedded
 # crack surfaces stay as they are; `surface` replaces the copy's embedded surfaces).
 rm -rf "$out/demo-vdb"

@@ -47,8 +47,8 @@ pub enum Command {
         /// The scene file.
         scene: PathBuf,
     },
-    /// Run the built-in demo: a steel ball through a glass wall, and the 2 s after it
-    /// with every piece landing (a finished shot).
+    /// Run the built-in demo: a steel ball through a glass wall, and the 4 s after it
+    /// with the pieces landing (a finished shot).
     Demo {
         /// Output directory.
         #[arg(short, long, default_value = "out/demo")]

@@ -141,7 +141,7 @@ fn print_rigid(world: &perifrac_sim::world::World, scene: &Scene) {
         println!(
             "  rigid phase: off, for a shot of {:.2} s. `[rigid] enabled = true` hands \
              fragments that stop breaking to rapier and grows the step once only rigid \
-             pieces move (docs/rigid.md: the demo shot's 2 s in 6,960 steps)",
+             pieces move (docs/rigid.md: the demo shot's 4 s in 8,928 steps)",
             scene.scene.duration
         );
     }
@@ -270,9 +270,9 @@ fn print_cost(
 
 /// With the rigid phase and a frame schedule (slow motion through an impact, then real
 /// time), the run as such shots go: deformable through the schedule's first segment,
-/// rigid after it at the rigid phase's step. The demo shot (`demo-shot.toml`) took 5,760
-/// steps at dt to its last hand-off at 4.2 ms, against the 5,460 to its first segment's
-/// end (docs/rigid.md).
+/// rigid after it at the rigid phase's step. The demo shot (`demo-shot.toml`) took about
+/// 6,530 steps at dt to its last hand-off at about 4.8 ms, against the 5,460 to its
+/// first segment's end (docs/rigid.md).
 fn print_likely(scene: &Scene, dt: f64, per_step: f64) {
     let Some(first) = scene.output.schedule.first() else {
         return;

@@ -93,7 +93,7 @@ impl From<anyhow::Error> for Failure {
 /// The built-in demo's impact: its first 4 ms (also `assets/scenes/demo.toml`).
 pub const DEMO_SCENE: &str = include_str!("../../assets/scenes/demo.toml");
 
-/// The built-in demo as a finished shot: the impact and 2 s of pieces landing (also
+/// The built-in demo as a finished shot: the impact and 4 s of pieces landing (also
 /// `assets/scenes/demo-shot.toml`).
 pub const DEMO_SHOT_SCENE: &str = include_str!("../../assets/scenes/demo-shot.toml");
 

@@ -32,8 +32,12 @@
 //! about to be hit at `reenter` × s_c c_p or faster goes back to its model before the
 //! hit ([`RigidPhase::reenter`]); by default pieces stay rigid.
 //!
-//! **Colliders** come from the fragment's particles: a cube of its spacing for a single
-//! particle (a grain; a ball would roll forever), the convex hull of the particle
+//! **Colliders** come from the fragment's own surface where its model has a tet mesh
+//! (peridynamics: the faces of its particles' tets that it shares with no tet of the
+//! piece, turned by the best-fit rotation since the reference configuration): the
+//! convex hull of its vertices up to [`HULL_POINTS`] points, parry's convex
+//! decomposition (V-HACD) above. Otherwise from its particles: a cube of its spacing
+//! for a single particle (a ball would roll forever), the convex hull of the particle
 //! centres rounded by half a spacing up to [`HULL_POINTS`] points (or, where the hull
 //! is flat, the union of the particles' cubes), and above that the union of the
 //! particles' cubes (concave where the piece is). Rigid pieces collide with each other,
@@ -68,8 +72,8 @@ mod shape;
 use fit::{Fit, fit};
 pub use reenter::Thawed;
 
-/// Above this many points a piece collides as the union of its particles' cubes
-/// instead of their rounded convex hull.
+/// Above this many points a piece collides as a convex decomposition of its surface
+/// (or the union of its particles' cubes) instead of a convex hull.
 pub const HULL_POINTS: usize = 256;
 
 /// A fragment handed to rapier.
