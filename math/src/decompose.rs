@@ -60,3 +60,55 @@ pub fn mul_transpose(a: &[[f64; 3]; 3], b: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
     }
     out
 }
+
+/// A best-fit rigid motion X ↦ c + R(X − X̄) ([`rigid_fit`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RigidFit {
+    /// The mass-weighted reference centre X̄.
+    pub rest: [f64; 3],
+    /// The mass-weighted centre c.
+    pub centre: [f64; 3],
+    /// The rotation R.
+    pub rotation: [[f64; 3]; 3],
+}
+
+/// The best-fit rigid motion of points given as (mass m, reference position X,
+/// position x), Kabsch's: X̄ and c the mass-weighted centres, R the polar factor of
+/// Σ m (x − c)(X − X̄)ᵀ (`U Vᵀ` of its [`rotation_svd`]); `None` when the total mass is
+/// not positive. The embedded mesh places small fragments with it; the rigid phase
+/// turns a piece's surface with it.
+pub fn rigid_fit<I>(points: I) -> Option<RigidFit>
+where
+    I: Iterator<Item = (f64, [f64; 3], [f64; 3])> + Clone,
+{
+    let total: f64 = points.clone().map(|(m, _, _)| m).sum();
+    if total <= 0.0 {
+        return None;
+    }
+    let centre = |current: bool| {
+        [0, 1, 2].map(|a| {
+            points
+                .clone()
+                .map(|(m, r, x)| m * if current { x[a] } else { r[a] })
+                .sum::<f64>()
+                / total
+        })
+    };
+    let (rest, c) = (centre(false), centre(true));
+    let mut h = [[0.0; 3]; 3];
+    for (m, r, x) in points {
+        let d = [0, 1, 2].map(|a| x[a] - c[a]);
+        let e = [0, 1, 2].map(|a| r[a] - rest[a]);
+        for (row, da) in h.iter_mut().zip(d) {
+            for (value, eb) in row.iter_mut().zip(e) {
+                *value += m * da * eb;
+            }
+        }
+    }
+    let svd = rotation_svd(&h);
+    Some(RigidFit {
+        rest,
+        centre: c,
+        rotation: mul_transpose(&svd.u, &svd.v),
+    })
+}

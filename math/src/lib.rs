@@ -27,7 +27,7 @@ mod tet;
 mod union_find;
 mod vector;
 
-pub use decompose::{RotationSvd, mul_transpose, rotation_svd};
+pub use decompose::{RigidFit, RotationSvd, mul_transpose, rigid_fit, rotation_svd};
 pub use nalgebra::{
     Matrix3, Quaternion, RealField, Rotation3, SVD, SymmetricEigen, UnitQuaternion, Vector3,
 };

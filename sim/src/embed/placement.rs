@@ -2,9 +2,7 @@
 //! predictions, [`EmbeddedMesh::positions`]) and mending the tets that the average
 //! leaves inverted or flattened (a departure from Chen §5.2: `EmbeddedMesh::untangle`).
 
-use perifrac_math::{
-    TET_FACES, UnionFind, add, cross, dot, mul_transpose, norm, rotation_svd, signed_volume, sub,
-};
+use perifrac_math::{TET_FACES, UnionFind, add, cross, dot, norm, rigid_fit, signed_volume, sub};
 use rayon::prelude::*;
 
 use super::{EmbeddedMesh, FLOOR_FRACTION, MIN_VOLUME_FRACTION, SMALL_FRAGMENT, UNTANGLE_ROUNDS};
@@ -240,31 +238,13 @@ impl EmbeddedMesh {
             if members.len() > SMALL_FRAGMENT {
                 continue;
             }
-            let total: f64 = members.iter().map(|&p| rigid.mass[p]).sum();
-            if total <= 0.0 {
+            let members_fit = members
+                .iter()
+                .map(|&p| (rigid.mass[p], rigid.reference[p], rigid.position[p]));
+            let Some(fit) = rigid_fit(members_fit) else {
                 continue;
-            }
-            let centre = |x: &[[f64; 3]]| {
-                [0, 1, 2].map(|a| {
-                    members
-                        .iter()
-                        .map(|&p| rigid.mass[p] * x[p][a])
-                        .sum::<f64>()
-                        / total
-                })
             };
-            let (c0, c) = (centre(rigid.reference), centre(rigid.position));
-            let mut h = [[0.0; 3]; 3];
-            for &p in &members {
-                let (d, e) = (sub(rigid.position[p], c), sub(rigid.reference[p], c0));
-                for r in 0..3 {
-                    for col in 0..3 {
-                        h[r][col] += rigid.mass[p] * d[r] * e[col];
-                    }
-                }
-            }
-            let svd = rotation_svd(&h);
-            let rotation = mul_transpose(&svd.u, &svd.v);
+            let (c0, c, rotation) = (fit.rest, fit.centre, fit.rotation);
             for &p in &members {
                 for &v in &self.tets[p] {
                     let d = sub(self.reference[v as usize], c0);

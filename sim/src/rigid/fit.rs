@@ -3,7 +3,7 @@
 
 use rapier3d_f64::na::{Matrix3, Vector3};
 
-use perifrac_math::{mul_transpose, rotation_svd};
+use perifrac_math::rigid_fit;
 
 use super::{array, vector};
 use crate::world::Part;
@@ -95,38 +95,15 @@ pub(super) fn fit(part: &Part, points: &[u32]) -> Fit {
 }
 
 /// Where `points` were in the reference configuration and how the piece has turned
-/// since: their mass-weighted reference centre X̄ and the rotation R of the best-fit
-/// rigid motion X ↦ c + R(X − X̄) onto their positions about their centre `center`
-/// (Kabsch: the polar factor of Σ m (x − c)(X − X̄)ᵀ). A reference point X of the
-/// piece is at R(X − X̄) in the body frame (identity orientation at the switch).
-pub(super) fn reference_pose(
-    part: &Part,
-    points: &[u32],
-    center: [f64; 3],
-) -> ([f64; 3], [[f64; 3]; 3]) {
+/// since: their mass-weighted reference centre X̄ and the rotation R of their best-fit
+/// rigid motion X ↦ c + R(X − X̄) ([`rigid_fit`], Kabsch). A reference point X of the
+/// piece is at R(X − X̄) in the body frame (identity orientation at the switch). `None`
+/// for points without mass.
+pub(super) fn reference_pose(part: &Part, points: &[u32]) -> Option<([f64; 3], [[f64; 3]; 3])> {
     let p = part.model.points();
-    let mut mass = 0.0;
-    let mut moment = [0.0; 3];
-    for &i in points {
-        let (m, x) = (p.mass[i as usize], p.reference[i as usize]);
-        mass += m;
-        for k in 0..3 {
-            moment[k] += m * x[k];
-        }
-    }
-    let rest = moment.map(|s| s / mass);
-    let mut h = [[0.0; 3]; 3];
-    for &i in points {
+    let fit = rigid_fit(points.iter().map(|&i| {
         let i = i as usize;
-        let m = p.mass[i];
-        let x = [0, 1, 2].map(|k| p.position[i][k] - center[k]);
-        let r = [0, 1, 2].map(|k| p.reference[i][k] - rest[k]);
-        for a in 0..3 {
-            for b in 0..3 {
-                h[a][b] += m * x[a] * r[b];
-            }
-        }
-    }
-    let svd = rotation_svd(&h);
-    (rest, mul_transpose(&svd.u, &svd.v))
+        (p.mass[i], p.reference[i], p.position[i])
+    }))?;
+    Some((fit.rest, fit.rotation))
 }

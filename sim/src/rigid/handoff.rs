@@ -145,7 +145,7 @@ impl RigidPhase {
         // Its own surface where the model has one, turned as the piece has since the
         // reference configuration; else its particles.
         let surface = part.model.reference_surface(&points).and_then(|surface| {
-            let (rest, turn) = fit::reference_pose(part, &points, fit.center);
+            let (rest, turn) = fit::reference_pose(part, &points)?;
             let vertices: Vec<[f64; 3]> = surface
                 .vertices
                 .iter()
