@@ -57,6 +57,32 @@ fn a_thermal_johnson_cook_run_resumes_to_the_same_bytes_and_caches_temperature()
     assert!(lo >= 300.0 && hi > 300.5, "temperatures in [{lo}, {hi}] K");
 }
 
+/// SPB-MPM: the energy histories, the peridynamic particles and their bonds go through
+/// the checkpoint; the cache has each particle's region and damage.
+#[test]
+fn an_spb_mpm_run_resumes_to_the_same_bytes_and_caches_region_and_damage() {
+    let text = SCENE.replace(
+        "elasticity = \"neo-hookean\"",
+        "elasticity = \"neo-hookean\"\nenergy_release_rate = 0.05",
+    );
+    resumed_run_matches(&text);
+    let scene = Scene::parse(&text, Path::new("mpm.toml"), Path::new(".")).expect("scene");
+    let out = tempfile::tempdir().expect("temp dir");
+    run::run(&scene, out.path(), &RunOptions::default(), &mut |_| {}).expect("runs");
+    let last = scene.frame_count();
+    let frame = ParticleFrame::read(&out.path().join(format!("particles/{last:04}.ply")))
+        .expect("last frame");
+    let region = frame.extra("region").expect("a region column");
+    let members = region.iter().filter(|&&r| r == 1.0).count();
+    let damaged = frame.damage.iter().filter(|&&d| d > 0.0).count();
+    assert!(
+        members > 0 && members < region.len() && damaged > 0,
+        "{members} of {} particles peridynamic, {damaged} damaged",
+        region.len()
+    );
+    assert!(region.iter().all(|&r| r == 0.0 || r == 1.0));
+}
+
 fn resumed_run_matches(text: &str) {
     let scene = Scene::parse(text, Path::new("mpm.toml"), Path::new(".")).expect("scene");
     let frames = scene.frame_count() + 1;
@@ -161,6 +187,27 @@ fn bad_mpm_scene_input_names_the_key() {
              room_temperature = 293, thermal_exponent = 1, specific_heat = 383, taylor_quinney = 1.5 }",
             "materials.m.mpm.plasticity.taylor_quinney",
             "[0, 1]",
+        ),
+        (
+            "elasticity = \"neo-hookean\"\nenergy_release_rate = -1",
+            "materials.m.mpm.energy_release_rate",
+            "positive finite",
+        ),
+        (
+            "elasticity = \"neo-hookean\"\nerosion_release_rate = 1",
+            "materials.m.mpm.erosion_release_rate",
+            "add energy_release_rate",
+        ),
+        (
+            "elasticity = \"neo-hookean\"\nenergy_release_rate = 1\nerosion_release_rate = 0",
+            "materials.m.mpm.erosion_release_rate",
+            "positive finite",
+        ),
+        (
+            "energy_release_rate = 1\nplasticity = { type = \"snow\", critical_compression = 0.025, \
+             critical_stretch = 0.0075 }",
+            "materials.m.mpm.energy_release_rate",
+            "remove plasticity or energy_release_rate",
         ),
     ] {
         let text = SCENE.replace("elasticity = \"neo-hookean\"", replacement);
@@ -287,10 +334,20 @@ fn scene_run() {
         manifest.status,
         (n as f64 * steps as f64) / wall
     );
+    if let Some(region) = frame.extra("region") {
+        let mut pieces: Vec<u32> = frame.fragment.iter().map(|&f| f as u32).collect();
+        pieces.sort_unstable();
+        pieces.dedup();
+        println!(
+            "  SPB-MPM: {} peridynamic particles, {} pieces, mean damage {:.3}",
+            region.iter().filter(|&&r| r == 1.0).count(),
+            pieces.len(),
+            frame.damage.iter().map(|&d| f64::from(d)).sum::<f64>() / n as f64
+        );
+    }
     for b in 0..scene.bodies.len() {
-        // An MPM particle's fragment is its body.
         let members: Vec<usize> = (0..n)
-            .filter(|&i| frame.fragment[i] as usize == b)
+            .filter(|&i| frame.material[i] as usize == b)
             .collect();
         let mean = |a: usize| {
             members

@@ -26,6 +26,18 @@ pub struct MpmSpec {
     /// Plastic flow (`[materials.NAME.mpm.plasticity]`, with a `type`). Default none.
     #[serde(default)]
     pub plasticity: MpmPlasticity,
+    /// Critical energy release rate G_p of the peridynamic bonds (J/m², Lyu Eq.
+    /// 6.12): given, the material fractures by SPB-MPM (Lyu ch. 6), its particles
+    /// turning peridynamic where the grid's released energy erodes a cell. Default
+    /// none (the material never fractures).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub energy_release_rate: Option<f64>,
+    /// The released energy G_i at which eigenerosion turns a cell's particles
+    /// peridynamic (J/m², Lyu Eq. 6.10). Default: `energy_release_rate` (the thesis:
+    /// "theoretically the same"); lower makes the peridynamic region grow ahead of
+    /// the crack.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub erosion_release_rate: Option<f64>,
 }
 
 impl Default for MpmSpec {
@@ -36,6 +48,8 @@ impl Default for MpmSpec {
             shock_slope: default_shock_slope(),
             gruneisen: default_gruneisen(),
             plasticity: MpmPlasticity::default(),
+            energy_release_rate: None,
+            erosion_release_rate: None,
         }
     }
 }

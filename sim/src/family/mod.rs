@@ -158,8 +158,48 @@ pub fn count_bonds(positions: &[[f64; 3]], body: &[u32], delta: &[f64]) -> Resul
     let tree = build_tree(positions)?;
     Ok((0..positions.len())
         .into_par_iter()
-        .map(|i| neighbours_of(&tree, positions, body, delta, &[], &[], i).len())
+        .map(|i| neighbours_of(&tree, positions, body, delta[i], None, &|_| 0.0, i).len())
         .sum())
+}
+
+/// A neighbour search over fixed reference positions, for a model that builds the
+/// family of one particle at a time (SPB-MPM's peridynamic particles join as the
+/// grid erodes their cells).
+pub struct Search {
+    tree: ImmutableKdTree<f64, 3>,
+}
+
+impl std::fmt::Debug for Search {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Search").finish_non_exhaustive()
+    }
+}
+
+impl Search {
+    /// The search over `positions`.
+    ///
+    /// # Errors
+    /// [`SimError::Refused`] if the tree cannot be built (too many particles).
+    pub fn new(positions: &[[f64; 3]]) -> Result<Search> {
+        Ok(Search {
+            tree: build_tree(positions)?,
+        })
+    }
+
+    /// The family of particle `i` as [`build_through`] finds it: the particles of its
+    /// body within `delta` of it (not itself), through `solid` when given, sorted by
+    /// index. `positions` and `body` are those the search was built over.
+    pub fn family(
+        &self,
+        positions: &[[f64; 3]],
+        body: &[u32],
+        i: usize,
+        delta: f64,
+        solid: Option<&Solid>,
+    ) -> Vec<u32> {
+        let depth = |k: usize| solid.map_or(0.0, |s| s.sdf.distance(positions[k]));
+        neighbours_of(&self.tree, positions, body, delta, solid, &depth, i)
+    }
 }
 
 fn build_tree(positions: &[[f64; 3]]) -> Result<ImmutableKdTree<f64, 3>> {
@@ -223,16 +263,17 @@ impl Solid<'_> {
     }
 }
 
+/// The family of particle `i`: particles of its body within `d` and, with a `solid`,
+/// joined to it inside that solid (`depth(k)` is particle k's signed distance to it).
 fn neighbours_of(
     tree: &ImmutableKdTree<f64, 3>,
     positions: &[[f64; 3]],
     body: &[u32],
-    delta: &[f64],
-    solids: &[Option<Solid>],
-    depth: &[f64],
+    d: f64,
+    solid: Option<&Solid>,
+    depth: &dyn Fn(usize) -> f64,
     i: usize,
 ) -> Vec<u32> {
-    let d = delta[i];
     let found = tree
         .query(&positions[i])
         .within::<SquaredEuclidean<f64>>(d * d)
@@ -249,10 +290,9 @@ fn neighbours_of(
             r2 <= d * d
         })
         .filter(|&j| {
-            let solid = solids.get(body[i] as usize).and_then(Option::as_ref);
             solid.is_none_or(|s| {
                 let (lo, hi) = (i.min(j as usize), i.max(j as usize));
-                s.contains_segment(positions[lo], positions[hi], depth[lo], depth[hi])
+                s.contains_segment(positions[lo], positions[hi], depth(lo), depth(hi))
             })
         })
         .collect();
@@ -303,7 +343,10 @@ pub fn build_through(
         .collect();
     let families: Vec<Vec<u32>> = (0..n)
         .into_par_iter()
-        .map(|i| neighbours_of(&tree, positions, body, delta, solids, &depth, i))
+        .map(|i| {
+            let solid = solids.get(body[i] as usize).and_then(Option::as_ref);
+            neighbours_of(&tree, positions, body, delta[i], solid, &|k| depth[k], i)
+        })
         .collect();
     let mut offsets = Vec::with_capacity(n + 1);
     offsets.push(0usize);

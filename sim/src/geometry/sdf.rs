@@ -13,7 +13,7 @@ pub(crate) use self::features::mesh as mesh_features;
 pub use self::features::{Features, MESH_CREASE_ANGLE_DEG};
 
 /// A solid shape described by a signed distance function.
-pub trait Sdf: Sync {
+pub trait Sdf: Send + Sync {
     /// Signed distance (negative inside) at p. Exact or a conservative bound (|grad| <= 1).
     fn distance(&self, p: [f64; 3]) -> f64;
 

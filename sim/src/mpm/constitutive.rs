@@ -193,6 +193,11 @@ impl Elastic {
         }
     }
 
+    /// Young's modulus E = μ(3λ + 2μ)/(λ + μ).
+    pub fn young(&self) -> f64 {
+        self.mu * (3.0 * self.lambda + 2.0 * self.mu) / (self.lambda + self.mu)
+    }
+
     /// The parameters (μ̃, λ̃, α) of the stable Neo-Hookean energy (Smith et al. 2018
     /// §3.4): μ̃ = 4μ/3 and λ̃ = λ + 5μ/6 so that it linearizes to the Lamé moduli μ, λ
     /// of the scene, and α = 1 + 3μ̃/(4λ̃) so that P(I) = 0 (rest stability). Lyu's

@@ -235,6 +235,33 @@ impl SparseGrid {
         }));
     }
 
+    /// After a P2G that carried a scalar s_p as the velocity's first component (and no
+    /// affine momentum), each particle's Σ_i w_ip m_p s_p / m_i at its nearest node, the
+    /// centre of its stencil: the mass-weighted scalar of the cell it lies in (Lyu Eq.
+    /// 6.10 reads the released energy there).
+    pub fn centre_ratio(&self, position: &[[f64; 3]]) -> Vec<f64> {
+        let inv_dx = 1.0 / self.dx;
+        position
+            .par_iter()
+            .with_min_len(256)
+            .map(|x| {
+                let centre = Stencil::new(*x, inv_dx).base.map(|b| b + 1);
+                let block = centre.map(|c| c >> BLOCK_SHIFT);
+                let Some(&slot) = self.slot.get(&block_key(block)) else {
+                    return 0.0;
+                };
+                let local = centre.map(|c| (c & (BLOCK as i64 - 1)) as usize);
+                let node = self.nodes
+                    [slot as usize * BLOCK_NODES + cube_index(local[0], local[1], local[2], BLOCK)];
+                if node[0] > 0.0 {
+                    node[1] / node[0]
+                } else {
+                    0.0
+                }
+            })
+            .collect()
+    }
+
     /// Sorts the particles into bins and allocates the blocks their stencils touch.
     pub fn rebuild(&mut self, position: &[[f64; 3]]) {
         let inv_dx = 1.0 / self.dx;

@@ -31,6 +31,9 @@
 
 pub mod constitutive;
 pub mod grid;
+#[cfg(test)]
+mod patch_tests;
+pub mod patches;
 pub mod plasticity;
 mod seed;
 #[cfg(test)]
@@ -48,6 +51,7 @@ use crate::scene::Scene;
 use crate::scene::{MpmElasticity, MpmPlasticity, MpmTransfer};
 use constitutive::{Elastic, IDENTITY, Mat3};
 use grid::{Boundary, D_INVERSE_FACTOR, SparseGrid};
+use patches::{Fracture, Measure, PatchBody, Patches};
 use plasticity::{FlowInput, Plasticity};
 
 pub use seed::{PARTICLES_PER_CELL_AXIS, SEED_JITTER};
@@ -196,7 +200,7 @@ struct StageTimes {
 }
 
 /// The MLS-MPM model of a scene's bodies on one sparse grid.
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub struct Mpm {
     /// The particles.
     pub particles: MpmParticles,
@@ -206,6 +210,8 @@ pub struct Mpm {
     pub grid: SparseGrid,
     /// The velocity transfer.
     pub transfer: Transfer,
+    /// SPB-MPM's peridynamic particles, when a material fractures.
+    pub patches: Option<Patches>,
     /// Scratch: each particle's affine momentum A_p of [`SparseGrid::p2g`].
     momentum_affine: Vec<Mat3>,
     /// Scratch: the anchored particles of this step and their anchors' velocities.
@@ -223,6 +229,7 @@ impl Mpm {
             materials,
             grid: SparseGrid::new(dx),
             transfer: Transfer::Apic,
+            patches: None,
             momentum_affine: vec![[[0.0; 3]; 3]; n],
             held: Vec::new(),
             times: StageTimes::default(),
@@ -329,6 +336,26 @@ impl Mpm {
             .map(|b| b.resolution)
             .fold(f64::INFINITY, f64::min);
         let mut model = Mpm::new(particles, materials, dx);
+        let shapes = crate::geometry::shape::bond_shapes(scene)?;
+        let bodies = scene
+            .bodies
+            .iter()
+            .zip(shapes)
+            .zip(&model.materials)
+            .map(|((b, shape), material)| {
+                let spec = scene.materials[&b.material].mpm.clone().unwrap_or_default();
+                PatchBody {
+                    fracture: spec.energy_release_rate.map(|g| Fracture {
+                        release_rate: g,
+                        erosion_rate: spec.erosion_release_rate.unwrap_or(g),
+                        young: material.elastic.young(),
+                    }),
+                    shape,
+                    resolution: b.resolution,
+                }
+            })
+            .collect();
+        model.patches = Patches::new(bodies, model.particles.len(), dx);
         let settings = scene.mpm.unwrap_or_default();
         model.transfer = match settings.transfer {
             MpmTransfer::Apic => Transfer::Apic,
@@ -367,8 +394,18 @@ impl Mpm {
     }
 
     /// One explicit MLS-MPM step of length `dt`: `sort → stress → p2g → grid_update →
-    /// g2p → plasticity`.
-    pub fn step(&mut self, dt: f64, boundary: &Boundary<'_>) {
+    /// g2p → plasticity`; with SPB-MPM's patches, their bonds act before the stress and
+    /// after G2P and eigenerosion after the stress ([`patches`]).
+    ///
+    /// Returns how many (directed) bonds broke.
+    ///
+    /// # Errors
+    /// [`SimError::Refused`] if the patches' neighbour search cannot be built.
+    pub fn step(&mut self, dt: f64, boundary: &Boundary<'_>) -> Result<usize> {
+        let broken = match &mut self.patches {
+            Some(patches) => patches.prepare(&self.particles, &self.materials),
+            None => 0,
+        };
         let t0 = Instant::now();
         self.grid.rebuild(&self.particles.position);
         if self.held.is_empty() {
@@ -388,6 +425,9 @@ impl Mpm {
         }
         let t1 = Instant::now();
         self.stress(dt);
+        if let Some(patches) = &mut self.patches {
+            patches.erode(&self.particles, &self.materials, &mut self.grid)?;
+        }
         let t2 = Instant::now();
         let p = &self.particles;
         let flip = match self.transfer {
@@ -400,6 +440,12 @@ impl Mpm {
                 Some(flip_ratio)
             }
         };
+        if let Some(patches) = &self.patches {
+            // The bond forces reach the grid as particle forces do: Δt f_p / m_p on
+            // v_p before the transfer.
+            patches.apply(dt, &mut self.particles);
+        }
+        let p = &self.particles;
         self.grid
             .p2g(&p.position, &p.mass, &p.velocity, &self.momentum_affine);
         let t3 = Instant::now();
@@ -423,6 +469,7 @@ impl Mpm {
         self.times.grid += (t4 - t3).as_secs_f64();
         self.times.g2p += (t5 - t4).as_secs_f64();
         self.times.plasticity += (t6 - t5).as_secs_f64();
+        Ok(broken)
     }
 
     /// Each particle's affine momentum A_p = m_p C_p − Δt V_p⁰ D⁻¹ τ_p (MLS-MPM, Hu et
@@ -438,15 +485,28 @@ impl Mpm {
         };
         let (deformation, volume, mass, affine, body) =
             (&p.deformation, &p.volume, &p.mass, &p.affine, &p.body);
+        let patches = self.patches.as_ref();
         let kernel = |i: usize, a: &mut Mat3, e: Option<&mut f64>| {
             let material = &materials[body[i] as usize];
-            let f = &deformation[i];
-            let tau = material.kirchhoff(f, e.as_deref().copied().unwrap_or(0.0));
-            if let Some(e) = e {
+            // A peridynamic particle's forces come from its bonds, not the grid; its
+            // stress (for the shock model's Eq. 7.3) is σ(F^PD).
+            let (f, member) = match patches.and_then(|patches| patches.measure(i)) {
+                Some(Measure::Bonds(f)) => (Some(f), true),
+                Some(Measure::Free) => (None, true),
+                Some(Measure::Material) => (Some(deformation[i]), true),
+                None => (Some(deformation[i]), false),
+            };
+            let energy = e.as_deref().copied().unwrap_or(0.0);
+            let stress = f.map(|f| (material.kirchhoff(&f, energy), f));
+            if let (Some(e), Some((tau, f))) = (e, &stress) {
                 let j = constitutive::determinant(f);
                 let sigma = tau.map(|row| row.map(|x| x / j));
                 *e += plasticity::internal_energy_increment(dt, &affine[i], &sigma);
             }
+            let tau = match stress {
+                Some((tau, _)) if !member => tau,
+                _ => [[0.0; 3]; 3],
+            };
             let scale = dt * volume[i] * d_inv;
             let m = affine_share * mass[i];
             for ((row, c_row), tau_row) in a.iter_mut().zip(&affine[i]).zip(&tau) {
@@ -624,8 +684,7 @@ impl Model for Mpm {
             colliders: environment.colliders,
         };
         self.hold(environment.anchors, environment.time);
-        self.step(dt, &boundary);
-        Ok(0)
+        self.step(dt, &boundary)
     }
 
     /// min(ELASTIC_COURANT Δx / c_p, CFL Δx / v_max); the limiting particle is the
@@ -683,13 +742,22 @@ impl Model for Mpm {
     fn particles(&self) -> ParticleColumns {
         let p = &self.particles;
         let f32x3 = |v: &[f64; 3]| v.map(|x| x as f32);
+        // The search behind the fragments was built when the first particle joined.
+        let fragment = self
+            .patches
+            .as_ref()
+            .and_then(|patches| patches.fragments(p).ok())
+            .unwrap_or_else(|| p.body.clone());
         ParticleColumns {
             position: p.position.iter().map(f32x3).collect(),
             velocity: p.velocity.iter().map(f32x3).collect(),
-            damage: vec![0.0; p.len()],
+            damage: self
+                .patches
+                .as_ref()
+                .map_or_else(|| vec![0.0; p.len()], Patches::damage),
             plastic: p.plastic.iter().map(|&e| e as f32).collect(),
             body: p.body.clone(),
-            fragment: p.body.clone(),
+            fragment,
             extra: vec![
                 // The current volume V_p = J_p V_p⁰.
                 (
@@ -722,6 +790,15 @@ impl Model for Mpm {
                     p.temperature.iter().map(|&t| t as f32).collect(),
                 )
             }))
+            .chain(self.patches.as_ref().map(|patches| {
+                // SPB-MPM's region: 0 a material point, 1 a peridynamic particle.
+                (
+                    "region".to_string(),
+                    (0..p.len())
+                        .map(|i| f32::from(u8::from(patches.is_member(i))))
+                        .collect(),
+                )
+            }))
             .collect(),
         }
     }
@@ -735,6 +812,9 @@ impl Model for Mpm {
         out.put_f64_slice(&p.plastic);
         out.put_f64_slice(&p.internal_energy);
         out.put_f64_slice(&p.temperature);
+        if let Some(patches) = &self.patches {
+            patches.save(out);
+        }
     }
 
     fn restore(&mut self, input: &mut Decoder<'_>) -> Result<()> {
@@ -759,7 +839,21 @@ impl Model for Mpm {
             let message = format!("particle {i} has a temperature at or below 0 K");
             return Err(input.error("MPM temperatures", message).into());
         }
+        if let Some(patches) = &mut self.patches {
+            patches.restore(input, &self.particles)?;
+        }
         Ok(())
+    }
+
+    /// SPB-MPM's bonds (both directions), built as particles turn peridynamic.
+    fn bonds(&self) -> usize {
+        self.patches.as_ref().map_or(0, Patches::bonds)
+    }
+
+    fn broken_bonds(&self) -> u64 {
+        self.patches
+            .as_ref()
+            .map_or(0, |patches| patches.broken_bonds() as u64)
     }
 
     fn stage_times(&self) -> Vec<(&'static str, f64)> {
@@ -771,10 +865,21 @@ impl Model for Mpm {
             ("g2p", self.times.g2p),
             ("plasticity", self.times.plasticity),
         ]
+        .into_iter()
+        .chain(self.patches.iter().flat_map(|patches| {
+            [
+                ("spb erosion", patches.times.erode),
+                ("spb bonds", patches.times.evolve),
+            ]
+        }))
+        .collect()
     }
 
     fn reset_stage_times(&mut self) {
         self.times = StageTimes::default();
+        if let Some(patches) = &mut self.patches {
+            patches.times = patches::PatchTimes::default();
+        }
     }
 }
 

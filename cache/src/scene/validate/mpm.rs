@@ -99,6 +99,7 @@ fn mpm_material(name: &str, spec: &MpmSpec) -> Check {
         spec.gruneisen,
         "the Grüneisen parameter γ",
     )?;
+    fracture(name, spec)?;
     let plastic = |key: &'static str| ["materials", name, "mpm", "plasticity", key];
     match spec.plasticity {
         MpmPlasticity::None => {}
@@ -236,6 +237,43 @@ fn mpm_material(name: &str, spec: &MpmSpec) -> Check {
                 ));
             }
         }
+    }
+    Ok(())
+}
+
+/// The SPB-MPM keys of one `[materials.NAME.mpm]` (Lyu ch. 6).
+fn fracture(name: &str, spec: &MpmSpec) -> Check {
+    let at = |key: &'static str| ["materials", name, "mpm", key];
+    let Some(g) = spec.energy_release_rate else {
+        if spec.erosion_release_rate.is_some() {
+            return Err(issue(
+                &at("erosion_release_rate"),
+                "eigenerosion turns particles peridynamic for SPB-MPM fracture, which \
+                 energy_release_rate turns on: add energy_release_rate = <J/m²> or remove \
+                 erosion_release_rate",
+            ));
+        }
+        return Ok(());
+    };
+    positive(
+        &at("energy_release_rate"),
+        g,
+        "the energy release rate G_p of the bonds (J/m²)",
+    )?;
+    if let Some(erosion) = spec.erosion_release_rate {
+        positive(
+            &at("erosion_release_rate"),
+            erosion,
+            "the released energy at which a cell erodes (J/m²)",
+        )?;
+    }
+    if spec.plasticity != MpmPlasticity::None {
+        return Err(issue(
+            &at("energy_release_rate"),
+            "SPB-MPM fracture takes elastic materials (fixed corotated, Neo-Hookean, stable \
+             Neo-Hookean, shock); its peridynamic particles have no plastic flow yet: remove \
+             plasticity or energy_release_rate",
+        ));
     }
     Ok(())
 }

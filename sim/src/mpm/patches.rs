@@ -1,0 +1,687 @@
+//! SPB-MPM (Lyu 2021 ch. 6): peridynamic particles superposed on the MLS-MPM where
+//! the grid's released energy erodes a cell, with bonds that break by their energy.
+//!
+//! **Eigenerosion** (Eq. 6.9–6.10). Each particle of a fracturing material keeps the
+//! history EE_p = max(EE_p, Φ(σ_p⁺)) (§6.2.3, after Wolper et al. 2019), with σ⁺ the
+//! positive eigenvalues of its Cauchy stress and Φ(σ⁺) = σ⁺:σ⁺ / (2E). The thesis
+//! prints σ⁺:σ⁺, in Pa², which makes G_i Pa²·m and not an energy release rate; over 2E
+//! it is the tensile part of the linear elastic energy density, so G_i compares with
+//! G_p in J/m². P2G carries it: G_i = l₀ Σ_p w_ip m_p EE_p / m_i, with l₀ = 2δ (Eq. 6.9:
+//! eroding a neighbourhood of radius ε = δ releases ψ|C_ε| against G_p |C_ε| / (2ε)).
+//! A particle whose nearest node (the cell it lies in) reaches G_i ≥ the material's
+//! `erosion_release_rate` joins Ω^PD for good.
+//!
+//! **Families** are built when a particle joins (only Ω^PD pays for bonds): its
+//! reference neighbours within δ = [`HORIZON_CELLS`] Δx in its body, through its shape
+//! as for peridynamic bodies (issue 13), MPM particles or not.
+//!
+//! **Correspondence** (Eq. 6.7–6.8): over a member's intact bonds,
+//! K_p = Σ ω X⊗X V_q and F_p^PD = (Σ ω Y⊗X V_q) K_p⁻¹ with ω = δ/|X|, decreasing with
+//! the bond length as §6.2.2 says (Algorithm 3 prints |X|/l₀, which grows); the bond
+//! force state is T_pq = ω P_p K_p⁻¹ X with P = J σ F⁻ᵀ the first Piola–Kirchhoff stress
+//! of the material's own MPM model at F^PD (Eq. 6.8 prints det F F⁻¹ σ K⁻¹ X = Pᵀ K⁻¹ X,
+//! the transpose, which differs from P whenever F is not symmetric; the ω of Eq. 6.6
+//! is the bond's 0/1 state, not a second weight).
+//!
+//! **Forces** (Eq. 6.2–6.6). Each particle's stress acts once: a material point's
+//! through the grid (MLS-MPM), a member's through its bonds. A member puts no stress on
+//! the grid; a bond from member p to member q carries T_pq − T_qp (Eq. 6.6), a bond to
+//! a material point q of the MPM region (the halo) only T_pq, with −T_pq on q, since
+//! q's own stress is on the grid already. The forces reach the particles as any
+//! particle force does in MPM, Δt f_p / m_p on v_p before P2G, so every particle moves
+//! with the grid's velocities: an intact patch deforms as the MPM region around it,
+//! and momentum is kept pair by pair. Two departures from Algorithm 3, each measured
+//! on the bar half peridynamic of the tests: (1) Algorithm 3 corrects x and v after
+//! G2P; positions moved apart from the grid's flow leave F^MPM behind them, and the
+//! MPM region next to the patch let go of it (4 mm of a 6 mm stretch opened at the
+//! patch's edge; with the forces through P2G the two halves carry σ_yy within 0.2%);
+//! (2) counting a halo particle's stress on its bonds as well as on the grid pulled
+//! the halo off the MPM region below it (a gap of the same size).
+//!
+//! **Failure** (Eq. 6.11–6.13): W = (T_pq − T_qp)·U with U = Y − X; a bond breaks for
+//! good when W > W_c = 4G_p/(π δ⁴) (3D). Only bonds between two peridynamic particles
+//! break: cracks live in Ω^PD, which eigenerosion grows ahead of them.
+//!
+//! **Zero-energy modes.** A correspondence model's particle-scale modes leave F^PD
+//! unchanged. Here the particles move with the grid's velocity field, which is smooth
+//! on the scale Δx, so those modes cannot be excited and no penalty term is added
+//! (tested: the half peridynamic bar stretches as smoothly as its MPM half).
+//!
+//! Order in a step: [`Patches::prepare`] (states at x^n, failure, bond forces) →
+//! stress (none for members) → [`Patches::erode`] (Φ at F^PD, G_i, joins) →
+//! [`Patches::apply`] (the bond forces) → P2G → grid → G2P. Everything a step needs
+//! follows from the checkpointed positions, histories and bonds, so a resumed run
+//! gives the same bytes.
+
+use perifrac_math::{UnionFind, det3, dot, inverse3, mat_mul, mat_vec, norm, sub};
+use rayon::prelude::*;
+
+use super::MpmMaterial;
+use super::MpmParticles;
+use super::constitutive::{self, Mat3};
+use super::grid::SparseGrid;
+use crate::cache::checkpoint::{Decoder, Encoder};
+use crate::error::Result;
+use crate::family::{BROKEN, INDEX, Search, Solid};
+use crate::geometry::Sdf;
+
+/// The horizon δ in grid spacings: 3 particle spacings at 8 particles a cell, about
+/// 110 neighbours (Table 6.2 uses H_p = 100).
+pub const HORIZON_CELLS: f64 = 1.5;
+/// l₀ of Eq. 6.10 in horizons (see the module documentation).
+pub const RELEASE_LENGTH_HORIZONS: f64 = 2.0;
+/// A member measures F and carries stress while the smallest eigenvalue of its shape
+/// tensor over the intact bonds is at least this share of its whole family's mean
+/// one, tr K⁰/3; below it the member has lost its bonds (a loose particle). A family
+/// cut in half by a crack keeps 1/2 across it; one with a few bonds left (a line, a
+/// sliver) has a K⁻¹ that makes the bond forces of Eq. 6.8 too stiff for the step:
+/// with det K > 0 the only bound, a particle with 8% of its bonds left blew the
+/// notched bar up within 4 steps. At 0.2 the 2 cm grid's bar shattered a 4 cm band
+/// into loose particles; at 0.1 it splits within 1 cm of the notch.
+pub const MIN_SHAPE: f64 = 0.1;
+/// The slot of a particle outside Ω^PD.
+const OUTSIDE: u32 = u32::MAX;
+
+/// A fracturing material's keys (`[materials.NAME.mpm]`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Fracture {
+    /// G_p of the bonds (J/m², Eq. 6.12).
+    pub release_rate: f64,
+    /// The released energy G_i at which a cell erodes (J/m², Eq. 6.10).
+    pub erosion_rate: f64,
+    /// Young's modulus E of Φ = σ⁺:σ⁺ / (2E) (Pa).
+    pub young: f64,
+}
+
+/// What a body brings to the patches.
+pub struct PatchBody {
+    /// Its fracture, or `None`: its particles never join Ω^PD.
+    pub fracture: Option<Fracture>,
+    /// Its shape when it is not convex: bonds stay inside it.
+    pub shape: Option<Box<dyn Sdf>>,
+    /// Its resolution λ (the shape's sampling step, [`Solid::of`]).
+    pub resolution: f64,
+}
+
+/// The stress a member puts on the grid this step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Measure {
+    /// σ(F^PD) of its intact bonds.
+    Bonds(Mat3),
+    /// σ(F^MPM): its bonds measure an inverted F^PD, so the material point's own F
+    /// stands in.
+    Material,
+    /// None: its intact bonds span a plane or a line (a free fragment of one particle).
+    Free,
+}
+
+/// One member's correspondence state at the step's start.
+#[derive(Debug, Clone, Copy)]
+struct State {
+    measure: Measure,
+    /// P_p K_p⁻¹, so that T_pq = ω P_p K_p⁻¹ X (zero when free).
+    force: Mat3,
+}
+
+/// Wall time of the patches' stages (s).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PatchTimes {
+    /// States, failure and bond forces ([`Patches::prepare`], [`Patches::apply`]).
+    pub evolve: f64,
+    /// Φ, G_i and joins ([`Patches::erode`]).
+    pub erode: f64,
+}
+
+/// The peridynamic particles of an MPM model and their bonds.
+pub struct Patches {
+    bodies: Vec<PatchBody>,
+    /// The horizon δ (m).
+    pub horizon: f64,
+    /// EE_p = max Φ(σ_p⁺) so far (J/m³), one entry a particle.
+    history: Vec<f64>,
+    /// Each particle's member slot, or [`OUTSIDE`].
+    slot: Vec<u32>,
+    /// The members (particle indices) in the order they joined.
+    members: Vec<u32>,
+    /// Each member's family: neighbour indices, [`BROKEN`] set on broken bonds.
+    families: Vec<Vec<u32>>,
+    /// Scratch: each member's state this step.
+    states: Vec<State>,
+    /// Scratch: this step's bond accelerations of the members and their halo.
+    accelerations: Vec<(u32, [f64; 3])>,
+    /// The reference neighbour search, built when the first particle joins.
+    search: Option<Search>,
+    /// Stage timers.
+    pub times: PatchTimes,
+}
+
+impl std::fmt::Debug for Patches {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Patches")
+            .field("horizon", &self.horizon)
+            .field("members", &self.members.len())
+            .finish_non_exhaustive()
+    }
+}
+
+impl Patches {
+    /// The patches of `n` particles on a grid of spacing `dx`; `None` when no body
+    /// fractures (the scene pays nothing).
+    pub fn new(bodies: Vec<PatchBody>, n: usize, dx: f64) -> Option<Patches> {
+        bodies
+            .iter()
+            .any(|b| b.fracture.is_some())
+            .then(|| Patches {
+                bodies,
+                horizon: HORIZON_CELLS * dx,
+                history: vec![0.0; n],
+                slot: vec![OUTSIDE; n],
+                members: Vec::new(),
+                families: Vec::new(),
+                states: Vec::new(),
+                accelerations: Vec::new(),
+                search: None,
+                times: PatchTimes::default(),
+            })
+    }
+
+    /// The particles in Ω^PD, in the order they joined.
+    pub fn members(&self) -> &[u32] {
+        &self.members
+    }
+
+    /// Whether particle `p` is peridynamic.
+    pub fn is_member(&self, p: usize) -> bool {
+        self.slot[p] != OUTSIDE
+    }
+
+    /// The stress measure of member `p` this step (`None` outside Ω^PD; a particle
+    /// that joined this step measures with its material point's F until the next).
+    pub fn measure(&self, p: usize) -> Option<Measure> {
+        match self.slot[p] {
+            OUTSIDE => None,
+            s => Some(
+                self.states
+                    .get(s as usize)
+                    .map_or(Measure::Material, |s| s.measure),
+            ),
+        }
+    }
+
+    /// Broken bonds over all bonds of each particle (0 outside Ω^PD).
+    pub fn damage(&self) -> Vec<f32> {
+        let mut damage = vec![0.0; self.slot.len()];
+        for (&p, family) in self.members.iter().zip(&self.families) {
+            let broken = family.iter().filter(|&&nb| nb & BROKEN != 0).count();
+            damage[p as usize] = broken as f32 / family.len().max(1) as f32;
+        }
+        damage
+    }
+
+    /// The number of bonds (each counted from both ends, as for peridynamics).
+    pub fn bonds(&self) -> usize {
+        self.families.iter().map(Vec::len).sum()
+    }
+
+    /// The number of broken bonds (each counted from both ends).
+    pub fn broken_bonds(&self) -> usize {
+        self.families
+            .iter()
+            .flatten()
+            .filter(|&&nb| nb & BROKEN != 0)
+            .count()
+    }
+
+    /// W_c = 4G_p / (π δ⁴) of body `b` (Eq. 6.12, 3D).
+    pub fn critical_energy(&self, b: usize) -> f64 {
+        self.bodies[b].fracture.map_or(f64::INFINITY, |f| {
+            4.0 * f.release_rate / (std::f64::consts::PI * self.horizon.powi(4))
+        })
+    }
+
+    /// T_pq − T_qp of the bond from `p` to `q` (Eq. 6.8), with the states of this step.
+    fn bond_force(&self, p: usize, q: usize, x0: &[[f64; 3]]) -> [f64; 3] {
+        let xi = sub(x0[q], x0[p]);
+        let omega = self.horizon / norm(xi);
+        let fp = self.states[self.slot[p] as usize].force;
+        let fq = self.states[self.slot[q] as usize].force;
+        let tpq = mat_vec(fp, xi);
+        let tqp = mat_vec(fq, xi.map(|c| -c));
+        [0, 1, 2].map(|a| omega * tpq[a] - omega * tqp[a])
+    }
+
+    /// At the step's start: each member's K, F^PD and P at the positions x^n
+    /// (Eq. 6.7–6.8); bonds whose energy W exceeds W_c break (Eq. 6.11–6.13); each
+    /// member's and halo particle's acceleration by the bonds (see the module
+    /// documentation). Returns how many directed bonds broke.
+    pub fn prepare(&mut self, particles: &MpmParticles, materials: &[MpmMaterial]) -> usize {
+        let started = std::time::Instant::now();
+        let p = particles;
+        let delta = self.horizon;
+        self.states = self
+            .members
+            .par_iter()
+            .zip(&self.families)
+            .map(|(&i, family)| state(i as usize, family, p, materials, delta))
+            .collect();
+        let critical: Vec<f64> = (0..self.bodies.len())
+            .map(|b| self.critical_energy(b))
+            .collect();
+        let this = &*self;
+        let broken: Vec<Vec<usize>> = self
+            .members
+            .par_iter()
+            .zip(&self.families)
+            .map(|(&i, family)| {
+                let i = i as usize;
+                let w_c = critical[p.body[i] as usize];
+                let free = this.states[this.slot[i] as usize].measure == Measure::Free;
+                family
+                    .iter()
+                    .enumerate()
+                    .filter(|&(_, &nb)| nb & BROKEN == 0)
+                    .filter(|&(_, &nb)| {
+                        let q = (nb & INDEX) as usize;
+                        if free {
+                            // A member that measures no F has lost its bonds.
+                            return true;
+                        }
+                        if !this.is_member(q) {
+                            return false;
+                        }
+                        if this.states[this.slot[q] as usize].measure == Measure::Free {
+                            return true;
+                        }
+                        let u = sub(
+                            sub(p.position[q], p.position[i]),
+                            sub(p.reference[q], p.reference[i]),
+                        );
+                        dot(this.bond_force(i, q, &p.reference), u) > w_c
+                    })
+                    .map(|(k, _)| k)
+                    .collect()
+            })
+            .collect();
+        let mut count = 0;
+        for (family, broken) in self.families.iter_mut().zip(broken) {
+            count += broken.len();
+            for k in broken {
+                family[k] |= BROKEN;
+            }
+        }
+        self.forces(p);
+        self.times.evolve += started.elapsed().as_secs_f64();
+        count
+    }
+
+    /// The bond forces of this step (Eq. 6.6) as accelerations. Each particle's stress
+    /// acts once: a material point's through the grid, a member's through its bonds,
+    /// T_pq on p and −T_pq on q (Newton's third law). So a bond between two members
+    /// carries T_pq − T_qp, and a bond from a member to a material point of the halo
+    /// carries only the member's T_pq: the material point's own stress is already on
+    /// the grid (counting it on the bond too pulled the halo away from the MPM region
+    /// below it, which opened a gap there: 4.8 mm of a 6 mm stretch in the half
+    /// peridynamic bar of the tests).
+    fn forces(&mut self, p: &MpmParticles) {
+        let this = &*self;
+        // Each member's acceleration and the forces on its halo neighbours.
+        type Row = ([f64; 3], Vec<(u32, [f64; 3])>);
+        let rows: Vec<Row> = self
+            .members
+            .par_iter()
+            .zip(&self.families)
+            .map(|(&i, family)| {
+                let i = i as usize;
+                let own = &this.states[this.slot[i] as usize];
+                let mut sum = [0.0; 3];
+                let mut reactions = Vec::new();
+                for &nb in family.iter().filter(|&&nb| nb & BROKEN == 0) {
+                    let q = nb as usize;
+                    let xi = sub(p.reference[q], p.reference[i]);
+                    let omega = this.horizon / norm(xi);
+                    let back = xi.map(|c| -c);
+                    let tpq = mat_vec(own.force, xi);
+                    let member = this.is_member(q);
+                    let tqp = if member {
+                        mat_vec(this.states[this.slot[q] as usize].force, back)
+                    } else {
+                        [0.0; 3]
+                    };
+                    let pair = p.volume[i] * p.volume[q];
+                    let f = [0, 1, 2].map(|a| pair * (omega * tpq[a] - omega * tqp[a]));
+                    for a in 0..3 {
+                        sum[a] += f[a];
+                    }
+                    if !member {
+                        reactions.push((q as u32, f.map(|c| -c)));
+                    }
+                }
+                (sum.map(|c| c / p.mass[i]), reactions)
+            })
+            .collect();
+        let mut reactions: Vec<(u32, [f64; 3])> = Vec::new();
+        self.accelerations.clear();
+        for (&i, (a, r)) in self.members.iter().zip(rows) {
+            self.accelerations.push((i, a));
+            reactions.extend(r);
+        }
+        // A stable sort keeps each halo particle's reactions in member order.
+        reactions.sort_by_key(|&(q, _)| q);
+        for chunk in reactions.chunk_by(|a, b| a.0 == b.0) {
+            let q = chunk[0].0;
+            let mut total = [0.0; 3];
+            for (_, f) in chunk {
+                for a in 0..3 {
+                    total[a] += f[a];
+                }
+            }
+            let m = p.mass[q as usize];
+            self.accelerations.push((q, total.map(|c| c / m)));
+        }
+    }
+
+    /// Before P2G: the members and their halo take this step's bond accelerations,
+    /// v ← v + Δt a, which the transfer carries to the grid as any particle force
+    /// (Σ_p w_ip Δt f_p): the particles then move with the grid's velocities.
+    /// Algorithm 3 (line 21) corrects the velocity and the position after G2P
+    /// instead; positions moved apart from the grid's flow leave F^MPM behind them,
+    /// and the MPM region next to a patch let go of it (a bar half peridynamic opened
+    /// 4 mm at the edge of the patch under a 6 mm stretch, F^MPM there 1.01).
+    pub fn apply(&self, dt: f64, particles: &mut MpmParticles) {
+        for &(i, a) in &self.accelerations {
+            let v = &mut particles.velocity[i as usize];
+            for c in 0..3 {
+                v[c] += dt * a[c];
+            }
+        }
+    }
+
+    /// Eigenerosion (Eq. 6.9–6.10): updates each fracturing particle's history EE_p
+    /// from its stress this step, carries it to the grid (a P2G that leaves the nodes
+    /// to the real one after it) and adds the particles of eroded cells to Ω^PD, each
+    /// with its family. Returns how many joined.
+    ///
+    /// # Errors
+    /// [`crate::error::SimError::Refused`] if the neighbour search cannot be built.
+    pub fn erode(
+        &mut self,
+        particles: &MpmParticles,
+        materials: &[MpmMaterial],
+        grid: &mut SparseGrid,
+    ) -> Result<usize> {
+        let started = std::time::Instant::now();
+        let p = particles;
+        let this = &*self;
+        let phi: Vec<f64> = (0..p.len())
+            .into_par_iter()
+            .with_min_len(256)
+            .map(|i| {
+                let b = p.body[i] as usize;
+                let Some(fracture) = this.bodies[b].fracture else {
+                    return 0.0;
+                };
+                let f = match this.measure(i) {
+                    Some(Measure::Bonds(f)) => f,
+                    Some(Measure::Material) | None => p.deformation[i],
+                    Some(Measure::Free) => return 0.0,
+                };
+                let energy = p.internal_energy.get(i).copied().unwrap_or(0.0);
+                let tau = materials[b].kirchhoff(&f, energy);
+                let j = constitutive::determinant(&f);
+                let (values, _) = constitutive::symmetric_eigen(&tau);
+                let tension: f64 = values.iter().map(|&s| (s / j).max(0.0).powi(2)).sum();
+                tension / (2.0 * fracture.young)
+            })
+            .collect();
+        for (h, phi) in self.history.iter_mut().zip(phi) {
+            *h = h.max(phi);
+        }
+        let carried: Vec<[f64; 3]> = self.history.iter().map(|&h| [h, 0.0, 0.0]).collect();
+        let still = vec![[[0.0; 3]; 3]; p.len()];
+        grid.p2g(&p.position, &p.mass, &carried, &still);
+        let length = RELEASE_LENGTH_HORIZONS * self.horizon;
+        let released = grid.centre_ratio(&p.position);
+        let joining: Vec<usize> = (0..p.len())
+            .filter(|&i| self.slot[i] == OUTSIDE)
+            .filter(|&i| {
+                self.bodies[p.body[i] as usize]
+                    .fracture
+                    .is_some_and(|f| length * released[i] >= f.erosion_rate)
+            })
+            .collect();
+        if !joining.is_empty() {
+            self.join(&joining, p)?;
+        }
+        self.times.erode += started.elapsed().as_secs_f64();
+        Ok(joining.len())
+    }
+
+    /// Adds `joining` (increasing particle indices, none a member yet) to Ω^PD with
+    /// their families.
+    ///
+    /// # Errors
+    /// [`crate::error::SimError::Refused`] if the neighbour search cannot be built.
+    pub(super) fn join(&mut self, joining: &[usize], p: &MpmParticles) -> Result<()> {
+        if self.search.is_none() {
+            self.search = Some(Search::new(&p.reference)?);
+        }
+        let families: Vec<Vec<u32>> = joining.par_iter().map(|&i| self.family(i, p)).collect();
+        for (&i, family) in joining.iter().zip(families) {
+            self.slot[i] = self.members.len() as u32;
+            self.members.push(i as u32);
+            self.families.push(family);
+        }
+        Ok(())
+    }
+
+    /// The reference family of particle `i` (the search exists).
+    fn family(&self, i: usize, p: &MpmParticles) -> Vec<u32> {
+        let body = &self.bodies[p.body[i] as usize];
+        let solid = body
+            .shape
+            .as_deref()
+            .map(|sdf| Solid::of(sdf, body.resolution));
+        self.search
+            .as_ref()
+            .map(|s| s.family(&p.reference, &p.body, i, self.horizon, solid.as_ref()))
+            .unwrap_or_default()
+    }
+
+    /// Connected pieces, numbered by their smallest particle index in increasing
+    /// order: a member joins its intact bonds, a particle outside Ω^PD its reference
+    /// neighbours within δ (its bonds, were it peridynamic, which no crack has cut).
+    /// Before any particle joins, each body is one piece.
+    ///
+    /// # Errors
+    /// [`crate::error::SimError::Refused`] if the neighbour search cannot be built.
+    pub fn fragments(&self, particles: &MpmParticles) -> Result<Vec<u32>> {
+        let p = particles;
+        if self.members.is_empty() {
+            return Ok(p.body.clone());
+        }
+        let built;
+        let search = match &self.search {
+            Some(s) => s,
+            None => {
+                built = Search::new(&p.reference)?;
+                &built
+            }
+        };
+        let outside: Vec<Vec<u32>> = (0..p.len())
+            .into_par_iter()
+            .map(|i| {
+                if self.is_member(i) {
+                    return Vec::new();
+                }
+                let body = &self.bodies[p.body[i] as usize];
+                let solid = body
+                    .shape
+                    .as_deref()
+                    .map(|sdf| Solid::of(sdf, body.resolution));
+                search.family(&p.reference, &p.body, i, self.horizon, solid.as_ref())
+            })
+            .collect();
+        let mut sets = UnionFind::new(p.len());
+        for (i, family) in outside.iter().enumerate() {
+            for &j in family {
+                // A bond to a member is intact if its row says so.
+                let intact = match self.slot[j as usize] {
+                    OUTSIDE => true,
+                    s => {
+                        let row = &self.families[s as usize];
+                        row.binary_search_by_key(&(i as u32), |&nb| nb & INDEX)
+                            .is_ok_and(|k| row[k] & BROKEN == 0)
+                    }
+                };
+                if intact {
+                    sets.union(i, j as usize);
+                }
+            }
+        }
+        for (&i, family) in self.members.iter().zip(&self.families) {
+            for &nb in family.iter().filter(|&&nb| nb & BROKEN == 0) {
+                sets.union(i as usize, (nb & INDEX) as usize);
+            }
+        }
+        Ok(sets.labels())
+    }
+
+    /// Writes the histories, the members and their bonds.
+    pub fn save(&self, out: &mut Encoder) {
+        out.put_f64_slice(&self.history);
+        out.put_u64(self.members.len() as u64);
+        out.put_u32_slice(&self.members);
+        let lengths: Vec<u32> = self.families.iter().map(|f| f.len() as u32).collect();
+        out.put_u32_slice(&lengths);
+        let bonds: Vec<u32> = self.families.iter().flatten().copied().collect();
+        out.put_u64(bonds.len() as u64);
+        out.put_u32_slice(&bonds);
+    }
+
+    /// Reads what [`Patches::save`] wrote, refusing members or bonds that are not
+    /// this scene's particles and families that differ from those the reference
+    /// positions give.
+    ///
+    /// # Errors
+    /// A [`crate::cache::CacheError`] naming the field.
+    pub fn restore(&mut self, input: &mut Decoder<'_>, particles: &MpmParticles) -> Result<()> {
+        let n = self.slot.len();
+        let history = input.take_finite_f64_slice("SPB-MPM energy histories", n)?;
+        if let Some(i) = history.iter().position(|&h| h < 0.0) {
+            let message = format!("particle {i} has a negative released energy");
+            return Err(input.error("SPB-MPM energy histories", message).into());
+        }
+        let count = input.take_u64("SPB-MPM member count")?;
+        if count > n as u64 {
+            let message = format!("{count} members for {n} particles");
+            return Err(input.error("SPB-MPM member count", message).into());
+        }
+        let members = input.take_u32_slice_bounded("SPB-MPM members", count as usize, n as u32)?;
+        let lengths = input.take_u32_slice("SPB-MPM family sizes", count as usize)?;
+        let total = input.take_u64("SPB-MPM bond count")?;
+        if total != lengths.iter().map(|&l| u64::from(l)).sum::<u64>() {
+            let message = format!("{total} bonds do not add up to the family sizes");
+            return Err(input.error("SPB-MPM bond count", message).into());
+        }
+        let bonds = input
+            .take_u32_slice_checked("SPB-MPM bonds", total as usize, |v| (v & INDEX) < n as u32)?;
+        let mut slot = vec![OUTSIDE; n];
+        for (s, &i) in members.iter().enumerate() {
+            if slot[i as usize] != OUTSIDE {
+                let message = format!("particle {i} is a member twice");
+                return Err(input.error("SPB-MPM members", message).into());
+            }
+            slot[i as usize] = s as u32;
+        }
+        if !members.is_empty() && self.search.is_none() {
+            self.search = Some(Search::new(&particles.reference)?);
+        }
+        self.history = history;
+        self.slot = slot;
+        self.members = members;
+        let mut families = Vec::with_capacity(lengths.len());
+        let mut start = 0;
+        for (&i, &l) in self.members.iter().zip(&lengths) {
+            let family = bonds[start..start + l as usize].to_vec();
+            start += l as usize;
+            let expected = self.family(i as usize, particles);
+            if family
+                .iter()
+                .map(|&nb| nb & INDEX)
+                .ne(expected.iter().copied())
+            {
+                let message = format!("the family of particle {i} is not its reference neighbours");
+                return Err(input.error("SPB-MPM bonds", message).into());
+            }
+            families.push(family);
+        }
+        self.families = families;
+        Ok(())
+    }
+}
+
+/// Member `i`'s state: K and F^PD over its intact bonds (Eq. 6.7), P and P K⁻¹.
+fn state(
+    i: usize,
+    family: &[u32],
+    p: &MpmParticles,
+    materials: &[MpmMaterial],
+    delta: f64,
+) -> State {
+    let free = State {
+        measure: Measure::Free,
+        force: [[0.0; 3]; 3],
+    };
+    let mut shape = [[0.0; 3]; 3];
+    let mut moment = [[0.0; 3]; 3];
+    let mut whole = 0.0;
+    for &nb in family {
+        let q = (nb & INDEX) as usize;
+        let xi = sub(p.reference[q], p.reference[i]);
+        let w = delta / norm(xi) * p.volume[q];
+        whole += w * dot(xi, xi);
+        if nb & BROKEN != 0 {
+            continue;
+        }
+        let y = sub(p.position[q], p.position[i]);
+        for a in 0..3 {
+            for b in 0..3 {
+                shape[a][b] += w * xi[a] * xi[b];
+                moment[a][b] += w * y[a] * xi[b];
+            }
+        }
+    }
+    let (eigenvalues, _) = constitutive::symmetric_eigen(&shape);
+    let smallest = eigenvalues.iter().copied().fold(f64::INFINITY, f64::min);
+    let det = det3(&shape);
+    if smallest.is_nan() || smallest < MIN_SHAPE * whole / 3.0 || det <= 0.0 {
+        return free;
+    }
+    let shape_inverse = inverse3(&shape, det);
+    let bonds = mat_mul(&moment, &shape_inverse);
+    let (measure, f) = if constitutive::determinant(&bonds) > 0.0 {
+        (Measure::Bonds(bonds), bonds)
+    } else {
+        (Measure::Material, p.deformation[i])
+    };
+    let energy = p.internal_energy.get(i).copied().unwrap_or(0.0);
+    let Some(piola) = piola(&materials[p.body[i] as usize], &f, energy) else {
+        return free;
+    };
+    State {
+        measure,
+        force: mat_mul(&piola, &shape_inverse),
+    }
+}
+
+/// The first Piola–Kirchhoff stress P = τ F⁻ᵀ of `material` at `f`, or `None` if F is
+/// inverted.
+fn piola(material: &MpmMaterial, f: &Mat3, energy: f64) -> Option<Mat3> {
+    let j = constitutive::determinant(f);
+    if j.is_nan() || j <= 0.0 {
+        return None;
+    }
+    let tau = material.kirchhoff(f, energy);
+    let f_inverse = inverse3(f, j);
+    Some([0, 1, 2].map(|a| [0, 1, 2].map(|b| (0..3).map(|c| tau[a][c] * f_inverse[b][c]).sum())))
+}
