@@ -425,10 +425,12 @@ impl Mpm {
         }
         let t1 = Instant::now();
         self.stress(dt);
+        let t2 = Instant::now();
         if let Some(patches) = &mut self.patches {
+            // Timed by the patches ("spb erosion"), not as a stage of the MPM's own.
             patches.erode(&self.particles, &self.materials, &mut self.grid)?;
         }
-        let t2 = Instant::now();
+        let eroded = Instant::now();
         let p = &self.particles;
         let flip = match self.transfer {
             Transfer::Apic => None,
@@ -465,7 +467,7 @@ impl Mpm {
         let t6 = Instant::now();
         self.times.sort += (t1 - t0).as_secs_f64();
         self.times.stress += (t2 - t1).as_secs_f64();
-        self.times.p2g += (t3 - t2).as_secs_f64();
+        self.times.p2g += (t3 - eroded).as_secs_f64();
         self.times.grid += (t4 - t3).as_secs_f64();
         self.times.g2p += (t5 - t4).as_secs_f64();
         self.times.plasticity += (t6 - t5).as_secs_f64();

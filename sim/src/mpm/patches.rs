@@ -149,6 +149,9 @@ pub struct Patches {
     states: Vec<State>,
     /// Scratch: this step's bond accelerations of the members and their halo.
     accelerations: Vec<(u32, [f64; 3])>,
+    /// Scratch: EE_p as the velocity a P2G carries, and no affine momentum.
+    carried: Vec<[f64; 3]>,
+    still: Vec<Mat3>,
     /// The reference neighbour search, built when the first particle joins.
     search: Option<Search>,
     /// Stage timers.
@@ -180,6 +183,8 @@ impl Patches {
                 families: Vec::new(),
                 states: Vec::new(),
                 accelerations: Vec::new(),
+                carried: Vec::new(),
+                still: Vec::new(),
                 search: None,
                 times: PatchTimes::default(),
             })
@@ -412,33 +417,42 @@ impl Patches {
         let started = std::time::Instant::now();
         let p = particles;
         let this = &*self;
-        let phi: Vec<f64> = (0..p.len())
+        let history = &self.history;
+        let raised: Vec<f64> = (0..p.len())
             .into_par_iter()
             .with_min_len(256)
             .map(|i| {
                 let b = p.body[i] as usize;
                 let Some(fracture) = this.bodies[b].fracture else {
-                    return 0.0;
+                    return history[i];
                 };
                 let f = match this.measure(i) {
                     Some(Measure::Bonds(f)) => f,
                     Some(Measure::Material) | None => p.deformation[i],
-                    Some(Measure::Free) => return 0.0,
+                    Some(Measure::Free) => return history[i],
                 };
                 let energy = p.internal_energy.get(i).copied().unwrap_or(0.0);
                 let tau = materials[b].kirchhoff(&f, energy);
                 let j = constitutive::determinant(&f);
+                let scale = 1.0 / (2.0 * fracture.young * j * j);
+                // Φ(σ⁺) ≤ σ:σ / (2E): no eigen-solve when that cannot raise EE_p.
+                let whole: f64 = tau.iter().flatten().map(|t| t * t).sum::<f64>() * scale;
+                if whole <= history[i] {
+                    return history[i];
+                }
                 let (values, _) = constitutive::symmetric_eigen(&tau);
-                let tension: f64 = values.iter().map(|&s| (s / j).max(0.0).powi(2)).sum();
-                tension / (2.0 * fracture.young)
+                let tension: f64 = values.iter().map(|&s| s.max(0.0).powi(2)).sum();
+                history[i].max(tension * scale)
             })
             .collect();
-        for (h, phi) in self.history.iter_mut().zip(phi) {
-            *h = h.max(phi);
+        self.history = raised;
+        if self.still.len() != p.len() {
+            self.still = vec![[[0.0; 3]; 3]; p.len()];
         }
-        let carried: Vec<[f64; 3]> = self.history.iter().map(|&h| [h, 0.0, 0.0]).collect();
-        let still = vec![[[0.0; 3]; 3]; p.len()];
-        grid.p2g(&p.position, &p.mass, &carried, &still);
+        self.carried.clear();
+        self.carried
+            .extend(self.history.iter().map(|&h| [h, 0.0, 0.0]));
+        grid.p2g(&p.position, &p.mass, &self.carried, &self.still);
         let length = RELEASE_LENGTH_HORIZONS * self.horizon;
         let released = grid.centre_ratio(&p.position);
         let joining: Vec<usize> = (0..p.len())
