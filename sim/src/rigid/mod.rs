@@ -66,6 +66,7 @@ mod checkpoint;
 mod fit;
 mod handoff;
 mod reenter;
+mod rolling;
 mod shape;
 
 pub use reenter::Thawed;
@@ -342,6 +343,8 @@ impl RigidPhase {
             &(),
             &(),
         );
+        self.resist_rolling();
+        let ph = &mut self.physics;
         for piece in &self.pieces {
             place(
                 piece,
