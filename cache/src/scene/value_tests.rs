@@ -277,6 +277,14 @@ fn bad_rigid_values_are_refused_with_their_key() {
         ("reenter = -1", "rigid.reenter"),
         ("reenter = nan", "rigid.reenter"),
         ("reenter = 2\nrestitution = 1.5", "rigid.restitution"),
+        (
+            "reenter = 2\nrolling_resistance = -0.01",
+            "rigid.rolling_resistance",
+        ),
+        (
+            "reenter = 2\nrolling_resistance = inf",
+            "rigid.rolling_resistance",
+        ),
     ] {
         let text = rigid.replace("reenter = 2", bad);
         let (_, _, found, message) = error(&text);

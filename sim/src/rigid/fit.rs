@@ -1,7 +1,8 @@
 //! The best-fit rigid motion of a fragment's points: the mass, centre, momenta and
 //! inertia a rigid body takes over at the switch (module doc of [`super`]).
 
-use rapier3d_f64::na::{Matrix3, Vector3};
+use rapier3d_f64::na::{Matrix3, Point3, Vector3};
+use rapier3d_f64::prelude::MassProperties;
 
 use perifrac_math::rigid_fit;
 
@@ -94,6 +95,27 @@ pub(super) fn fit(part: &Part, points: &[u32]) -> Fit {
     }
 }
 
+/// The inertia tensor about the origin of the solid that the closed, outward-wound
+/// surface `vertices`/`triangles` bounds, at the uniform density that gives it
+/// `mass` (parry's polyhedral mass properties, moved to the origin by the parallel
+/// axis theorem). `None` for a surface that bounds no volume.
+pub(super) fn solid_inertia(
+    vertices: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    mass: f64,
+) -> Option<Matrix3<f64>> {
+    let points: Vec<Point3<f64>> = vertices.iter().map(|&v| Point3::from(vector(v))).collect();
+    let unit = MassProperties::from_trimesh(1.0, &points, triangles);
+    let volume = unit.mass();
+    if !(volume.is_finite() && volume > 0.0) {
+        return None;
+    }
+    let scale = mass / volume;
+    let d = unit.local_com.coords;
+    let about_centre = unit.reconstruct_inertia_matrix() * scale;
+    Some(about_centre + (Matrix3::identity() * d.norm_squared() - d * d.transpose()) * mass)
+}
+
 /// Where `points` were in the reference configuration and how the piece has turned
 /// since: their mass-weighted reference centre X̄ and the rotation R of their best-fit
 /// rigid motion X ↦ c + R(X − X̄) ([`rigid_fit`], Kabsch). A reference point X of the
@@ -106,4 +128,41 @@ pub(super) fn reference_pose(part: &Part, points: &[u32]) -> Option<([f64; 3], [
         (p.mass[i], p.reference[i], p.position[i])
     }))?;
     Some((fit.rest, fit.rotation))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The closed, outward-wound surface of the tet (0,0,0), (a,0,0), (0,b,0), (0,0,c).
+    fn tet(a: f64, b: f64, c: f64) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+        let vertices = vec![[0.0, 0.0, 0.0], [a, 0.0, 0.0], [0.0, b, 0.0], [0.0, 0.0, c]];
+        let triangles = vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
+        (vertices, triangles)
+    }
+
+    #[test]
+    fn a_sliver_turns_as_its_solid_not_as_a_cube_of_its_volume() {
+        // A flat tet 4 cm × 4 cm × 0.1 mm (the meshes' slivers): its points' inertia
+        // as a cube of its volume (m l²/6, l = V^{1/3}) is a hundredth of its own.
+        let (a, b, c) = (0.04, 0.04, 1e-4);
+        let (vertices, triangles) = tet(a, b, c);
+        let mass = 2200.0 * a * b * c / 6.0;
+        let inertia = solid_inertia(&vertices, &triangles, mass).expect("a solid");
+        // About the origin (a vertex): I_xx = m (b² + c²)/10 for this tet.
+        let expected = mass * (b * b + c * c) / 10.0;
+        assert!(
+            (inertia[(0, 0)] / expected - 1.0).abs() < 1e-9,
+            "{} against {expected}",
+            inertia[(0, 0)]
+        );
+        let cube = mass * (a * b * c / 6.0f64).powf(2.0 / 3.0) / 6.0;
+        println!(
+            "I_xx {:.3e}, as a cube of its volume {cube:.3e}",
+            inertia[(0, 0)]
+        );
+        assert!(inertia[(0, 0)] > 50.0 * cube);
+        // A surface that bounds nothing has no inertia.
+        assert!(solid_inertia(&vertices[..3], &triangles[..1], mass).is_none());
+    }
 }

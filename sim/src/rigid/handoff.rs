@@ -13,6 +13,10 @@ use super::{Piece, RigidPhase, place, shape, vector};
 use crate::model::Stepping;
 use crate::world::Part;
 
+/// Pieces of fewer points than this turn with their solid's inertia (their tets'),
+/// not their points' ([`RigidPhase::hand_over`]).
+const SOLID_BELOW: usize = 4;
+
 impl RigidPhase {
     /// Looks for fragments to hand over at `time` and hands them over; returns how
     /// many went rigid.
@@ -151,20 +155,36 @@ impl RigidPhase {
                 .iter()
                 .map(|x| mat_vec(turn, [0, 1, 2].map(|k| x[k] - rest[k])))
                 .collect();
+            let solid = fit::solid_inertia(&vertices, &surface.triangles, fit.mass);
             let shape = shape::surface(&vertices, &surface.triangles, points.len())?;
-            Some((shape, surface.reach))
+            Some((shape, surface.reach, solid))
         });
-        let (shape, reach) =
-            surface.unwrap_or_else(|| (shape::piece(&local, &spacing, 0.5 * fit.spacing), 0.0));
+        let (shape, reach, solid) = surface
+            .unwrap_or_else(|| (shape::piece(&local, &spacing, 0.5 * fit.spacing), 0.0, None));
+        // A piece of fewer than four points has next to no inertia of its points
+        // (none at all about the line through two): it turns as the solid its
+        // collider is, its tets' own inertia, with the fragment's angular momentum
+        // (docs/rigid.md, "The switch"). Larger pieces keep their points' inertia, so
+        // that their kinetic energy is kept exactly.
+        let (inertia, spin) = match solid {
+            Some(solid) if points.len() < SOLID_BELOW => {
+                let angular = fit.inertia * vector(fit.spin);
+                let spin = solid
+                    .try_inverse()
+                    .map_or(vector(fit.spin), |inv| inv * angular);
+                (solid, spin)
+            }
+            _ => (fit.inertia, vector(fit.spin)),
+        };
         let piece_volume: f64 = spacing.iter().map(|l| l * l * l).sum();
         let body = RigidBodyBuilder::dynamic()
             .translation(vector(fit.center))
             .linvel(vector(fit.velocity))
-            .angvel(vector(fit.spin))
+            .angvel(spin)
             .additional_mass_properties(MassProperties::with_inertia_matrix(
                 Point3::origin(),
                 fit.mass,
-                fit.inertia,
+                inertia,
             ))
             .build();
         let handle = self.physics.bodies.insert(body);

@@ -25,8 +25,8 @@
 //! kinetic energy ½MV² + ½ωᵀIω is the fragment's less the relative motion's (the
 //! best-fit rigid motion is the one that keeps both momenta). I is the points' own,
 //! so a fragment moving rigidly keeps its kinetic energy exactly; fragments of fewer
-//! than four points add each point's inertia as a cube of its volume (their I is
-//! singular otherwise).
+//! than four points (their points' I is singular or next to it) take the inertia of
+//! their solid, the tets their surface bounds, and ω = I⁻¹L with it.
 //!
 //! **Going back.** With `reenter` above 0, a piece of more than `reenter_points` points
 //! about to be hit at `reenter` × s_c c_p or faster goes back to its model before the
@@ -41,7 +41,8 @@
 //! centres rounded by half a spacing up to [`HULL_POINTS`] points (or, where the hull
 //! is flat, the union of the particles' cubes), and above that the union of the
 //! particles' cubes (concave where the piece is). Rigid pieces collide with each other,
-//! the ground and the scene's colliders in rapier (meshes as their triangle meshes); with the particles still deformable
+//! the ground and the scene's colliders in rapier (meshes as their triangle meshes),
+//! with a rolling resistance rapier lacks (`rolling.rs`); with the particles still deformable
 //! through particle contact, its force on a piece's points summed into a force and a
 //! torque and given to the piece as two half impulses, as velocity Verlet gives it to
 //! the particles, so the two sides exchange the same momentum. A dynamic scene collider
@@ -66,6 +67,7 @@ mod checkpoint;
 mod fit;
 mod handoff;
 mod reenter;
+mod rolling;
 mod shape;
 
 pub use reenter::Thawed;
@@ -342,6 +344,8 @@ impl RigidPhase {
             &(),
             &(),
         );
+        self.resist_rolling();
+        let ph = &mut self.physics;
         for piece in &self.pieces {
             place(
                 piece,

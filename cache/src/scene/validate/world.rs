@@ -73,6 +73,17 @@ pub(super) fn rigid(scene: &Scene) -> Check {
             format!("restitution must be in [0, 1], got {}", r.restitution),
         ));
     }
+    if !(r.rolling_resistance.is_finite() && r.rolling_resistance >= 0.0) {
+        return Err(issue(
+            &p("rolling_resistance"),
+            format!(
+                "rolling_resistance is the coefficient of rolling resistance of rigid \
+                 pieces in contact, a length in m (a couple of at most it times the normal \
+                 force against their spin): ≥ 0 (0.005 by default, 0 for none), got {}",
+                r.rolling_resistance
+            ),
+        ));
+    }
     if !(r.drag.is_finite() && r.drag >= 0.0) {
         return Err(issue(
             &p("drag"),
