@@ -394,8 +394,9 @@ impl Mpm {
     }
 
     /// One explicit MLS-MPM step of length `dt`: `sort → stress → p2g → grid_update →
-    /// g2p → plasticity`; with SPB-MPM's patches, their bonds act before the stress and
-    /// after G2P and eigenerosion after the stress ([`patches`]).
+    /// g2p → plasticity`; with SPB-MPM's patches, their bonds (states, failure, forces)
+    /// come first, eigenerosion after the stress, and the bond forces go onto the
+    /// velocities before P2G ([`patches`]).
     ///
     /// Returns how many (directed) bonds broke.
     ///
@@ -499,7 +500,11 @@ impl Mpm {
                 None => (Some(deformation[i]), false),
             };
             let energy = e.as_deref().copied().unwrap_or(0.0);
-            let stress = f.map(|f| (material.kirchhoff(&f, energy), f));
+            // A member's stress is needed only for its internal energy.
+            let wanted = !member || e.is_some();
+            let stress = f
+                .filter(|_| wanted)
+                .map(|f| (material.kirchhoff(&f, energy), f));
             if let (Some(e), Some((tau, f))) = (e, &stress) {
                 let j = constitutive::determinant(f);
                 let sigma = tau.map(|row| row.map(|x| x / j));
