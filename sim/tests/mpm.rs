@@ -42,12 +42,7 @@ fn a_thermal_johnson_cook_run_resumes_to_the_same_bytes_and_caches_temperature()
          melting_temperature = 400, room_temperature = 300, thermal_exponent = 1, specific_heat = 1 }",
     );
     resumed_run_matches(&text);
-    let scene = Scene::parse(&text, Path::new("mpm.toml"), Path::new(".")).expect("scene");
-    let out = tempfile::tempdir().expect("temp dir");
-    run::run(&scene, out.path(), &RunOptions::default(), &mut |_| {}).expect("runs");
-    let last = scene.frame_count();
-    let frame = ParticleFrame::read(&out.path().join(format!("particles/{last:04}.ply")))
-        .expect("last frame");
+    let frame = last_frame(&text);
     let t = frame.extra("temperature").expect("a temperature column");
     let (lo, hi) = t
         .iter()
@@ -66,12 +61,7 @@ fn an_spb_mpm_run_resumes_to_the_same_bytes_and_caches_region_and_damage() {
         "elasticity = \"neo-hookean\"\nenergy_release_rate = 0.05",
     );
     resumed_run_matches(&text);
-    let scene = Scene::parse(&text, Path::new("mpm.toml"), Path::new(".")).expect("scene");
-    let out = tempfile::tempdir().expect("temp dir");
-    run::run(&scene, out.path(), &RunOptions::default(), &mut |_| {}).expect("runs");
-    let last = scene.frame_count();
-    let frame = ParticleFrame::read(&out.path().join(format!("particles/{last:04}.ply")))
-        .expect("last frame");
+    let frame = last_frame(&text);
     let region = frame.extra("region").expect("a region column");
     let members = region.iter().filter(|&&r| r == 1.0).count();
     let damaged = frame.damage.iter().filter(|&&d| d > 0.0).count();
@@ -81,6 +71,15 @@ fn an_spb_mpm_run_resumes_to_the_same_bytes_and_caches_region_and_damage() {
         region.len()
     );
     assert!(region.iter().all(|&r| r == 0.0 || r == 1.0));
+}
+
+/// The last particle frame of a whole run of the scene `text`.
+fn last_frame(text: &str) -> ParticleFrame {
+    let scene = Scene::parse(text, Path::new("mpm.toml"), Path::new(".")).expect("scene");
+    let out = tempfile::tempdir().expect("temp dir");
+    run::run(&scene, out.path(), &RunOptions::default(), &mut |_| {}).expect("runs");
+    let last = scene.frame_count();
+    ParticleFrame::read(&out.path().join(format!("particles/{last:04}.ply"))).expect("last frame")
 }
 
 fn resumed_run_matches(text: &str) {

@@ -4,7 +4,6 @@ use std::path::Path;
 
 use super::Mpm;
 use super::patches::Measure;
-use crate::cache::checkpoint::Encoder;
 use crate::run::{Prepared, prepare};
 use crate::scene::Scene;
 
@@ -308,9 +307,7 @@ fn spb_mpm_gives_the_same_bytes_with_one_and_two_threads() {
                     broken += p.world.step().expect("steps");
                 }
                 assert!(broken > 0);
-                let mut out = Encoder::new();
-                p.world.save(&mut out);
-                out.finish()
+                super::tests::state_bytes(&p.world)
             })
     };
     assert!(run(1) == run(2), "the thread count changed the state");

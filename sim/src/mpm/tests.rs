@@ -321,7 +321,8 @@ fn twice_the_stable_step_is_caught_by_the_blowup_detector() {
     );
 }
 
-fn state_bytes(world: &World) -> Vec<u8> {
+/// The world's checkpoint bytes (its whole state).
+pub(super) fn state_bytes(world: &World) -> Vec<u8> {
     let mut out = Encoder::new();
     world.save(&mut out);
     out.finish()
