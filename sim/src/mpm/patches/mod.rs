@@ -53,14 +53,15 @@
 //! follows from the checkpointed positions, histories and bonds, so a resumed run
 //! gives the same bytes.
 
-use perifrac_math::{UnionFind, det3, dot, inverse3, mat_mul, mat_vec, norm, sub};
+use perifrac_math::{det3, dot, inverse3, mat_mul, mat_vec, norm, sub};
 use rayon::prelude::*;
+
+mod pieces;
 
 use super::MpmMaterial;
 use super::MpmParticles;
 use super::constitutive::{self, Mat3};
 use super::grid::SparseGrid;
-use crate::cache::checkpoint::{Decoder, Encoder};
 use crate::error::Result;
 use crate::family::{BROKEN, INDEX, Search, Solid};
 use crate::geometry::Sdf;
@@ -499,138 +500,6 @@ impl Patches {
             .as_ref()
             .map(|s| s.family(&p.reference, &p.body, i, self.horizon, solid.as_ref()))
             .unwrap_or_default()
-    }
-
-    /// Connected pieces, numbered by their smallest particle index in increasing
-    /// order: a member joins its intact bonds, a particle outside Ω^PD its reference
-    /// neighbours within δ (its bonds, were it peridynamic, which no crack has cut).
-    /// Before any particle joins, each body is one piece.
-    ///
-    /// # Errors
-    /// [`crate::error::SimError::Refused`] if the neighbour search cannot be built.
-    pub fn fragments(&self, particles: &MpmParticles) -> Result<Vec<u32>> {
-        let p = particles;
-        if self.members.is_empty() {
-            return Ok(p.body.clone());
-        }
-        let built;
-        let search = match &self.search {
-            Some(s) => s,
-            None => {
-                built = Search::new(&p.reference)?;
-                &built
-            }
-        };
-        let outside: Vec<Vec<u32>> = (0..p.len())
-            .into_par_iter()
-            .map(|i| {
-                if self.is_member(i) {
-                    return Vec::new();
-                }
-                let body = &self.bodies[p.body[i] as usize];
-                let solid = body
-                    .shape
-                    .as_deref()
-                    .map(|sdf| Solid::of(sdf, body.resolution));
-                search.family(&p.reference, &p.body, i, self.horizon, solid.as_ref())
-            })
-            .collect();
-        let mut sets = UnionFind::new(p.len());
-        for (i, family) in outside.iter().enumerate() {
-            for &j in family {
-                // A bond to a member is intact if its row says so.
-                let intact = match self.slot[j as usize] {
-                    OUTSIDE => true,
-                    s => {
-                        let row = &self.families[s as usize];
-                        row.binary_search_by_key(&(i as u32), |&nb| nb & INDEX)
-                            .is_ok_and(|k| row[k] & BROKEN == 0)
-                    }
-                };
-                if intact {
-                    sets.union(i, j as usize);
-                }
-            }
-        }
-        for (&i, family) in self.members.iter().zip(&self.families) {
-            for &nb in family.iter().filter(|&&nb| nb & BROKEN == 0) {
-                sets.union(i as usize, (nb & INDEX) as usize);
-            }
-        }
-        Ok(sets.labels())
-    }
-
-    /// Writes the histories, the members and their bonds.
-    pub fn save(&self, out: &mut Encoder) {
-        out.put_f64_slice(&self.history);
-        out.put_u64(self.members.len() as u64);
-        out.put_u32_slice(&self.members);
-        let lengths: Vec<u32> = self.families.iter().map(|f| f.len() as u32).collect();
-        out.put_u32_slice(&lengths);
-        let bonds: Vec<u32> = self.families.iter().flatten().copied().collect();
-        out.put_u64(bonds.len() as u64);
-        out.put_u32_slice(&bonds);
-    }
-
-    /// Reads what [`Patches::save`] wrote, refusing members or bonds that are not
-    /// this scene's particles and families that differ from those the reference
-    /// positions give.
-    ///
-    /// # Errors
-    /// A [`crate::cache::CacheError`] naming the field.
-    pub fn restore(&mut self, input: &mut Decoder<'_>, particles: &MpmParticles) -> Result<()> {
-        let n = self.slot.len();
-        let history = input.take_finite_f64_slice("SPB-MPM energy histories", n)?;
-        if let Some(i) = history.iter().position(|&h| h < 0.0) {
-            let message = format!("particle {i} has a negative released energy");
-            return Err(input.error("SPB-MPM energy histories", message).into());
-        }
-        let count = input.take_u64("SPB-MPM member count")?;
-        if count > n as u64 {
-            let message = format!("{count} members for {n} particles");
-            return Err(input.error("SPB-MPM member count", message).into());
-        }
-        let members = input.take_u32_slice_bounded("SPB-MPM members", count as usize, n as u32)?;
-        let lengths = input.take_u32_slice("SPB-MPM family sizes", count as usize)?;
-        let total = input.take_u64("SPB-MPM bond count")?;
-        if total != lengths.iter().map(|&l| u64::from(l)).sum::<u64>() {
-            let message = format!("{total} bonds do not add up to the family sizes");
-            return Err(input.error("SPB-MPM bond count", message).into());
-        }
-        let bonds = input
-            .take_u32_slice_checked("SPB-MPM bonds", total as usize, |v| (v & INDEX) < n as u32)?;
-        let mut slot = vec![OUTSIDE; n];
-        for (s, &i) in members.iter().enumerate() {
-            if slot[i as usize] != OUTSIDE {
-                let message = format!("particle {i} is a member twice");
-                return Err(input.error("SPB-MPM members", message).into());
-            }
-            slot[i as usize] = s as u32;
-        }
-        if !members.is_empty() && self.search.is_none() {
-            self.search = Some(Search::new(&particles.reference)?);
-        }
-        self.history = history;
-        self.slot = slot;
-        self.members = members;
-        let mut families = Vec::with_capacity(lengths.len());
-        let mut start = 0;
-        for (&i, &l) in self.members.iter().zip(&lengths) {
-            let family = bonds[start..start + l as usize].to_vec();
-            start += l as usize;
-            let expected = self.family(i as usize, particles);
-            if family
-                .iter()
-                .map(|&nb| nb & INDEX)
-                .ne(expected.iter().copied())
-            {
-                let message = format!("the family of particle {i} is not its reference neighbours");
-                return Err(input.error("SPB-MPM bonds", message).into());
-            }
-            families.push(family);
-        }
-        self.families = families;
-        Ok(())
     }
 }
 
