@@ -36,6 +36,9 @@ mod patch_tests;
 pub mod patches;
 pub mod plasticity;
 mod seed;
+pub mod spectral;
+#[cfg(test)]
+mod spectral_tests;
 #[cfg(test)]
 mod tests;
 
@@ -558,14 +561,20 @@ impl Mpm {
             if material.plasticity == Plasticity::None {
                 return;
             }
-            let input = FlowInput {
+            let mut input = FlowInput {
                 mu: material.elastic.mu,
                 lambda: material.elastic.lambda,
-                rate: plasticity::equivalent_strain_rate(&affine[i]),
+                rate: 0.0,
                 plastic_strain: *plastic,
                 temperature: temperature.as_deref().copied().unwrap_or(0.0),
             };
-            let increment = material.plasticity.project(f, &input);
+            if material.plasticity.surely_elastic(f, &input) {
+                return;
+            }
+            if material.plasticity.reads_rate() {
+                input.rate = plasticity::equivalent_strain_rate(&affine[i]);
+            }
+            let increment = material.plasticity.project_yielding(f, &input);
             *plastic += increment;
             if let Some(temperature) = temperature
                 && let Plasticity::JohnsonCook(hardening) = &material.plasticity

@@ -16,21 +16,25 @@
 //! - Drucker–Prager projects log Σ̂ onto the cone of friction angle φ (Klár et al.
 //!   2016, Eq. 27–28 with d = 3).
 //!
-//! **How F̂ is decomposed** ([`Stretch`]). Every projection maps the singular values
-//! Σ̂ to new ones Σ and keeps U and V, so F_E = U Σ Vᵀ = F̂ V Σ̂⁻¹ Σ Vᵀ needs only V
-//! and Σ̂: the eigenvectors and the square roots of the eigenvalues of C = F̂ᵀF̂, found
-//! by [`symmetric_eigen`] (Jacobi) at a fraction of the cost of nalgebra's SVD.
-//! Squaring F̂ squares its condition number, so an inverted or nearly degenerate F̂
-//! (det F̂ ≤ 0, or λ_min(C) < [`EIGEN_CONDITION_FLOOR`] λ_max(C)) takes the
-//! inversion-safe SVD ([`rotation_svd`]) as before. Before either, J2 and snow ask
-//! whether the particle can yield at all from invariants that cost a few
-//! multiplications ([`j2_surely_elastic`], the Gershgorin discs of C for snow), so a
-//! particle inside the yield surface is not decomposed. The test
+//! **How F̂ is decomposed.** Every projection maps the singular values Σ̂ to new ones
+//! Σ and keeps U and V. J2 and Drucker–Prager map log Σ̂ affinely, so F_E = eᵗ F̂
+//! C^{s/2} with C = F̂ᵀF̂ needs only C's eigenvalues, in closed form, and no
+//! eigenvectors ([`Spectrum`], [`LogMap`]). Snow's clamp is not a power
+//! law: F_E = U Σ Vᵀ = F̂ V Σ̂⁻¹ Σ Vᵀ takes V and Σ̂ from [`symmetric_eigen`] (Jacobi)
+//! at a fraction of the cost of nalgebra's SVD ([`Stretch`]). Squaring F̂ squares its
+//! condition number, so an inverted or nearly degenerate F̂ (det F̂ ≤ 0, or λ_min(C) <
+//! [`EIGEN_CONDITION_FLOOR`] λ_max(C)) takes the inversion-safe SVD
+//! ([`rotation_svd`]); J2 and Drucker–Prager take the Jacobi path between that and
+//! the closed form's floor ([`super::spectral::SPECTRUM_CONDITION_FLOOR`]). Before
+//! any of it, J2 and snow ask whether the particle can yield at all from invariants
+//! that cost a few multiplications ([`j2_surely_elastic`], the Gershgorin discs of C
+//! for snow), so a particle inside the yield surface is not decomposed. The test
 //! `fast_projections_match_the_svd_ones` holds every projection to its SVD form.
 
 use perifrac_math::{RotationSvd, rotation_svd};
 
 use super::constitutive::{Mat3, determinant, gram, mul, symmetric_eigen};
+use super::spectral::{LogMap, Spectrum};
 
 /// The Taylor–Quinney fraction β when the scene does not give one (Johnson & Cook
 /// 1983 convert "90 to 100%" of the plastic work into heat; 0.9 is the usual choice).
@@ -124,7 +128,24 @@ impl JohnsonCook {
     /// The rate factor 1 + C ln(ε̇^p/ε̇₀), never below 1 (rates under the reference do
     /// not soften).
     fn rate_factor(&self, rate: f64) -> f64 {
+        if self.c == 0.0 || rate <= self.reference_rate {
+            return 1.0;
+        }
         1.0 + self.c * (rate / self.reference_rate).ln().max(0.0)
+    }
+
+    /// The flow stress law at the plastic strain rate `rate`: A and B scaled by the
+    /// rate factor 1 + C ln(ε̇^p/ε̇₀) and C set to 0, so that the return map's Newton
+    /// iterations do not take the logarithm again (the result's own `rate` argument is
+    /// then ignored).
+    pub fn at_rate(&self, rate: f64) -> JohnsonCook {
+        let factor = self.rate_factor(rate);
+        JohnsonCook {
+            a: self.a * factor,
+            b: self.b * factor,
+            c: 0.0,
+            ..*self
+        }
     }
 
     /// σ_y (Eq. 7.7). An exponent n = 0 is the von Mises criterion σ_y = A (Lyu
@@ -137,6 +158,24 @@ impl JohnsonCook {
             self.b * plastic_strain.max(0.0).powf(self.n)
         };
         (self.a + hardening) * self.rate_factor(rate)
+    }
+
+    /// σ_y and E^p together ([`JohnsonCook::yield_stress`],
+    /// [`JohnsonCook::plastic_modulus`]) from one power (ε^p)ⁿ when ε^p is past
+    /// [`HARDENING_STRAIN_FLOOR`]: E^p = B n (ε^p)ⁿ/ε^p times the rate factor.
+    fn flow_and_modulus(&self, plastic_strain: f64, rate: f64) -> (f64, f64) {
+        if self.n == 0.0 || plastic_strain < HARDENING_STRAIN_FLOOR {
+            return (
+                self.yield_stress(plastic_strain, rate),
+                self.plastic_modulus(plastic_strain, rate),
+            );
+        }
+        let factor = self.rate_factor(rate);
+        let power = plastic_strain.powf(self.n);
+        (
+            (self.a + self.b * power) * factor,
+            self.b * self.n * power / plastic_strain * factor,
+        )
     }
 
     /// The plastic modulus E^p = ∂σ_y/∂ε^p = B n (ε^p)ⁿ⁻¹ (1 + C ln(ε̇^p/ε̇₀)) (Eq. 7.8).
@@ -167,6 +206,8 @@ pub struct Return {
     pub deviatoric: Mat3,
     /// The equivalent plastic strain increment Δε^p ≥ 0.
     pub plastic_increment: f64,
+    /// The radial scaling k = (s* − 3μ Δε^p)/s* of the trial stress (1 when elastic).
+    pub scale: f64,
 }
 
 /// J2 radial return (Eq. 7.5–7.6, App. B): with the trial deviatoric stress σ*, its
@@ -182,22 +223,41 @@ pub fn radial_return(
     hardening: &JohnsonCook,
     rate: f64,
 ) -> Return {
-    let s = equivalent_stress(trial);
+    let (plastic_increment, scale) = return_map(
+        equivalent_stress(trial),
+        mu,
+        plastic_strain,
+        hardening,
+        rate,
+    );
+    Return {
+        deviatoric: trial.map(|row| row.map(|x| scale * x)),
+        plastic_increment,
+        scale,
+    }
+}
+
+/// [`radial_return`] on the equivalent trial stress `s` = s* alone: Δε^p and the
+/// radial scaling k = (s* − 3μ Δε^p)/s* (0 and 1 when elastic).
+fn return_map(
+    s: f64,
+    mu: f64,
+    plastic_strain: f64,
+    hardening: &JohnsonCook,
+    rate: f64,
+) -> (f64, f64) {
     let f0 = s - hardening.yield_stress(plastic_strain, rate);
     if f0 <= 0.0 {
-        return Return {
-            deviatoric: *trial,
-            plastic_increment: 0.0,
-        };
+        return (0.0, 1.0);
     }
     let mut increment = 0.0;
     for _ in 0..RETURN_ITERATIONS {
-        let yield_stress = hardening.yield_stress(plastic_strain + increment, rate);
+        let (yield_stress, modulus) = hardening.flow_and_modulus(plastic_strain + increment, rate);
         let f = s - 3.0 * mu * increment - yield_stress;
         if f.abs() <= RETURN_TOLERANCE * yield_stress {
             break;
         }
-        let slope = 3.0 * mu + hardening.plastic_modulus(plastic_strain + increment, rate);
+        let slope = 3.0 * mu + modulus;
         let next = (increment + f / slope).max(0.0);
         // A zero flow stress (at the melting point) has no relative tolerance: stop
         // when Newton no longer moves.
@@ -206,11 +266,7 @@ pub fn radial_return(
         }
         increment = next;
     }
-    let scale = (s - 3.0 * mu * increment) / s;
-    Return {
-        deviatoric: trial.map(|row| row.map(|x| scale * x)),
-        plastic_increment: increment,
-    }
+    (increment, (s - 3.0 * mu * increment) / s)
 }
 
 /// The simplified Mie–Grüneisen equation of state (Eq. 7.4, with the sign of its
@@ -306,18 +362,14 @@ pub struct FlowInput {
     /// Lamé's first parameter λ (Pa).
     pub lambda: f64,
     /// The equivalent strain rate ε̇ = √(2/3 dev D : dev D) of D = sym(C_p) (1/s): the
-    /// rate of Johnson–Cook's Eq. 7.7 (the plastic rate equals it while flowing).
+    /// rate of Johnson–Cook's Eq. 7.7 (the plastic rate equals it while flowing); the
+    /// step leaves it 0 where [`Plasticity::reads_rate`] says it is not read.
     pub rate: f64,
     /// The particle's equivalent plastic strain ε^p before this step.
     pub plastic_strain: f64,
     /// The particle's temperature (K) before this step (read by the thermal
     /// Johnson–Cook term only).
     pub temperature: f64,
-}
-
-/// diag(d).
-fn diagonal(d: [f64; 3]) -> Mat3 {
-    [[d[0], 0.0, 0.0], [0.0, d[1], 0.0], [0.0, 0.0, d[2]]]
 }
 
 /// U diag(σ) Vᵀ.
@@ -333,6 +385,12 @@ pub fn equivalent_strain_rate(affine: &Mat3) -> f64 {
 }
 
 impl Plasticity {
+    /// Whether the projection reads [`FlowInput::rate`]: only Johnson–Cook with a rate
+    /// coefficient C ≠ 0 does.
+    pub fn reads_rate(&self) -> bool {
+        matches!(self, Plasticity::JohnsonCook(hardening) if hardening.c != 0.0)
+    }
+
     /// The Drucker–Prager flow of friction angle `degrees`.
     pub fn drucker_prager(degrees: f64) -> Plasticity {
         let s = degrees.to_radians().sin();
@@ -343,29 +401,69 @@ impl Plasticity {
 
     /// Projects the elastic deformation gradient `f` onto the material's admissible set
     /// and returns the increment of the plastic strain measure: Δε^p of the radial
-    /// return (J2), ‖log Σ̂ − log Σ‖ (snow), δγ (Drucker–Prager); 0 when elastic.
-    /// A particle that cannot yield is recognized without a decomposition; otherwise
-    /// F̂ is decomposed once by [`Stretch::of`].
+    /// return (J2), ‖log Σ̂ − log Σ‖ (snow), δγ (Drucker–Prager); 0 when elastic:
+    /// [`Plasticity::surely_elastic`], then [`Plasticity::project_yielding`].
     pub fn project(&self, f: &mut Mat3, input: &FlowInput) -> f64 {
+        if self.surely_elastic(f, input) {
+            return 0.0;
+        }
+        self.project_yielding(f, input)
+    }
+
+    /// Whether `f` cannot yield, from invariants that cost a few multiplications
+    /// and without a decomposition or the strain rate: J2 by [`j2_surely_elastic`] at
+    /// the flow stress of the reference rate (the rate factor is never below 1),
+    /// snow by the Gershgorin discs of C. False when it may yield (and always for
+    /// Drucker–Prager).
+    pub fn surely_elastic(&self, f: &Mat3, input: &FlowInput) -> bool {
         match *self {
-            Plasticity::None => return 0.0,
+            Plasticity::None => true,
             Plasticity::JohnsonCook(ref hardening) => {
-                let hardening = hardening.at_temperature(input.temperature);
-                let yield_stress = hardening.yield_stress(input.plastic_strain, input.rate);
-                if j2_surely_elastic(f, input.mu, yield_stress) {
-                    return 0.0;
-                }
+                let law = hardening.at_temperature(input.temperature).at_rate(0.0);
+                // A ≤ σ_y (B ≥ 0) first: it spares the power (ε^p)ⁿ where it suffices.
+                (law.b >= 0.0 && j2_surely_elastic(f, input.mu, law.a))
+                    || (law.n != 0.0
+                        && j2_surely_elastic(
+                            f,
+                            input.mu,
+                            law.yield_stress(input.plastic_strain, 0.0),
+                        ))
             }
             Plasticity::Snow {
                 critical_compression,
                 critical_stretch,
             } => {
                 let (lo, hi) = (1.0 - critical_compression, 1.0 + critical_stretch);
-                if determinant(f) > 0.0 && gershgorin_within(&gram(f), lo * lo, hi * hi) {
-                    return 0.0;
-                }
+                determinant(f) > 0.0 && gershgorin_within(&gram(f), lo * lo, hi * hi)
             }
-            Plasticity::DruckerPrager { .. } => {}
+            Plasticity::DruckerPrager { .. } => false,
+        }
+    }
+
+    /// [`Plasticity::project`] without its first check. J2 and Drucker–Prager take
+    /// the closed-form eigenvalues of F̂ᵀF̂ and rebuild F_E as a power of it
+    /// ([`Spectrum`]) where F̂ is well conditioned; otherwise, and for snow, F̂ is
+    /// decomposed once by [`Stretch::of`].
+    pub fn project_yielding(&self, f: &mut Mat3, input: &FlowInput) -> f64 {
+        let map = match *self {
+            Plasticity::None => return 0.0,
+            Plasticity::Snow { .. } => None,
+            Plasticity::JohnsonCook(ref hardening) => Spectrum::of(f).map(|spectrum| {
+                let law = hardening
+                    .at_temperature(input.temperature)
+                    .at_rate(input.rate);
+                (
+                    spectrum,
+                    j2_map(&law, spectrum.log_singular_values(), input),
+                )
+            }),
+            Plasticity::DruckerPrager { alpha } => Spectrum::of(f).map(|spectrum| {
+                let log = spectrum.log_singular_values();
+                (spectrum, drucker_prager_map(alpha, log, input))
+            }),
+        };
+        if let Some((spectrum, map)) = map {
+            return spectrum.project(f, map);
         }
         let stretch = Stretch::of(f);
         self.project_with(f, input, &stretch)
@@ -377,24 +475,14 @@ impl Plasticity {
         let sigma = stretch.sigma();
         match *self {
             Plasticity::None => 0.0,
-            Plasticity::JohnsonCook(ref hardening) => {
+            Plasticity::JohnsonCook(_) | Plasticity::DruckerPrager { .. } => {
                 let log = sigma.map(|s| s.max(SINGULAR_VALUE_FLOOR).ln());
-                let mean = (log[0] + log[1] + log[2]) / 3.0;
-                let trial = diagonal(log.map(|e| 2.0 * input.mu * (e - mean)));
-                let r = radial_return(
-                    &trial,
-                    input.mu,
-                    input.plastic_strain,
-                    &hardening.at_temperature(input.temperature),
-                    input.rate,
-                );
-                if r.plastic_increment == 0.0 {
+                let Some(map) = self.log_map(log, input) else {
                     return 0.0;
-                }
-                let returned =
-                    [0, 1, 2].map(|a| (r.deviatoric[a][a] / (2.0 * input.mu) + mean).exp());
-                *f = stretch.rebuild(f, returned);
-                r.plastic_increment
+                };
+                let projected = log.map(|l| ((1.0 + map.slope) * l + map.shift).exp());
+                *f = stretch.rebuild(f, projected);
+                map.increment
             }
             Plasticity::Snow {
                 critical_compression,
@@ -414,28 +502,75 @@ impl Plasticity {
                     .sum();
                 change.sqrt()
             }
-            Plasticity::DruckerPrager { alpha } => {
-                let log = sigma.map(|s| s.max(SINGULAR_VALUE_FLOOR).ln());
-                let trace = log[0] + log[1] + log[2];
-                let dev = log.map(|e| e - trace / 3.0);
-                let dev_norm = (dev[0] * dev[0] + dev[1] * dev[1] + dev[2] * dev[2]).sqrt();
-                if trace >= 0.0 {
-                    // Stretched: no cohesion, the tip of the cone.
-                    *f = stretch.rebuild(f, [1.0; 3]);
-                    return (log[0] * log[0] + log[1] * log[1] + log[2] * log[2]).sqrt();
-                }
-                // Compressed: a purely volumetric state (dev = 0) is inside the cone.
-                let gamma = dev_norm
-                    + (3.0 * input.lambda + 2.0 * input.mu) / (2.0 * input.mu) * trace * alpha;
-                if gamma <= 0.0 {
-                    return 0.0;
-                }
-                let projected = [0, 1, 2].map(|a| (log[a] - gamma * dev[a] / dev_norm).exp());
-                *f = stretch.rebuild(f, projected);
-                gamma
-            }
         }
     }
+
+    /// The projection of J2 or Drucker–Prager as a map of the log singular values
+    /// `log` ([`j2_map`], [`drucker_prager_map`]); `None` when elastic and for the other
+    /// models, whose projections are not of this form.
+    fn log_map(&self, log: [f64; 3], input: &FlowInput) -> Option<LogMap> {
+        match *self {
+            Plasticity::JohnsonCook(ref hardening) => {
+                let law = hardening
+                    .at_temperature(input.temperature)
+                    .at_rate(input.rate);
+                j2_map(&law, log, input)
+            }
+            Plasticity::DruckerPrager { alpha } => drucker_prager_map(alpha, log, input),
+            Plasticity::None | Plasticity::Snow { .. } => None,
+        }
+    }
+}
+
+/// J2's projection as a map of the log singular values `log` = l = log Σ̂ (in any
+/// order), each l to (1 + s) l + t; `None` when elastic. The trial deviatoric
+/// Kirchhoff stress τ* = 2μ dev l, returned by [`radial_return`] on the flow stress law
+/// `law` (at the step's rate and temperature) with scaling k, gives log Σ = k dev l +
+/// tr(l)/3 (J kept): s = k − 1, t = −s tr(l)/3.
+fn j2_map(law: &JohnsonCook, log: [f64; 3], input: &FlowInput) -> Option<LogMap> {
+    let mean = (log[0] + log[1] + log[2]) / 3.0;
+    let dev = log.map(|e| e - mean);
+    // s* = √(3/2) ‖2μ dev l‖.
+    let trial =
+        2.0 * input.mu * (1.5 * (dev[0] * dev[0] + dev[1] * dev[1] + dev[2] * dev[2])).sqrt();
+    let (increment, scale) = return_map(trial, input.mu, input.plastic_strain, law, input.rate);
+    (increment > 0.0).then(|| {
+        let slope = scale - 1.0;
+        LogMap {
+            slope,
+            shift: -slope * mean,
+            increment,
+        }
+    })
+}
+
+/// Drucker–Prager's projection of friction coefficient `alpha` as a map of `log` (as
+/// [`j2_map`]). Compressed (tr l < 0): log Σ = l − δγ dev l/‖dev l‖ with δγ = ‖dev l‖ +
+/// (3λ + 2μ)/(2μ) tr(l) α (Klár et al. 2016 Eq. 28): s = −δγ/‖dev l‖, t = −s tr(l)/3;
+/// stretched (tr l ≥ 0): the tip Σ = I, s = −1, t = 0.
+fn drucker_prager_map(alpha: f64, log: [f64; 3], input: &FlowInput) -> Option<LogMap> {
+    let mean = (log[0] + log[1] + log[2]) / 3.0;
+    let trace = 3.0 * mean;
+    if trace >= 0.0 {
+        // Stretched: no cohesion, the tip of the cone.
+        return Some(LogMap {
+            slope: -1.0,
+            shift: 0.0,
+            increment: (log[0] * log[0] + log[1] * log[1] + log[2] * log[2]).sqrt(),
+        });
+    }
+    let dev = log.map(|e| e - mean);
+    let dev_norm = (dev[0] * dev[0] + dev[1] * dev[1] + dev[2] * dev[2]).sqrt();
+    // Compressed: a purely volumetric state (dev = 0) is inside the cone.
+    let gamma = dev_norm + (3.0 * input.lambda + 2.0 * input.mu) / (2.0 * input.mu) * trace * alpha;
+    (gamma > 0.0).then(|| {
+        let slope = -gamma / dev_norm;
+        LogMap {
+            slope,
+            shift: -slope * mean,
+            increment: gamma,
+        }
+    })
 }
 
 /// The smallest ratio λ_min/λ_max of C = F̂ᵀF̂ (the squared inverse condition number
@@ -511,10 +646,16 @@ pub fn j2_surely_elastic(f: &Mat3, mu: f64, yield_stress: f64) -> bool {
         return false;
     }
     let ic: f64 = f.iter().flatten().map(|x| x * x).sum();
+    let limit = yield_stress * yield_stress;
+    // The bound without its factor e^{√(3δ)} ≥ 1 first, and without the cube root:
+    // 3μ²δ ≤ σ_y² is I_C³ ≤ (3 + σ_y²/(3μ²))³ J², which a flowing particle fails.
+    let most = 3.0 + limit / (3.0 * mu * mu);
+    if ic * ic * ic > most * most * most * j * j {
+        return false;
+    }
     let cbrt = j.cbrt();
     let delta = (ic / (cbrt * cbrt) - 3.0).max(0.0);
-    delta < 1.0 / 3.0
-        && 3.0 * mu * mu * delta * (3.0 * delta).sqrt().exp() <= yield_stress * yield_stress
+    delta < 1.0 / 3.0 && 3.0 * mu * mu * delta * (3.0 * delta).sqrt().exp() <= limit
 }
 
 /// Whether every Gershgorin disc of the symmetric `c` lies in [lo, hi], so that its

@@ -1,0 +1,179 @@
+//! Powers of the right Cauchy–Green tensor C = F̂ᵀF̂ without its eigenvectors, for
+//! the plastic projections whose map of singular values is a power law.
+//!
+//! J2's radial return and Drucker–Prager's cone projection both move the log singular
+//! values l = log Σ̂ by an affine map of themselves, l ↦ (1 + s) l + t (J2: s = k − 1,
+//! t = −(k − 1) tr(l)/3 for the return's radial scaling k; Drucker–Prager: s = −δγ/‖dev
+//! l‖, t = −s tr(l)/3, and s = −1, t = 0 at the cone's tip). Then Σ/Σ̂ = Σ̂ˢ eᵗ, so the
+//! projected F_E = U Σ Vᵀ = F̂ V (Σ̂ˢ eᵗ) Vᵀ = eᵗ F̂ C^{s/2}: a function of C applied to
+//! F̂, which needs C's eigenvalues and not its eigenvectors.
+//!
+//! **The eigenvalues** come in closed form (Smith 1961, "Eigenvalues of a symmetric 3 × 3
+//! matrix"): with q = tr C/3, p² = ‖C − qI‖²_F/6 and r = det((C − qI)/p)/2, they are
+//! q + 2p cos(φ + 2πj/3), φ = arccos(r)/3: one square root, one arccosine and one
+//! sine–cosine pair instead of the Jacobi sweeps of
+//! [`symmetric_eigen`](super::constitutive::symmetric_eigen). Near a double eigenvalue
+//! arccos is ill-conditioned and the two close eigenvalues err by up to √ε p, in
+//! opposite directions; the interpolation below is insensitive to that to second order
+//! (its error at a true eigenvalue μ is a divided difference times the product of μ's
+//! distances to the nodes, both of them √ε p), so C^a keeps an error of about ε ‖C‖.
+//!
+//! **C^a** is the quadratic that interpolates h(x) = x^a at the three eigenvalues, in
+//! Newton's form with the nodes ordered largest x₀, smallest x₁, middle x₂ (Higham,
+//! *Functions of Matrices*, 2008, §1.2.2, polynomial interpolation):
+//! `h(C) = h[x₀] I + h[x₀, x₁](C − x₀I) + h[x₀, x₁, x₂](C − x₀I)(C − x₁I)`,
+//! exact for a symmetric C whatever its eigenvectors.
+//! A first divided difference of close nodes is taken from logarithms, `h[x, y] =
+//! e^{(a−1)(L_x+L_y)/2} sinh(a d)/sinh(d)` with d = (L_x − L_y)/2 (a series in d), so it
+//! does not cancel; the second has the widest gap x₀ − x₁ as its denominator, and its
+//! cancellation error is multiplied by ‖(C − x₀I)(C − x₁I)‖, at most (x₀ − x₁)²/4.
+
+use super::constitutive::{Mat3, determinant, gram};
+
+/// The smallest ratio λ_min/λ_max of C that [`Spectrum::of`] accepts: the closed-form
+/// eigenvalues carry an absolute error of about ε λ_max, so a smaller one would lose
+/// digits of its logarithm (the plastic strain). Below it the projections take the
+/// Jacobi eigen-solve or the SVD ([`super::plasticity::Stretch`]).
+pub const SPECTRUM_CONDITION_FLOOR: f64 = 1e-2;
+
+/// Relative gap of two eigenvalues below which their divided difference is taken from
+/// the series in their logarithms rather than as a difference quotient.
+const CLOSE_NODES: f64 = 1e-3;
+
+/// Relative spread of all three eigenvalues below which the second divided difference
+/// is h''(x₀)/2 (its error, about h''' times the spread, multiplies a matrix of the
+/// spread's square).
+const COINCIDENT_NODES: f64 = 1e-8;
+
+/// A plastic projection as a map of the log singular values l of F̂: each to (1 + `slope`)
+/// l + `shift`, keeping the singular vectors (J2, Drucker–Prager: see
+/// `plasticity::j2_map`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LogMap {
+    /// s.
+    pub slope: f64,
+    /// t.
+    pub shift: f64,
+    /// The increment of the plastic strain measure the projection adds.
+    pub increment: f64,
+}
+
+/// The eigenvalues of C = F̂ᵀF̂ of a well-conditioned, non-inverted F̂, and C itself.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Spectrum {
+    /// C = F̂ᵀF̂.
+    c: Mat3,
+    /// The eigenvalues of C as Newton nodes: largest, smallest, middle.
+    nodes: [f64; 3],
+    /// Their natural logarithms.
+    logs: [f64; 3],
+}
+
+impl Spectrum {
+    /// The spectrum of FᵀF, or `None` when det F ≤ 0 (inverted) or C's condition
+    /// number passes 1/[`SPECTRUM_CONDITION_FLOOR`] (or F is not finite).
+    pub fn of(f: &Mat3) -> Option<Spectrum> {
+        let det = determinant(f);
+        if det.is_nan() || det <= 0.0 {
+            return None;
+        }
+        let c = gram(f);
+        let q = (c[0][0] + c[1][1] + c[2][2]) / 3.0;
+        let off = c[0][1] * c[0][1] + c[0][2] * c[0][2] + c[1][2] * c[1][2];
+        let d = [c[0][0] - q, c[1][1] - q, c[2][2] - q];
+        let p2 = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + 2.0 * off) / 6.0;
+        let nodes = if p2 > 0.0 {
+            let p = p2.sqrt();
+            let mut shifted = c;
+            for (k, row) in shifted.iter_mut().enumerate() {
+                row[k] -= q;
+            }
+            // det((C − qI)/p)/2; a NaN (p³ underflowing) fails the floor test below.
+            let r = (0.5 * determinant(&shifted) / (p2 * p)).clamp(-1.0, 1.0);
+            let (sin, cos) = (r.acos() / 3.0).sin_cos();
+            let root3 = 3f64.sqrt();
+            [
+                q + 2.0 * p * cos,
+                q - p * (cos + root3 * sin),
+                q + p * (root3 * sin - cos),
+            ]
+        } else {
+            [q; 3]
+        };
+        // NaN nodes fail the comparison too.
+        let conditioned = nodes[1] > SPECTRUM_CONDITION_FLOOR * nodes[0];
+        if !conditioned || !nodes[0].is_finite() {
+            return None;
+        }
+        Some(Spectrum {
+            c,
+            nodes,
+            logs: nodes.map(f64::ln),
+        })
+    }
+
+    /// The logarithms of F̂'s singular values, log Σ̂ = ½ log λ(C), in the order largest,
+    /// smallest, middle.
+    pub fn log_singular_values(&self) -> [f64; 3] {
+        self.logs.map(|l| 0.5 * l)
+    }
+
+    /// Applies `map` (none: elastic) to `f`, the F̂ this is the spectrum of: F_E = eᵗ F̂
+    /// C^{s/2}. Returns the map's increment of the plastic strain measure (0 when
+    /// elastic).
+    pub fn project(&self, f: &mut Mat3, map: Option<LogMap>) -> f64 {
+        let Some(map) = map else {
+            return 0.0;
+        };
+        let g = self.power(0.5 * map.slope, map.shift);
+        *f = [0, 1, 2]
+            .map(|i| [0, 1, 2].map(|j| f[i][0] * g[0][j] + f[i][1] * g[1][j] + f[i][2] * g[2][j]));
+        map.increment
+    }
+
+    /// e^b C^a by Newton's divided-difference interpolation of h(x) = e^b x^a at the
+    /// eigenvalues (every divided difference is linear in h, so e^b rides along).
+    pub fn power(&self, a: f64, b: f64) -> Mat3 {
+        let [x0, x1, _] = self.nodes;
+        let h = self.logs.map(|l| (a * l + b).exp());
+        let first = |i: usize, j: usize| -> f64 {
+            let (xi, xj) = (self.nodes[i], self.nodes[j]);
+            if (xi - xj).abs() > CLOSE_NODES * xi.max(xj) {
+                (h[i] - h[j]) / (xi - xj)
+            } else {
+                // e^b e^{(a−1)(L_i+L_j)/2} = √(h_i h_j/(x_i x_j)); sinh(ad)/sinh(d) to d⁴.
+                let d = 0.5 * (self.logs[i] - self.logs[j]);
+                let (a2, d2) = (a * a, d * d);
+                let ratio =
+                    a * (1.0 + (a2 - 1.0) * d2 / 6.0 * (1.0 + (3.0 * a2 - 7.0) * d2 / 60.0));
+                (h[i] * h[j] / (xi * xj)).sqrt() * ratio
+            }
+        };
+        let h01 = first(0, 1);
+        let spread = x0 - x1;
+        let h012 = if spread > COINCIDENT_NODES * x0 {
+            (first(0, 2) - first(2, 1)) / spread
+        } else {
+            0.5 * a * (a - 1.0) * h[0] / (x0 * x0)
+        };
+        // (C − x₀I) and (C − x₀I)(C − x₁I), both symmetric.
+        let shifted = |x: f64| {
+            let mut m = self.c;
+            for (k, row) in m.iter_mut().enumerate() {
+                row[k] -= x;
+            }
+            m
+        };
+        let (m0, m1) = (shifted(x0), shifted(x1));
+        let mut out = [[0.0; 3]; 3];
+        for i in 0..3 {
+            for j in i..3 {
+                let product = m0[i][0] * m1[0][j] + m0[i][1] * m1[1][j] + m0[i][2] * m1[2][j];
+                let x = h01 * m0[i][j] + h012 * product + if i == j { h[0] } else { 0.0 };
+                out[i][j] = x;
+                out[j][i] = x;
+            }
+        }
+        out
+    }
+}
