@@ -19,13 +19,14 @@
 //! **How F̂ is decomposed.** Every projection maps the singular values Σ̂ to new ones
 //! Σ and keeps U and V. J2 and Drucker–Prager map log Σ̂ affinely, so F_E = eᵗ F̂
 //! C^{s/2} with C = F̂ᵀF̂ needs only C's eigenvalues, in closed form, and no
-//! eigenvectors ([`Spectrum`], [`LogMap`]). Snow's clamp is not a power
-//! law: F_E = U Σ Vᵀ = F̂ V Σ̂⁻¹ Σ Vᵀ takes V and Σ̂ from [`symmetric_eigen`] (Jacobi)
-//! at a fraction of the cost of nalgebra's SVD ([`Stretch`]). Squaring F̂ squares its
+//! eigenvectors ([`Spectrum`], [`LogMap`]); snow's clamp is such a power on each
+//! of its pieces ([`Spectrum::clamp`]). Where the closed form would lose digits, F_E =
+//! U Σ Vᵀ = F̂ V Σ̂⁻¹ Σ Vᵀ takes V and Σ̂ from [`symmetric_eigen`] (Jacobi) at a
+//! fraction of the cost of nalgebra's SVD ([`Stretch`]). Squaring F̂ squares its
 //! condition number, so an inverted or nearly degenerate F̂ (det F̂ ≤ 0, or λ_min(C) <
 //! [`EIGEN_CONDITION_FLOOR`] λ_max(C)) takes the inversion-safe SVD
-//! ([`rotation_svd`]); J2 and Drucker–Prager take the Jacobi path between that and
-//! the closed form's floor ([`super::spectral::SPECTRUM_CONDITION_FLOOR`]). Before
+//! ([`rotation_svd`]); the Jacobi path takes what lies between that and the closed
+//! form's floor ([`super::spectral::SPECTRUM_CONDITION_FLOOR`]). Before
 //! any of it, J2 and snow ask whether the particle can yield at all from invariants
 //! that cost a few multiplications ([`j2_surely_elastic`], the Gershgorin discs of C
 //! for snow), so a particle inside the yield surface is not decomposed. The test
@@ -440,14 +441,26 @@ impl Plasticity {
         }
     }
 
-    /// [`Plasticity::project`] without its first check. J2 and Drucker–Prager take
-    /// the closed-form eigenvalues of F̂ᵀF̂ and rebuild F_E as a power of it
-    /// ([`Spectrum`]) where F̂ is well conditioned; otherwise, and for snow, F̂ is
-    /// decomposed once by [`Stretch::of`].
+    /// [`Plasticity::project`] without its first check. Where F̂ is well conditioned
+    /// every model takes the closed-form eigenvalues of F̂ᵀF̂ ([`Spectrum`]): J2 and
+    /// Drucker–Prager rebuild F_E as a power of it, snow as a power on each piece of
+    /// its clamp ([`Spectrum::clamp`], unless two eigenvalues the clamp treats
+    /// differently are close); otherwise F̂ is decomposed once by [`Stretch::of`].
     pub fn project_yielding(&self, f: &mut Mat3, input: &FlowInput) -> f64 {
         let map = match *self {
             Plasticity::None => return 0.0,
-            Plasticity::Snow { .. } => None,
+            Plasticity::Snow {
+                critical_compression,
+                critical_stretch,
+            } => {
+                let (lo, hi) = (1.0 - critical_compression, 1.0 + critical_stretch);
+                if let Some(increment) =
+                    Spectrum::of(f).and_then(|spectrum| spectrum.clamp(f, lo, hi))
+                {
+                    return increment;
+                }
+                None
+            }
             Plasticity::JohnsonCook(ref hardening) => Spectrum::of(f).map(|spectrum| {
                 let law = hardening
                     .at_temperature(input.temperature)

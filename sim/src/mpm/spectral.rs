@@ -1,5 +1,6 @@
 //! Powers of the right Cauchy–Green tensor C = F̂ᵀF̂ without its eigenvectors, for
-//! the plastic projections whose map of singular values is a power law.
+//! the plastic projections whose map of singular values is a power law (J2,
+//! Drucker–Prager) or one on each of a few pieces (snow, [`Spectrum::clamp`]).
 //!
 //! J2's radial return and Drucker–Prager's cone projection both move the log singular
 //! values l = log Σ̂ by an affine map of themselves, l ↦ (1 + s) l + t (J2: s = k − 1,
@@ -28,7 +29,7 @@
 //! does not cancel; the second has the widest gap x₀ − x₁ as its denominator, and its
 //! cancellation error is multiplied by ‖(C − x₀I)(C − x₁I)‖, at most (x₀ − x₁)²/4.
 
-use super::constitutive::{Mat3, determinant, gram};
+use super::constitutive::{IDENTITY, Mat3, determinant, gram};
 
 /// The smallest ratio λ_min/λ_max of C that [`Spectrum::of`] accepts: the closed-form
 /// eigenvalues carry an absolute error of about ε λ_max, so a smaller one would lose
@@ -38,12 +39,17 @@ pub const SPECTRUM_CONDITION_FLOOR: f64 = 1e-2;
 
 /// Relative gap of two eigenvalues below which their divided difference is taken from
 /// the series in their logarithms rather than as a difference quotient.
-const CLOSE_NODES: f64 = 1e-3;
+pub const CLOSE_NODES: f64 = 1e-3;
+
+/// Distance of a singular value from snow's bounds, relative to the upper one, within
+/// which [`Spectrum::clamp`] declines a close pair (the closed-form eigenvalues of a
+/// near-double pair err by up to √ε ≈ 1.5e-8 of their spread).
+pub const BOUND_GUARD: f64 = 1e-6;
 
 /// Relative spread of all three eigenvalues below which the second divided difference
 /// is h''(x₀)/2 (its error, about h''' times the spread, multiplies a matrix of the
 /// spread's square).
-const COINCIDENT_NODES: f64 = 1e-8;
+pub const COINCIDENT_NODES: f64 = 1e-8;
 
 /// A plastic projection as a map of the log singular values l of F̂: each to (1 + `slope`)
 /// l + `shift`, keeping the singular vectors (J2, Drucker–Prager: see
@@ -156,24 +162,119 @@ impl Spectrum {
         } else {
             0.5 * a * (a - 1.0) * h[0] / (x0 * x0)
         };
-        // (C − x₀I) and (C − x₀I)(C − x₁I), both symmetric.
-        let shifted = |x: f64| {
-            let mut m = self.c;
-            for (k, row) in m.iter_mut().enumerate() {
-                row[k] -= x;
-            }
-            m
-        };
-        let (m0, m1) = (shifted(x0), shifted(x1));
+        let m0 = self.shifted(x0);
+        let product = self.shifted_product(x0, x1);
         let mut out = [[0.0; 3]; 3];
         for i in 0..3 {
-            for j in i..3 {
-                let product = m0[i][0] * m1[0][j] + m0[i][1] * m1[1][j] + m0[i][2] * m1[2][j];
-                let x = h01 * m0[i][j] + h012 * product + if i == j { h[0] } else { 0.0 };
-                out[i][j] = x;
-                out[j][i] = x;
+            for j in 0..3 {
+                out[i][j] = h01 * m0[i][j] + h012 * product[i][j] + if i == j { h[0] } else { 0.0 };
             }
         }
         out
+    }
+
+    /// C − xI.
+    fn shifted(&self, x: f64) -> Mat3 {
+        let mut m = self.c;
+        for (k, row) in m.iter_mut().enumerate() {
+            row[k] -= x;
+        }
+        m
+    }
+
+    /// (C − xI)(C − yI), symmetric (the two factors commute).
+    fn shifted_product(&self, x: f64, y: f64) -> Mat3 {
+        let (a, b) = (self.shifted(x), self.shifted(y));
+        let mut out = [[0.0; 3]; 3];
+        for i in 0..3 {
+            for j in i..3 {
+                let v = a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j];
+                out[i][j] = v;
+                out[j][i] = v;
+            }
+        }
+        out
+    }
+
+    /// Snow's projection (Lyu §3.3.3, Stomakhin et al. 2013): F̂'s singular values
+    /// clamped to lo ≤ σ ≤ hi, its singular vectors kept. Returns the increment
+    /// ‖log Σ̂ − log Σ‖ (0, `f` untouched, when nothing is clamped), or `None`, `f`
+    /// untouched, where two eigenvalues that the clamp treats differently are closer
+    /// than [`CLOSE_NODES`] of the largest, or a close pair is within [`BOUND_GUARD`] of
+    /// a bound (the caller takes the eigenvectors then).
+    ///
+    /// The clamp is a power law on each of three pieces (below lo: lo σ̂⁻¹ = lo C^{−½};
+    /// inside: 1; above: hi C^{−½}), and the sorted eigenvalues fall on the pieces in
+    /// order, so those sharing the middle eigenvalue x₂'s piece take its law m(C) and an
+    /// eigenvalue x_k alone on its piece is corrected by its spectral projector
+    /// P_k = (C − x_iI)(C − x_jI)/((x_k − x_i)(x_k − x_j)): F_E = F̂ (m(C) + Σ_k (r_k −
+    /// m(x_k)) P_k), r_k the clamp's ratio at x_k. A projector of an eigenvalue apart
+    /// from the others by more than [`CLOSE_NODES`] is accurate to about ε/CLOSE_NODES;
+    /// a close pair on one piece shares a law and needs no projector.
+    pub fn clamp(&self, f: &mut Mat3, lo: f64, hi: f64) -> Option<f64> {
+        let sigma = self.nodes.map(f64::sqrt);
+        let piece = sigma.map(|s| {
+            if s < lo {
+                -1
+            } else if s > hi {
+                1
+            } else {
+                0
+            }
+        });
+        let bound = |p: i32| if p < 0 { lo } else { hi };
+        let [x0, x1, x2] = self.nodes;
+        let (top, bottom) = (piece[0] != piece[2], piece[1] != piece[2]);
+        // A close pair straddling a bound by less than the closed form's √ε error
+        // could be put on one piece: decline it too.
+        let near = |k: usize| {
+            (sigma[k] - lo).abs() <= BOUND_GUARD * hi || (sigma[k] - hi).abs() <= BOUND_GUARD * hi
+        };
+        let (close_top, close_bottom) = (x0 - x2 <= CLOSE_NODES * x0, x2 - x1 <= CLOSE_NODES * x0);
+        if close_top && (top || near(0) || near(2))
+            || close_bottom && (bottom || near(2) || near(1))
+        {
+            return None;
+        }
+        if piece == [0; 3] {
+            return Some(0.0);
+        }
+        // The middle piece's law m(C), and m and the clamp's ratio r at each node.
+        let mut g = match piece[2] {
+            0 => IDENTITY,
+            p => self.power(-0.5, bound(p).ln()),
+        };
+        let law = |k: usize| match piece[2] {
+            0 => 1.0,
+            p => bound(p) / sigma[k],
+        };
+        let ratio = |k: usize| match piece[k] {
+            0 => 1.0,
+            p => bound(p) / sigma[k],
+        };
+        for (alone, k, i, j) in [(top, 0, 1, 2), (bottom, 1, 0, 2)] {
+            if alone {
+                let (xk, xi, xj) = (self.nodes[k], self.nodes[i], self.nodes[j]);
+                let weight = (ratio(k) - law(k)) / ((xk - xi) * (xk - xj));
+                let projector = self.shifted_product(xi, xj);
+                for (row, p_row) in g.iter_mut().zip(&projector) {
+                    for (x, p) in row.iter_mut().zip(p_row) {
+                        *x += weight * p;
+                    }
+                }
+            }
+        }
+        *f = [0, 1, 2]
+            .map(|i| [0, 1, 2].map(|j| f[i][0] * g[0][j] + f[i][1] * g[1][j] + f[i][2] * g[2][j]));
+        let change: f64 = (0..3)
+            .map(|k| {
+                let d = match piece[k] {
+                    0 => 0.0,
+                    p => 0.5 * self.logs[k] - bound(p).ln(),
+                };
+                d * d
+            })
+            .sum();
+        Some(change.sqrt())
     }
 }

@@ -87,3 +87,67 @@ fn inverted_or_ill_conditioned_gradients_have_no_spectrum() {
     assert!(Spectrum::of(&diagonal([f64::NAN, 1.0, 1.0])).is_none());
     assert!(Spectrum::of(&diagonal([1.0, 1.0, 0.11])).is_some());
 }
+
+/// Snow's clamp without eigenvectors matches U clamp(Σ) Vᵀ to 1e-12 of |F|, and its
+/// increment ‖log Σ̂ − log Σ‖ to 1e-12, on singular values spread around the clamp's
+/// bounds (each alone on a piece, pairs and triples within 1e-12 to 1e-3 of each other
+/// on one piece or straddling a bound), and declines only where two eigenvalues on
+/// different pieces are close.
+#[test]
+fn snow_clamps_by_pieces_as_the_svd_does() {
+    let (lo, hi) = (0.975, 1.0075);
+    let mut state = 17u64;
+    let (mut worst, mut worst_increment) = (0.0f64, 0.0f64);
+    let (mut clamped, mut declined, mut projectors) = (0, 0, 0);
+    for case in 0..30_000 {
+        let u = rotation(&mut state);
+        let v = rotation(&mut state);
+        let gap = 10f64.powf(-12.0 + 9.0 * uniform(&mut state));
+        let mut around = || 0.95 + 0.08 * uniform(&mut state);
+        let (s, other) = (around(), around());
+        let sigma = match case % 5 {
+            0 | 1 => [around(), around(), around()],
+            2 => [s, s * (1.0 + gap), other],
+            3 => [s, s * (1.0 + gap), s * (1.0 - gap)],
+            _ => [hi * (1.0 + gap), hi * (1.0 - gap), other],
+        };
+        let f = to_mat(u * Matrix3::from_diagonal(&Vector3::from(sigma)) * v.transpose());
+        let spectrum = Spectrum::of(&f).expect("well conditioned");
+        let mut fast = f;
+        let Some(increment) = spectrum.clamp(&mut fast, lo, hi) else {
+            assert_eq!(fast, f, "a declined clamp leaves F alone");
+            declined += 1;
+            continue;
+        };
+        let target = sigma.map(|x| x.clamp(lo, hi));
+        if target != sigma {
+            clamped += 1;
+        }
+        let pieces: std::collections::BTreeSet<i8> = sigma
+            .iter()
+            .map(|&x| (x > hi) as i8 - (x < lo) as i8)
+            .collect();
+        if pieces.len() > 1 {
+            projectors += 1;
+        }
+        let exact = to_mat(u * Matrix3::from_diagonal(&Vector3::from(target)) * v.transpose());
+        for (row, row_exact) in fast.iter().zip(&exact) {
+            for (x, y) in row.iter().zip(row_exact) {
+                worst = worst.max((x - y).abs());
+            }
+        }
+        let expected = (0..3)
+            .map(|k| (sigma[k].ln() - target[k].ln()).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        worst_increment = worst_increment.max((increment - expected).abs());
+    }
+    assert!(
+        worst < 1e-12 && worst_increment < 1e-12,
+        "F differs from U clamp(Σ) Vᵀ by {worst:e}, the increment by {worst_increment:e}"
+    );
+    assert!(
+        clamped > 15_000 && projectors > 8_000 && declined < 9_000,
+        "{clamped} clamped, {projectors} with projectors, {declined} declined"
+    );
+}
