@@ -462,21 +462,21 @@ impl Plasticity {
                 None
             }
             Plasticity::JohnsonCook(ref hardening) => Spectrum::of(f).map(|spectrum| {
+                let logs = spectrum.logs();
                 let law = hardening
                     .at_temperature(input.temperature)
                     .at_rate(input.rate);
-                (
-                    spectrum,
-                    j2_map(&law, spectrum.log_singular_values(), input),
-                )
+                let map = j2_map(&law, logs.map(|l| 0.5 * l), input);
+                (spectrum, logs, map)
             }),
             Plasticity::DruckerPrager { alpha } => Spectrum::of(f).map(|spectrum| {
-                let log = spectrum.log_singular_values();
-                (spectrum, drucker_prager_map(alpha, log, input))
+                let logs = spectrum.logs();
+                let map = drucker_prager_map(alpha, logs.map(|l| 0.5 * l), input);
+                (spectrum, logs, map)
             }),
         };
-        if let Some((spectrum, map)) = map {
-            return spectrum.project(f, map);
+        if let Some((spectrum, logs, map)) = map {
+            return spectrum.project(f, map, &logs);
         }
         let stretch = Stretch::of(f);
         self.project_with(f, input, &stretch)

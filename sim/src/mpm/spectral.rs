@@ -71,8 +71,6 @@ pub struct Spectrum {
     c: Mat3,
     /// The eigenvalues of C as Newton nodes: largest, smallest, middle.
     nodes: [f64; 3],
-    /// Their natural logarithms.
-    logs: [f64; 3],
 }
 
 impl Spectrum {
@@ -111,44 +109,42 @@ impl Spectrum {
         if !conditioned || !nodes[0].is_finite() {
             return None;
         }
-        Some(Spectrum {
-            c,
-            nodes,
-            logs: nodes.map(f64::ln),
-        })
+        Some(Spectrum { c, nodes })
     }
 
-    /// The logarithms of F̂'s singular values, log Σ̂ = ½ log λ(C), in the order largest,
-    /// smallest, middle.
-    pub fn log_singular_values(&self) -> [f64; 3] {
-        self.logs.map(|l| 0.5 * l)
+    /// The natural logarithms of C's eigenvalues, twice those of F̂'s singular values,
+    /// in the order largest, smallest, middle (what [`Spectrum::power`] takes; taken
+    /// only where a projection needs them).
+    pub fn logs(&self) -> [f64; 3] {
+        self.nodes.map(f64::ln)
     }
 
     /// Applies `map` (none: elastic) to `f`, the F̂ this is the spectrum of: F_E = eᵗ F̂
-    /// C^{s/2}. Returns the map's increment of the plastic strain measure (0 when
-    /// elastic).
-    pub fn project(&self, f: &mut Mat3, map: Option<LogMap>) -> f64 {
+    /// C^{s/2}; `logs` are [`Spectrum::logs`]. Returns the map's increment of the
+    /// plastic strain measure (0 when elastic).
+    pub fn project(&self, f: &mut Mat3, map: Option<LogMap>, logs: &[f64; 3]) -> f64 {
         let Some(map) = map else {
             return 0.0;
         };
-        let g = self.power(0.5 * map.slope, map.shift);
+        let g = self.power(0.5 * map.slope, map.shift, logs);
         *f = [0, 1, 2]
             .map(|i| [0, 1, 2].map(|j| f[i][0] * g[0][j] + f[i][1] * g[1][j] + f[i][2] * g[2][j]));
         map.increment
     }
 
     /// e^b C^a by Newton's divided-difference interpolation of h(x) = e^b x^a at the
-    /// eigenvalues (every divided difference is linear in h, so e^b rides along).
-    pub fn power(&self, a: f64, b: f64) -> Mat3 {
+    /// eigenvalues (every divided difference is linear in h, so e^b rides along);
+    /// `logs` are [`Spectrum::logs`].
+    pub fn power(&self, a: f64, b: f64, logs: &[f64; 3]) -> Mat3 {
         let [x0, x1, _] = self.nodes;
-        let h = self.logs.map(|l| (a * l + b).exp());
+        let h = logs.map(|l| (a * l + b).exp());
         let first = |i: usize, j: usize| -> f64 {
             let (xi, xj) = (self.nodes[i], self.nodes[j]);
             if (xi - xj).abs() > CLOSE_NODES * xi.max(xj) {
                 (h[i] - h[j]) / (xi - xj)
             } else {
                 // e^b e^{(a−1)(L_i+L_j)/2} = √(h_i h_j/(x_i x_j)); sinh(ad)/sinh(d) to d⁴.
-                let d = 0.5 * (self.logs[i] - self.logs[j]);
+                let d = 0.5 * (logs[i] - logs[j]);
                 let (a2, d2) = (a * a, d * d);
                 let ratio =
                     a * (1.0 + (a2 - 1.0) * d2 / 6.0 * (1.0 + (3.0 * a2 - 7.0) * d2 / 60.0));
@@ -242,7 +238,7 @@ impl Spectrum {
         // The middle piece's law m(C), and m and the clamp's ratio r at each node.
         let mut g = match piece[2] {
             0 => IDENTITY,
-            p => self.power(-0.5, bound(p).ln()),
+            p => self.power(-0.5, bound(p).ln(), &self.logs()),
         };
         let law = |k: usize| match piece[2] {
             0 => 1.0,
@@ -268,9 +264,10 @@ impl Spectrum {
             .map(|i| [0, 1, 2].map(|j| f[i][0] * g[0][j] + f[i][1] * g[1][j] + f[i][2] * g[2][j]));
         let change: f64 = (0..3)
             .map(|k| {
+                // log σ̂ − log σ = ½ log(x/bound²).
                 let d = match piece[k] {
                     0 => 0.0,
-                    p => 0.5 * self.logs[k] - bound(p).ln(),
+                    p => 0.5 * (self.nodes[k] / (bound(p) * bound(p))).ln(),
                 };
                 d * d
             })
