@@ -15,8 +15,8 @@ pub struct SurfaceMesh {
     pub positions: Vec<[f32; 3]>,
     /// Unit vertex normals, one per position.
     pub normals: Vec<[f32; 3]>,
-    /// Damage φ in [0, 1] per vertex; empty when the surface carries none (the `vdb`
-    /// method's meshes).
+    /// Damage φ in [0, 1] per vertex (the `vdb` method's: the nearest particle's);
+    /// empty when the surface carries none.
     pub damage: Vec<f32>,
     /// The diffused quantity θ per vertex (a membrane's sheet, Han Eq. 25); empty
     /// when the surface carries none.

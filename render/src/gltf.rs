@@ -894,7 +894,7 @@ fn finish(
 
 /// Encodes meshes as a .glb file (an asset with no scene when `meshes` is empty):
 /// one primitive a mesh, of its original-surface then its crack triangles, without
-/// materials or damage.
+/// materials; a mesh's damage, when it has any, as the float attribute `_DAMAGE`.
 pub fn to_glb(meshes: &[SurfaceMesh]) -> Result<Vec<u8>, RenderError> {
     use json::accessor::{ComponentType, Type};
     use json::buffer::Target;
@@ -964,12 +964,31 @@ pub fn to_glb(meshes: &[SurfaceMesh]) -> Result<Vec<u8>, RenderError> {
             Type::Scalar,
             None,
         ));
+        let damage = if surface.damage.is_empty() {
+            None
+        } else if surface.damage.len() == count {
+            Some(push_scalars(&mut root, &mut bin, &surface.damage))
+        } else {
+            return Err(invalid(format!(
+                "mesh '{}' has {count} positions but {} damage values",
+                surface.name,
+                surface.damage.len()
+            )));
+        };
         let primitive = json::mesh::Primitive {
             attributes: [
-                (Checked::Valid(json::mesh::Semantic::Positions), positions),
-                (Checked::Valid(json::mesh::Semantic::Normals), normals),
+                (
+                    Checked::Valid(json::mesh::Semantic::Positions),
+                    Some(positions),
+                ),
+                (Checked::Valid(json::mesh::Semantic::Normals), Some(normals)),
+                (
+                    Checked::Valid(json::mesh::Semantic::Extras("DAMAGE".into())),
+                    damage,
+                ),
             ]
             .into_iter()
+            .filter_map(|(semantic, accessor)| Some((semantic, accessor?)))
             .collect(),
             extensions: None,
             extras: Default::default(),
@@ -1084,18 +1103,26 @@ mod tests {
         assert!(err.to_string().contains("index 9"), "{err}");
         let err = to_glb(&[plain("short", &p, &n[..2], &i)]).unwrap_err();
         assert!(err.to_string().contains("normals"), "{err}");
+        let (p, n, i) = tetrahedron();
+        let short = SurfaceMesh {
+            damage: vec![0.5; 3],
+            ..plain("short damage", &p, &n, &i)
+        };
+        let err = to_glb(&[short]).unwrap_err();
+        assert!(err.to_string().contains("3 damage values"), "{err}");
     }
 
     #[test]
     fn the_khronos_validator_finds_no_errors() {
         let dir = tempfile::tempdir().unwrap();
         let (p, n, i) = tetrahedron();
-        // Two meshes, so that the second's views start after the first's.
-        let glb = to_glb(&[
-            plain("one triangle", &p[..3], &n[..3], &i[..3]),
-            plain("tet", &p, &n, &i),
-        ])
-        .unwrap();
+        // Two meshes, so that the second's views start after the first's; the second
+        // with damage, as the vdb method's meshes carry it.
+        let damaged = SurfaceMesh {
+            damage: vec![0.0, 0.5, 1.0, 0.25],
+            ..plain("tet", &p, &n, &i)
+        };
+        let glb = to_glb(&[plain("one triangle", &p[..3], &n[..3], &i[..3]), damaged]).unwrap();
         let file = dir.path().join("tet.glb");
         std::fs::write(&file, glb).unwrap();
         let report = validate(&file);

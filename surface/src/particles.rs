@@ -147,34 +147,18 @@ pub fn local_thickness(positions: &[[f32; 3]], indices: &[u32], spacing: f64) ->
     const SAMPLES: usize = 256;
     const MIN_NEIGHBOURS: usize = 6;
     let radius = 2.0 * spacing;
-    let cell = |p: &[f32; 3]| -> [i64; 3] { p.map(|x| (x as f64 / radius).floor() as i64) };
-    let mut grid: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
-    for &i in indices {
-        grid.entry(cell(&positions[i as usize]))
-            .or_default()
-            .push(i);
-    }
+    let grid = Bins::new(positions, indices, radius);
     let stride = indices.len().div_ceil(SAMPLES).max(1);
     let mut thickness: Vec<f64> = Vec::new();
     let mut neighbours: Vec<[f64; 3]> = Vec::new();
     for &i in indices.iter().step_by(stride) {
         let p = positions[i as usize].map(f64::from);
-        let c = cell(&positions[i as usize]);
         neighbours.clear();
-        for dx in -1..=1 {
-            for dy in -1..=1 {
-                for dz in -1..=1 {
-                    let Some(list) = grid.get(&[c[0] + dx, c[1] + dy, c[2] + dz]) else {
-                        continue;
-                    };
-                    for &j in list {
-                        let q = positions[j as usize].map(f64::from);
-                        let d = sub(q, p);
-                        if dot(d, d) <= radius * radius {
-                            neighbours.push(q);
-                        }
-                    }
-                }
+        for j in grid.around(positions[i as usize]) {
+            let q = positions[j as usize].map(f64::from);
+            let d = sub(q, p);
+            if dot(d, d) <= radius * radius {
+                neighbours.push(q);
             }
         }
         if neighbours.len() < MIN_NEIGHBOURS {
@@ -210,6 +194,68 @@ pub fn local_thickness(positions: &[[f32; 3]], indices: &[u32], spacing: f64) ->
     }
     thickness.sort_by(f64::total_cmp);
     Some(thickness[thickness.len() / 2])
+}
+
+/// Particle indices binned in cubes of a side `size`, for searches within `size`.
+struct Bins {
+    size: f64,
+    cells: HashMap<[i64; 3], Vec<u32>>,
+}
+
+impl Bins {
+    fn new(positions: &[[f32; 3]], indices: &[u32], size: f64) -> Bins {
+        let mut bins = Bins {
+            size,
+            cells: HashMap::new(),
+        };
+        for &i in indices {
+            let c = bins.cell(positions[i as usize]);
+            bins.cells.entry(c).or_default().push(i);
+        }
+        bins
+    }
+
+    fn cell(&self, p: [f32; 3]) -> [i64; 3] {
+        p.map(|x| (f64::from(x) / self.size).floor() as i64)
+    }
+
+    /// The indices in the 27 cubes around `p`: every one within `size` of it, and more.
+    fn around(&self, p: [f32; 3]) -> impl Iterator<Item = u32> + '_ {
+        let c = self.cell(p);
+        (0..27).flat_map(move |k| {
+            let at = [c[0] + k % 3 - 1, c[1] + (k / 3) % 3 - 1, c[2] + k / 9 - 1];
+            self.cells.get(&at).into_iter().flatten().copied()
+        })
+    }
+}
+
+/// Each of `vertices`' damage: that of the nearest of the particles `indices` within
+/// `reach` of it, or 0 where none is (a surface's vertex lies about a sphere radius
+/// from its particles). The `vdb` method's meshes carry it, so that previews
+/// coloured by damage show the cracks of particle caches.
+pub fn nearest_damage(
+    vertices: &[[f32; 3]],
+    positions: &[[f32; 3]],
+    damage: &[f32],
+    indices: &[u32],
+    reach: f64,
+) -> Vec<f32> {
+    let bins = Bins::new(positions, indices, reach);
+    vertices
+        .iter()
+        .map(|&v| {
+            let p = v.map(f64::from);
+            let nearest = bins
+                .around(v)
+                .map(|j| {
+                    let d = sub(positions[j as usize].map(f64::from), p);
+                    (dot(d, d), j)
+                })
+                .filter(|&(r2, _)| r2 <= reach * reach)
+                .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            nearest.map_or(0.0, |(_, j)| damage[j as usize])
+        })
+        .collect()
 }
 
 /// The unit eigenvector of the smallest eigenvalue of a symmetric 3×3 matrix
@@ -254,6 +300,23 @@ pub fn thinnest_axis(mut a: [[f64; 3]; 3]) -> [f64; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_vertex_takes_its_nearest_particles_damage() {
+        let positions = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [5.0, 0.0, 0.0]];
+        let damage = [0.1, 0.7, 0.9];
+        let vertices = [
+            [0.2, 0.1, 0.0],
+            [0.8, -0.1, 0.0],
+            [3.0, 0.0, 0.0],
+            [5.0, 1.0, 0.5],
+        ];
+        // Particle 2 is left out: the last vertex is nearest to it but it is not asked.
+        let got = nearest_damage(&vertices, &positions, &damage, &[0, 1], 1.5);
+        assert_eq!(got, vec![0.1, 0.7, 0.0, 0.0]);
+        let got = nearest_damage(&vertices, &positions, &damage, &[0, 1, 2], 2.5);
+        assert_eq!(got, vec![0.1, 0.7, 0.7, 0.9]);
+    }
 
     #[test]
     fn thinnest_axis_of_a_rotated_ellipsoid() {

@@ -51,6 +51,8 @@ pub struct FragmentMesh {
     pub particles: usize,
     /// Its triangles.
     pub mesh: TriangleMesh,
+    /// Each vertex's damage: its nearest particle's ([`particles::nearest_damage`]).
+    pub damage: Vec<f32>,
 }
 
 impl FragmentMesh {
@@ -61,6 +63,7 @@ impl FragmentMesh {
             name: format!("fragment {}", self.fragment),
             positions: self.mesh.positions.clone(),
             normals: self.mesh.vertex_normals(),
+            damage: self.damage.clone(),
             surface_indices: self.mesh.indices.clone(),
             ..SurfaceMesh::default()
         }
@@ -233,10 +236,19 @@ pub fn surface_particles(
         seconds.write += t.elapsed().as_secs_f64();
         if !mesh.is_empty() {
             stats.triangles += mesh.triangle_count();
+            let reach = 2.0 * f64::from(radii.iter().copied().fold(0.0f32, f32::max));
+            let damage = particles::nearest_damage(
+                &mesh.positions,
+                &particles.position,
+                &particles.damage,
+                &members,
+                reach,
+            );
             meshes.push(FragmentMesh {
                 fragment,
                 particles: members.len(),
                 mesh,
+                damage,
             });
         }
         stats.fragments += 1;
