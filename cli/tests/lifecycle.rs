@@ -89,6 +89,23 @@ fn signal(child: &Child, name: &str) {
     assert!(status.success(), "kill -{name} failed");
 }
 
+/// Whether every thread of `child` has stopped (state T or t in /proc) or it has
+/// ended. `kill -STOP` returns once the signal is sent; a thread running on the other
+/// core can still finish a rename before it stops.
+fn stopped(child: &Child) -> bool {
+    let Ok(tasks) = std::fs::read_dir(format!("/proc/{}/task", child.id())) else {
+        return true;
+    };
+    tasks.flatten().all(|task| {
+        let stat = std::fs::read_to_string(task.path().join("stat")).unwrap_or_default();
+        let state = stat
+            .rsplit(')')
+            .next()
+            .and_then(|rest| rest.split_whitespace().next());
+        matches!(state, None | Some("T" | "t" | "Z" | "X"))
+    })
+}
+
 /// Waits (at most a minute) until `ready` holds, polling every millisecond.
 fn wait_for(what: &str, mut ready: impl FnMut() -> bool) {
     let start = Instant::now();
@@ -210,6 +227,7 @@ fn sigkill_anywhere_then_resume_gives_the_bytes_of_an_uninterrupted_run() {
     while caught.is_none() && child.try_wait().expect("status").is_none() {
         if let Some(tmp) = temporary_files(&out).into_iter().next() {
             signal(&child, "STOP");
+            wait_for("the run to stop", || stopped(&child));
             if out.join(&tmp).exists() {
                 caught = Some(tmp);
             } else {
@@ -357,6 +375,7 @@ fn sigint_stops_cleanly_and_a_second_one_quits_at_once() {
         let child = start(&scene, &out, &[]);
         wait_for("frame 2", || out.join("particles/0002.ply").exists());
         signal(&child, "STOP");
+        wait_for("the run to stop", || stopped(&child));
         signal(&child, "INT");
         signal(&child, "TERM");
         signal(&child, "CONT");
