@@ -31,6 +31,7 @@
 
 pub mod constitutive;
 pub mod grid;
+pub mod johnson_cook;
 #[cfg(test)]
 mod patch_tests;
 pub mod patches;

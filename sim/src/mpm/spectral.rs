@@ -29,7 +29,7 @@
 //! does not cancel; the second has the widest gap x₀ − x₁ as its denominator, and its
 //! cancellation error is multiplied by ‖(C − x₀I)(C − x₁I)‖, at most (x₀ − x₁)²/4.
 
-use super::constitutive::{IDENTITY, Mat3, determinant, gram};
+use super::constitutive::{IDENTITY, Mat3, determinant, gram, mul};
 
 /// The smallest ratio λ_min/λ_max of C that [`Spectrum::of`] accepts: the closed-form
 /// eigenvalues carry an absolute error of about ε λ_max, so a smaller one would lose
@@ -127,8 +127,7 @@ impl Spectrum {
             return 0.0;
         };
         let g = self.power(0.5 * map.slope, map.shift, logs);
-        *f = [0, 1, 2]
-            .map(|i| [0, 1, 2].map(|j| f[i][0] * g[0][j] + f[i][1] * g[1][j] + f[i][2] * g[2][j]));
+        *f = mul(f, &g);
         map.increment
     }
 
@@ -260,8 +259,7 @@ impl Spectrum {
                 }
             }
         }
-        *f = [0, 1, 2]
-            .map(|i| [0, 1, 2].map(|j| f[i][0] * g[0][j] + f[i][1] * g[1][j] + f[i][2] * g[2][j]));
+        *f = mul(f, &g);
         let change: f64 = (0..3)
             .map(|k| {
                 // log σ̂ − log σ = ½ log(x/bound²).
