@@ -23,6 +23,10 @@ packages=(
   ffmpeg
   # node runs the Khronos glTF validator (npm package gltf-validator) in the tests.
   nodejs
+  # OpenMPI for the CLI's optional `mpi` feature (`mpirun -np N perifrac run`), which
+  # the tests build: its headers and mpicc for rsmpi's build, mpirun, and libclang
+  # for the bindgen that reads the headers.
+  libopenmpi-dev openmpi-bin libclang-dev
 )
 # Node.js builds from other sources bundle npm (and conflict with Debian's package).
 command -v npm >/dev/null 2>&1 || packages+=(npm)

@@ -5,6 +5,7 @@ cd "$(dirname "$0")/.."
 scripts/setup.sh
 cargo fmt --all -- --check
 cargo clippy --workspace --all-targets -q -- -D warnings
+cargo clippy -p perifrac --all-targets --features mpi -q -- -D warnings
 cargo run -q -p licence-check
 # The build without OpenVDB and without GL that the README promises, and the API docs
 # with every warning (broken or private intra-doc links, missing docs) an error.
@@ -13,3 +14,5 @@ RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps -q
 # cli/tests/usd.rs runs scripts/dcc-check.sh: cache.usd through Pixar's usd-core
 # validator and Blender's importers (PyPI usd-core, meshio, bpy in target/dcc-venv).
 cargo test --workspace
+# `mpirun -np N perifrac run` (cli/tests/ranks.rs) on a build with the `mpi` feature.
+cargo test -p perifrac --features mpi --test ranks

@@ -115,6 +115,7 @@ pub fn run(
             &dir,
             &perifrac_sim::run::RunOptions::default(),
             &lifecycle,
+            &crate::ranks::Launch::single(),
             None,
             quiet,
         )?;

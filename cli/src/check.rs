@@ -78,6 +78,12 @@ pub fn command(path: &Path) -> Result<(), Failure> {
         before.particles,
         before.bonds
     );
+    println!(
+        "  ranks:     each rank of `mpirun -np N perifrac run` needs the same {:.1} MiB, \
+         whatever N: every rank holds the whole world and N ranks split the bond work \
+         (docs/ranks.md)",
+        memory / (1 << 20) as f64
+    );
     print_prepared(&scene, run::prepare_discretized(&scene, disc)?)
 }
 

@@ -12,6 +12,7 @@ use perifrac_sim::SimError;
 use perifrac_sim::run::{self, Plan, Progress, RunOptions};
 
 use crate::args::RunConfig;
+use crate::ranks::Launch;
 use crate::signals::{EXIT_INTERRUPTED, Watcher};
 
 /// Exit code of a run that failed (I/O, blow-up) and of `verify` on a failed run.
@@ -179,6 +180,7 @@ pub fn run(config: &RunConfig, quiet: bool) -> Result<(), Failure> {
         force: config.force,
         resume_command: resume_command(config, &out),
     };
+    let launch = crate::ranks::launch()?;
     simulate(
         &scene,
         &out,
@@ -188,6 +190,7 @@ pub fn run(config: &RunConfig, quiet: bool) -> Result<(), Failure> {
             ..RunOptions::default()
         },
         &lifecycle,
+        &launch,
         config.threads,
         quiet,
     )?;
@@ -220,7 +223,11 @@ pub fn demo(
         resume,
         ..RunOptions::default()
     };
-    let timing = simulate(&scene, out, &options, &lifecycle, threads, quiet)?;
+    let launch = crate::ranks::launch()?;
+    let timing = simulate(&scene, out, &options, &lifecycle, &launch, threads, quiet)?;
+    if !launch.leads() {
+        return Ok(());
+    }
     if let (false, Some(preview)) = (quiet, timing.preview) {
         eprintln!(
             "demo: simulation {:.1} s, previews {:.1} s ({:.1} % of the simulation)",
@@ -358,17 +365,37 @@ fn explain_stop(failure: Failure, lifecycle: &Lifecycle, layout: &Layout) -> Fai
 
 /// Simulates `scene` into `out`, then runs the stages its `[output]` asks for
 /// (surfaces, previews). SIGINT, SIGTERM and SIGHUP stop the simulation cleanly (see
-/// [`crate::signals`]).
+/// [`crate::signals`]). Over several ranks (`launch`), every rank simulates and rank
+/// 0 alone looks at the output folder, prints, writes and runs the later stages.
 pub fn simulate(
     scene: &Scene,
     out: &Path,
     options: &RunOptions,
     lifecycle: &Lifecycle,
+    launch: &Launch,
     threads: Option<usize>,
     quiet: bool,
 ) -> Result<StageSeconds, Failure> {
+    let nothing_run = StageSeconds {
+        simulation: 0.0,
+        preview: None,
+        usd: None,
+    };
     let layout = Layout::new(out);
-    if let Some(done) = prepare_output(scene, &layout, options, lifecycle, quiet)? {
+    let leads = launch.leads();
+    let quiet = quiet || !leads;
+    let ready = match leads {
+        true => prepare_output(scene, &layout, options, lifecycle, quiet),
+        false => Ok(None),
+    };
+    // The others follow rank 0's look at the folder: refused, or complete already.
+    if let Some(ranks) = &launch.ranks
+        && ranks.any(!matches!(ready, Ok(None)))
+        && !leads
+    {
+        return Ok(nothing_run);
+    }
+    if let Some(done) = ready? {
         println!(
             "{}: already complete ({} frames, status {}); nothing to run (perifrac verify {} \
              checks it; --force reruns it)",
@@ -377,14 +404,11 @@ pub fn simulate(
             done.status,
             shell_word(&out.to_string_lossy())
         );
-        return Ok(StageSeconds {
-            simulation: 0.0,
-            preview: None,
-            usd: None,
-        });
+        return Ok(nothing_run);
     }
     let options = RunOptions {
         memory_limit: crate::memory::memory_limit(),
+        ranks: launch.ranks.clone(),
         ..options.clone()
     };
     let watcher = Watcher::start(options.stop.clone(), out.to_path_buf())
@@ -416,8 +440,22 @@ pub fn simulate(
     let result = run::run(scene, out, &options, &mut report);
     watcher.set_simulating(false);
     bar.finish_and_clear();
-    let manifest = result.map_err(|e| explain_stop(Failure::from(e), lifecycle, &layout))?;
+    let manifest = result.map_err(|e| {
+        let failure = Failure::from(e);
+        // A stop is agreed by every rank at one step; anything else may have left
+        // the other ranks waiting in a collective.
+        match failure.code {
+            EXIT_INTERRUPTED => explain_stop(failure, lifecycle, &layout),
+            _ => launch.fail(explain_stop(failure, lifecycle, &layout)),
+        }
+    })?;
     let simulation = start.elapsed().as_secs_f64();
+    if !leads {
+        return Ok(StageSeconds {
+            simulation,
+            ..nothing_run
+        });
+    }
     if !quiet {
         eprintln!(
             "{}: {} particles, {} bonds, {} steps of {:.3e} s in {:.1} s; output in {}",

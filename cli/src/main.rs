@@ -26,6 +26,7 @@ mod commands;
 mod export;
 mod memory;
 mod plot;
+mod ranks;
 mod render;
 mod signals;
 mod stability;

@@ -1,7 +1,8 @@
 //! Errors and checks that used to pass silently or say the wrong thing (issue 34, item
 //! 7), each with the input that showed it: a manifest that contradicts its frames,
 //! missing input files (exit 1 where bad input is 2), `perifrac check` on MPM bodies,
-//! `--frames N` and what it writes, the memory refusal under `ulimit -v`.
+//! `--frames N` and what it writes, the memory refusal under `ulimit -v`, a build
+//! without MPI started as one of several ranks.
 
 use std::path::Path;
 use std::process::Command;
@@ -298,4 +299,33 @@ resolution = 0.015
             "{command}: {stderr}"
         );
     }
+}
+
+/// Started by `mpirun -np 2` (OpenMPI's variable says so), a build without the `mpi`
+/// feature would run the scene twice into one cache: it refuses (exit 2) and says how
+/// to build it, before it writes anything.
+#[cfg(not(feature = "mpi"))]
+#[test]
+fn a_build_without_mpi_refuses_to_run_as_one_of_several_ranks() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("scene.toml");
+    std::fs::write(&scene, SCENE).unwrap();
+    let out = dir.path().join("out");
+    let run = Command::new(env!("CARGO_BIN_EXE_perifrac"))
+        .args(["run", scene.to_str().unwrap(), "-o", out.to_str().unwrap()])
+        .env("OMPI_COMM_WORLD_SIZE", "2")
+        .output()
+        .unwrap();
+    let (code, stderr) = outcome(&run);
+    assert_eq!(code, Some(2), "{stderr}");
+    assert!(stderr.contains("--features mpi"), "{stderr}");
+    assert!(!out.exists(), "nothing written");
+    // One rank is a plain run.
+    let run = Command::new(env!("CARGO_BIN_EXE_perifrac"))
+        .args(["run", scene.to_str().unwrap(), "-o", out.to_str().unwrap()])
+        .args(["--frames", "1", "--quiet"])
+        .env("OMPI_COMM_WORLD_SIZE", "1")
+        .output()
+        .unwrap();
+    assert_eq!(outcome(&run).0, Some(0), "{}", outcome(&run).1);
 }

@@ -38,6 +38,7 @@ pub mod model;
 pub mod mpm;
 pub mod particle_contact;
 pub mod pd;
+pub mod ranks;
 pub mod rigid;
 pub mod run;
 pub mod world;

@@ -11,6 +11,7 @@
 
 use std::any::Any;
 use std::fmt::Debug;
+use std::sync::Arc;
 
 use crate::cache::checkpoint::{Decoder, Encoder};
 use crate::cache::sheet::SheetFrame;
@@ -18,6 +19,7 @@ use crate::cache::vtu::TetFrame;
 use crate::contact::{Anchor, Collider};
 use crate::error::Result;
 use crate::family::Bonds;
+use crate::ranks::Ranks;
 
 /// A model's points, read-only.
 #[derive(Debug, Clone, Copy)]
@@ -273,6 +275,14 @@ pub trait Model: Any + Debug + Send + Sync {
 
     /// Wall time of each of the model's stages so far (s), by name.
     fn stage_times(&self) -> Vec<(&'static str, f64)>;
+
+    /// Splits the model's work over the ranks of a distributed run
+    /// ([`crate::ranks`]); every rank must end each step holding the same state as a
+    /// single process would. By default a model does all its work on every rank (the
+    /// same bytes, no speed-up).
+    fn share(&mut self, ranks: Arc<dyn Ranks>) {
+        let _ = ranks;
+    }
 
     /// Sets the stage times back to zero (benchmarks).
     fn reset_stage_times(&mut self);

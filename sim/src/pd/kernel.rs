@@ -2,13 +2,14 @@
 //! `dilatation (+ plasticity) → forces (+ fracture)`. Each particle gathers over its own
 //! family in a fixed order, so results do not depend on the thread count.
 
+use std::ops::Range;
 use std::time::Instant;
 
 use perifrac_math::det_sum;
 use rayon::iter::Either;
 use rayon::prelude::*;
 
-use super::{PdModel, family_volume};
+use super::{PdModel, family_volume, share};
 use crate::family::{BROKEN, INDEX, rows_mut};
 
 /// Wall time spent in each stage, in seconds, accumulated over a run.
@@ -40,14 +41,22 @@ pub(super) fn dispatch(m: &mut PdModel) -> usize {
         true true false false, true true false true, true true true false, true true true true)
 }
 
+/// Each stage runs over the particles this process owns (all of them but in a
+/// distributed run, [`super::share`]); a shared model then takes in the other ranks'
+/// results before the next stage reads them.
 fn step_stages<const P: bool, const F: bool, const A: bool, const L: bool>(
     m: &mut PdModel,
 ) -> usize {
+    let owned = m.owned();
     let t = Instant::now();
-    dilatation_plasticity::<P, F, A, L>(m);
+    let before = share::Before::dilatation(m, &owned);
+    dilatation_plasticity::<P, F, A, L>(m, &owned);
+    share::after_dilatation(m, &owned, before);
     m.times.dilatation += t.elapsed().as_secs_f64();
     let t = Instant::now();
-    let broken = forces::<P, F, A, L>(m);
+    let before = share::Before::forces(m, &owned);
+    let broken = forces::<P, F, A, L>(m, &owned);
+    let broken = share::after_forces(m, &owned, before, broken);
     m.times.forces += t.elapsed().as_secs_f64();
     broken
 }
@@ -64,10 +73,11 @@ fn projection<const L: bool>(m: &PdModel, i: usize, j: usize, d: [f64; 3], l: f6
     }
 }
 
-/// θ_i for every particle (Chen Eq. 6) and, when a material yields, the return mapping
-/// of its bonds right after (the family's data is still in cache).
+/// θ_i for every particle of `owned` (Chen Eq. 6) and, when a material yields, the
+/// return mapping of its bonds right after (the family's data is still in cache).
 fn dilatation_plasticity<const P: bool, const F: bool, const A: bool, const L: bool>(
     m: &mut PdModel,
+    owned: &Range<usize>,
 ) {
     let mut theta = std::mem::take(&mut m.theta);
     let mut plastic = if P { m.plastic.take() } else { None };
@@ -81,6 +91,8 @@ fn dilatation_plasticity<const P: bool, const F: bool, const A: bool, const L: b
                     .zip(rows)
                     .zip(p.yielded.par_iter_mut())
                     .enumerate()
+                    .skip(owned.start)
+                    .take(owned.len())
                     .with_min_len(64)
                     .for_each_init(Vec::new, |stretch, (i, ((th, ext), yielded))| {
                         if m.is_frozen(i) {
@@ -94,6 +106,8 @@ fn dilatation_plasticity<const P: bool, const F: bool, const A: bool, const L: b
             None => theta
                 .par_iter_mut()
                 .enumerate()
+                .skip(owned.start)
+                .take(owned.len())
                 .with_min_len(64)
                 .for_each(|(i, th)| {
                     *th = if m.is_frozen(i) {
@@ -204,7 +218,7 @@ fn return_mapping<const F: bool, const A: bool>(
     yielded
 }
 
-/// f_i = Σ_j ½(A_ij + A_ji) ŷ_ij V_j (Chen Eq. 2–3) with
+/// f_i = Σ_j ½(A_ij + A_ji) ŷ_ij V_j (Chen Eq. 2–3), for every particle of `owned`, with
 /// A_ij = 4ω[a'_i q_ij Λ θ_i + b p_ij (e − e^p_ij)], the sum of Eq. 4 and Eq. 12 written
 /// with a' = a − bδ/4 (see the module doc of [`super`]).
 ///
@@ -222,7 +236,10 @@ fn return_mapping<const F: bool, const A: bool>(
 /// "continuously increasing the crack threshold as the material gets damaged" to avoid
 /// small fragments, so the factor divides the stretch here, as the text intends.
 /// Returns the number of directed bonds broken.
-fn forces<const P: bool, const F: bool, const A: bool, const L: bool>(m: &mut PdModel) -> usize {
+fn forces<const P: bool, const F: bool, const A: bool, const L: bool>(
+    m: &mut PdModel,
+    owned: &Range<usize>,
+) -> usize {
     let n = m.len();
     // a'_j θ_j: one gather per neighbour.
     let packed: Vec<f64> = (0..n)
@@ -252,6 +269,8 @@ fn forces<const P: bool, const F: bool, const A: bool, const L: bool>(m: &mut Pd
                 .zip(force.par_iter_mut())
                 .zip(damage.par_iter_mut())
                 .enumerate()
+                .skip(owned.start)
+                .take(owned.len())
                 .with_min_len(64)
                 .map(|(i, (((row, cr), fi), phi))| {
                     let (f, broken, intact) = particle_force::<P, F, A, L>(m, &packed, i, row, cr);
@@ -266,6 +285,8 @@ fn forces<const P: bool, const F: bool, const A: bool, const L: bool>(m: &mut Pd
             rows.into_par_iter()
                 .zip(force.par_iter_mut())
                 .enumerate()
+                .skip(owned.start)
+                .take(owned.len())
                 .with_min_len(64)
                 .for_each(|(i, (row, fi))| {
                     *fi = particle_force::<P, F, A, L>(m, &packed, i, row, &mut []).0

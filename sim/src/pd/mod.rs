@@ -33,14 +33,19 @@
 
 mod crack;
 mod kernel;
+pub mod share;
 mod solver;
 mod stable;
+
+use std::ops::Range;
+use std::sync::Arc;
 
 use perifrac_math::{det_sum, dot, mat_vec, norm, sub};
 use rayon::prelude::*;
 
 use crate::family::{BROKEN, Bonds, Corrections, INDEX};
 use crate::material::{Material, PdConstants};
+use crate::ranks::{Ranks, Share};
 use crate::scene::DilatationForm;
 
 pub use crack::cut_initial_cracks;
@@ -172,6 +177,9 @@ pub struct PdModel {
     /// frozen particle and a free one pushes neither. `None` until a fragment goes
     /// rigid, so a scene without a rigid phase pays nothing.
     pub frozen: Option<Vec<bool>>,
+    /// The ranks this model's bond work is split over in a distributed run
+    /// ([`share`]); `None` in one process.
+    pub share: Option<Share>,
 }
 
 /// V_H∞ = 4πδ³/3, the volume of a complete family.
@@ -275,7 +283,20 @@ impl PdModel {
             force: vec![[0.0; 3]; n],
             times: StageTimes::default(),
             frozen: None,
+            share: None,
         }
+    }
+
+    /// Splits the bond work over `ranks` ([`share`]): from the next step on, this
+    /// rank computes its range of particles and takes in the others'. One rank keeps
+    /// it whole.
+    pub fn share(&mut self, ranks: Arc<dyn Ranks>) {
+        self.share = (ranks.size() > 1).then(|| Share::by_bonds(ranks, &self.bonds.offsets));
+    }
+
+    /// The particles whose bond work this process does: all of them in one process.
+    pub fn owned(&self) -> Range<usize> {
+        self.share.as_ref().map_or(0..self.len(), Share::owned)
     }
 
     /// Number of particles.

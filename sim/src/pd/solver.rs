@@ -3,6 +3,8 @@
 //! [`stable_time_step`], checkpoints of the saved state, and the split tet mesh
 //! (Chen §5.2) when the scene writes one.
 
+use std::sync::Arc;
+
 use rayon::prelude::*;
 
 use super::{PdModel, stable_time_step};
@@ -15,6 +17,7 @@ use crate::family::{BROKEN, INDEX};
 use crate::model::{
     ContactPoints, Fragments, Model, ParticleColumns, PieceSurface, Points, PointsMut,
 };
+use crate::ranks::Ranks;
 
 /// A [`PdModel`] with its particle masses and, when the scene writes `tets/` or hands
 /// fragments to rigid bodies, its embedded tet mesh.
@@ -81,6 +84,12 @@ impl Model for Peridynamics {
 
     fn internal_forces(&mut self) -> usize {
         self.model.internal_forces()
+    }
+
+    /// Dilatation, return mapping, forces and fracture over this rank's particles
+    /// ([`crate::pd::share`]); the rest of the step on every rank.
+    fn share(&mut self, ranks: Arc<dyn Ranks>) {
+        self.model.share(ranks);
     }
 
     /// a_i = f_i/ρ_i + g: the force *density* over the density (Chen Eq. 1).

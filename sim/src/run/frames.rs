@@ -6,6 +6,7 @@
 //! on a blow-up or a failed write it marks the manifest failed with the message, the
 //! frames written so far on disk.
 
+use std::sync::Arc;
 use std::time::Instant;
 
 use super::resume::Resumed;
@@ -17,6 +18,7 @@ use crate::cache::{CacheError, Layout, human_bytes};
 use crate::contact::ColliderShape;
 use crate::error::{Result, SimError};
 use crate::mpm::PARTICLES_PER_CELL_AXIS;
+use crate::ranks::Ranks;
 use crate::scene::{ModelKind, Scene};
 use crate::world::World;
 
@@ -43,6 +45,11 @@ pub struct Frames<'a> {
     /// a full disk's message).
     frame_bytes: u64,
     checkpoint_bytes: u64,
+    /// The other ranks of a distributed run, which must agree on when to stop.
+    ranks: Option<Arc<dyn Ranks>>,
+    /// Whether this process writes the cache: rank 0 of a distributed run writes it
+    /// alone (every rank holds the whole world), the others only step.
+    writes: bool,
 }
 
 impl<'a> Frames<'a> {
@@ -78,6 +85,8 @@ impl<'a> Frames<'a> {
             stop: options.stop.clone(),
             frame_bytes: 0,
             checkpoint_bytes: 0,
+            ranks: options.ranks.clone(),
+            writes: options.writes(),
         }
     }
 
@@ -85,6 +94,9 @@ impl<'a> Frames<'a> {
     /// mesh less its pivot; the manifest poses it at each frame), and records it. The
     /// same scene gives the same bytes, so a resumed run rewrites them unchanged.
     pub fn write_collider_meshes(&mut self, world: &World) -> Result<()> {
+        if !self.writes {
+            return Ok(());
+        }
         for (i, collider) in world.colliders.iter().enumerate() {
             let ColliderShape::Mesh(mesh) = &collider.shape else {
                 continue;
@@ -120,7 +132,7 @@ impl<'a> Frames<'a> {
         match self.frames(world, setup) {
             Ok(()) => {
                 self.finish(world, setup);
-                self.manifest.write(&self.layout.manifest())?;
+                self.write_manifest()?;
                 Ok(self.manifest)
             }
             Err(err) => {
@@ -130,7 +142,7 @@ impl<'a> Frames<'a> {
                     self.finish(world, setup);
                     // A second failure (the disk still full) must not hide the first;
                     // the manifest then still says "running".
-                    let _ = self.manifest.write(&self.layout.manifest());
+                    let _ = self.write_manifest();
                 }
                 Err(err)
             }
@@ -175,7 +187,7 @@ impl<'a> Frames<'a> {
         let mut bytes = 0;
         let mut frame_split = 0.0;
         let mut wrote_tets = false;
-        if scene.output.particles {
+        if scene.output.particles && self.writes {
             let path = layout.particles(frame);
             let record = particle_frame(world, frame).write(&path)?;
             bytes += record.bytes;
@@ -183,8 +195,12 @@ impl<'a> Frames<'a> {
         }
         for part in &mut world.parts {
             let s = Instant::now();
+            // Split on every rank: the split is state the rigid phase reads.
             if let Some(tets) = part.model.tet_frame() {
                 frame_split += s.elapsed().as_secs_f64();
+                if !self.writes {
+                    continue;
+                }
                 let path = layout.tets(frame);
                 let record = tets.write(&path)?;
                 bytes += record.bytes;
@@ -192,6 +208,7 @@ impl<'a> Frames<'a> {
                 wrote_tets = true;
             }
             if scene.output.writes_sheets()
+                && self.writes
                 && let Some(sheet) = part.model.sheet_frame()
             {
                 let path = layout.sheet(frame);
@@ -202,7 +219,7 @@ impl<'a> Frames<'a> {
         }
         self.split_time += frame_split;
         self.manifest.frame_times.push(world.time);
-        if wrote_tets {
+        if wrote_tets && self.writes {
             crate::cache::vtu::write_collection(
                 &layout.tets_collection(),
                 &self.manifest.frame_times,
@@ -222,7 +239,7 @@ impl<'a> Frames<'a> {
                 .push(world.colliders.iter().map(|c| c.orientation()).collect());
         }
         let last = frame == frames + 1;
-        let stop = self.stop.reason_after(world.steps).filter(|_| !last);
+        let stop = self.stop_reason(world.steps).filter(|_| !last);
         let (status, message) = match (&stop, last) {
             (Some(reason), _) => (
                 Status::Interrupted,
@@ -245,7 +262,7 @@ impl<'a> Frames<'a> {
         self.finish(world, setup);
         // The manifest before the checkpoint: a kill between the two leaves a
         // manifest ahead of the checkpoint, which a resume cuts back.
-        self.manifest.write(&layout.manifest())?;
+        self.write_manifest()?;
         // A run stopped before the scene's end checkpoints where it stopped.
         if on_schedule || stopping {
             self.checkpoint(world, frame)?;
@@ -259,6 +276,27 @@ impl<'a> Frames<'a> {
         });
         self.frame_bytes = bytes;
         Ok(stop)
+    }
+
+    /// Writes the manifest, on the rank that writes the cache.
+    fn write_manifest(&self) -> Result<()> {
+        if self.writes {
+            self.manifest.write(&self.layout.manifest())?;
+        }
+        Ok(())
+    }
+
+    /// The reason to stop after `steps` steps, if any; in a distributed run every rank
+    /// stops where any was asked to (a signal reaches the ranks at different steps).
+    fn stop_reason(&self, steps: u64) -> Option<String> {
+        let reason = self.stop.reason_after(steps);
+        match &self.ranks {
+            Some(ranks) if ranks.any(reason.is_some()) => {
+                Some(reason.unwrap_or_else(|| "a stop asked of another rank".to_string()))
+            }
+            Some(_) => None,
+            None => reason,
+        }
     }
 
     /// Adds to a full disk's message what a whole frame of this cache writes (its
@@ -305,7 +343,7 @@ impl<'a> Frames<'a> {
             world.clock.steps_per_frame
         );
         self.finish(world, setup);
-        self.manifest.write(&self.layout.manifest())?;
+        self.write_manifest()?;
         self.checkpoint(world, frame - 1)?;
         Err(SimError::Interrupted {
             reason,
@@ -317,6 +355,9 @@ impl<'a> Frames<'a> {
     /// Writes the checkpoint of the world as it is at `frame` (the last frame on
     /// disk; the world may be part way to the next one).
     fn checkpoint(&mut self, world: &World, frame: usize) -> Result<()> {
+        if !self.writes {
+            return Ok(());
+        }
         let mut payload = Encoder::new();
         world.save(&mut payload);
         let checkpoint = Checkpoint {
@@ -347,7 +388,7 @@ impl<'a> Frames<'a> {
                 // A stop waits for the next stop point (the rigid phase's; the
                 // frame's start is one).
                 if (world.steps == start || world.at_stop_point())
-                    && let Some(reason) = self.stop.reason_after(world.steps)
+                    && let Some(reason) = self.stop_reason(world.steps)
                 {
                     return Ok(Some(reason));
                 }

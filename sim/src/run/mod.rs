@@ -18,6 +18,7 @@ use crate::cache::{Layout, write_atomic};
 use crate::error::{Result, SimError};
 use crate::geometry::discretize::discretize;
 use crate::memory::{MemoryLimit, estimate_before_meshing, estimate_memory};
+use crate::ranks::Ranks;
 use crate::scene::Scene;
 
 /// Options of a run.
@@ -35,6 +36,18 @@ pub struct RunOptions {
     /// finishes the step it is on (or the frame it is writing), writes a checkpoint
     /// there, marks the manifest interrupted and returns [`SimError::Interrupted`].
     pub stop: StopRequest,
+    /// The ranks of a distributed run (`mpirun -np N perifrac run`): every rank runs
+    /// the whole world, the models split their bond work over the ranks
+    /// ([`crate::model::Model::share`]), and rank 0 alone writes the cache. `None` in
+    /// one process.
+    pub ranks: Option<Arc<dyn Ranks>>,
+}
+
+impl RunOptions {
+    /// Whether this process writes the cache: rank 0, or the only process.
+    pub fn writes(&self) -> bool {
+        self.ranks.as_ref().is_none_or(|r| r.rank() == 0)
+    }
 }
 
 /// A request to stop a run, shared between the run and whoever may ask (a signal
@@ -125,7 +138,9 @@ pub fn run(
     {
         return Ok(*manifest);
     }
-    layout.create()?;
+    if options.writes() {
+        layout.create()?;
+    }
     let disc = discretize(scene)?;
     if let Some(limit) = &options.memory_limit {
         estimate_memory(scene, &disc).refuse_above(limit)?;
@@ -156,17 +171,24 @@ pub fn run_prepared(
         resume::Plan::Fresh => None,
         resume::Plan::Continue(manifest) => Some(manifest),
     };
-    layout.create()?;
-    layout.remove_temporary_files();
-    for (writes, dir) in [
-        (scene.output.writes_tets(), layout.tets_dir()),
-        (scene.output.writes_sheets(), layout.sheet_dir()),
-    ] {
-        if writes {
-            std::fs::create_dir_all(&dir).map_err(|e| SimError::io(&dir, e))?;
+    if options.writes() {
+        layout.create()?;
+        layout.remove_temporary_files();
+        for (writes, dir) in [
+            (scene.output.writes_tets(), layout.tets_dir()),
+            (scene.output.writes_sheets(), layout.sheet_dir()),
+        ] {
+            if writes {
+                std::fs::create_dir_all(&dir).map_err(|e| SimError::io(&dir, e))?;
+            }
+        }
+        write_atomic(&layout.scene(), scene.to_toml().as_bytes())?;
+    }
+    if let Some(ranks) = &options.ranks {
+        for part in &mut prepared.world.parts {
+            part.model.share(ranks.clone());
         }
     }
-    write_atomic(&layout.scene(), scene.to_toml().as_bytes())?;
     let mut frames = frames::Frames::new(scene, layout, &prepared, options, start, progress);
     frames.write_collider_meshes(&prepared.world)?;
     if let Some(earlier) = earlier

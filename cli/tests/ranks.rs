@@ -1,0 +1,204 @@
+//! `mpirun -np N perifrac run` (issue 35): a fracturing scene gives the bytes of one
+//! process on 2 and 4 ranks (4 oversubscribed on this machine's 2 cores), a run
+//! stopped on 2 ranks resumes on 2 or 3 to those bytes, and a fragment that spans the
+//! ranks' particle ranges is one fragment. Loopback only (OpenMPI's shared memory).
+#![cfg(feature = "mpi")]
+
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::process::{Command, Output};
+
+use perifrac_cache::ply::ParticleFrame;
+
+/// A glass wall hit by a ball, coarse (1,499 particles, 5 frames): bonds break and
+/// crush (`critical_compression`), so every kind of per-bond state a step sends
+/// between ranks changes; the split tet mesh is written.
+const SCENE: &str = r#"[scene]
+name = "ranks-test"
+duration = 0.002
+fps = 2500.0
+gravity = [0.0, -9.81, 0.0]
+
+[materials.glass]
+density = 2200.0
+bulk_modulus = 3.3e10
+shear_modulus = 2.0e10
+critical_stretch = 0.0005
+critical_compression = 0.01
+
+[[body]]
+name = "wall"
+material = "glass"
+shape = { type = "box", center = [0.0, 0.2, 0.0], size = [0.3, 0.3, 0.05] }
+resolution = 0.04
+
+[[collider]]
+type = "ground"
+
+[[collider]]
+type = "sphere"
+center = [0.0, 0.2, -0.08]
+radius = 0.05
+velocity = [0.0, 0.0, 50.0]
+mass = 4.11
+
+[output]
+checkpoint_every = 2
+preview = false
+usd = false
+surface = "none"
+tets = true
+"#;
+
+/// The same wall, ductile: its bonds yield (Chen Eq. 13–16) before they break.
+fn plastic_scene() -> String {
+    SCENE.replace(
+        "critical_stretch = 0.0005\ncritical_compression = 0.01",
+        "critical_stretch = 0.002\nyield_stretch = 0.0004\nplastic_limit = 0.2",
+    )
+}
+
+/// `perifrac ARGS --quiet`, on `ranks` ranks of `mpirun` (OpenMPI), one thread each.
+fn on_ranks(ranks: usize, args: &[&str]) -> Output {
+    let np = ranks.to_string();
+    Command::new("mpirun")
+        // This machine has 2 cores; the suite runs as root in CI.
+        .args(["--oversubscribe", "--allow-run-as-root", "-np", &np])
+        .arg(env!("CARGO_BIN_EXE_perifrac"))
+        .args(args)
+        .args(["--quiet", "--threads", "1"])
+        .output()
+        .expect("mpirun runs (scripts/setup.sh installs OpenMPI)")
+}
+
+fn ok(out: Output, what: &str) {
+    assert!(
+        out.status.success(),
+        "{what}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// The cache's frames, split tet meshes and checkpoint (relative path → bytes).
+fn cache(root: &Path) -> BTreeMap<String, Vec<u8>> {
+    let mut all = BTreeMap::new();
+    for dir in ["particles", "tets", "checkpoint"] {
+        let mut names: Vec<_> = std::fs::read_dir(root.join(dir))
+            .unwrap_or_else(|e| panic!("{}/{dir}: {e}", root.display()))
+            .flatten()
+            .map(|e| e.path())
+            .collect();
+        names.sort();
+        for path in names {
+            let name = path.strip_prefix(root).unwrap().display().to_string();
+            all.insert(name, std::fs::read(&path).unwrap());
+        }
+    }
+    assert!(all.len() > 5, "{}: {:?}", root.display(), all.keys());
+    all
+}
+
+/// The manifest's steps, broken bonds and frame times, which every rank count agrees
+/// on (its timings do not).
+fn manifest_facts(root: &Path) -> (u64, u64, Vec<f64>) {
+    let text = std::fs::read_to_string(root.join("manifest.json")).unwrap();
+    let m: serde_json::Value = serde_json::from_str(&text).unwrap();
+    (
+        m["steps"].as_u64().unwrap(),
+        m["broken_bonds"].as_u64().unwrap(),
+        m["frame_times"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|t| t.as_f64().unwrap())
+            .collect(),
+    )
+}
+
+fn assert_same(one: &Path, other: &Path, what: &str) {
+    let (a, b) = (cache(one), cache(other));
+    assert_eq!(
+        a.keys().collect::<Vec<_>>(),
+        b.keys().collect::<Vec<_>>(),
+        "{what}"
+    );
+    for (name, bytes) in &a {
+        assert!(bytes == &b[name], "{what}: {name} differs");
+    }
+    assert_eq!(manifest_facts(one), manifest_facts(other), "{what}");
+}
+
+fn write_scene(dir: &Path, name: &str, text: &str) -> String {
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path.to_str().unwrap().to_string()
+}
+
+#[test]
+fn two_and_four_ranks_give_the_bytes_of_one_process() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write_scene(dir.path(), "wall.toml", SCENE);
+    let out = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
+    let single = Command::new(env!("CARGO_BIN_EXE_perifrac"))
+        .args(["run", &scene, "-o", &out("one"), "--quiet"])
+        .output()
+        .unwrap();
+    ok(single, "one process");
+    for ranks in [2, 4] {
+        let name = format!("ranks{ranks}");
+        ok(
+            on_ranks(ranks, &["run", &scene, "-o", &out(&name)]),
+            &format!("{ranks} ranks"),
+        );
+        assert_same(
+            &dir.path().join("one"),
+            &dir.path().join(&name),
+            &format!("{ranks} ranks"),
+        );
+    }
+    let (_, broken, _) = manifest_facts(&dir.path().join("one"));
+    assert!(broken > 10_000, "the wall breaks: {broken} bonds");
+    // Rank 0 owns the first half of the particles (by bonds), rank 1 the second: a
+    // fragment with particles in both is still one fragment, numbered as one process
+    // numbers it (the bytes above), and the wall is in pieces.
+    let last = ParticleFrame::read(&dir.path().join("ranks2/particles/0006.ply")).unwrap();
+    let n = last.fragment.len();
+    let spans = (0..n / 3).any(|i| (2 * n / 3..n).any(|j| last.fragment[i] == last.fragment[j]));
+    assert!(spans, "a fragment spans both ranks' particles");
+    let fragments: std::collections::BTreeSet<u32> =
+        last.fragment.iter().map(|&f| f as u32).collect();
+    assert!(fragments.len() > 1, "the wall breaks into pieces");
+}
+
+#[test]
+fn a_run_stopped_on_two_ranks_resumes_on_two_or_three_to_the_same_bytes() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write_scene(dir.path(), "wall.toml", &plastic_scene());
+    let out = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
+    let single = Command::new(env!("CARGO_BIN_EXE_perifrac"))
+        .args(["run", &scene, "-o", &out("one"), "--quiet"])
+        .output()
+        .unwrap();
+    ok(single, "one process");
+    let last = ParticleFrame::read(&dir.path().join("one/particles/0006.ply")).unwrap();
+    assert!(
+        last.plastic.iter().any(|&p| p > 0.0),
+        "the bonds yield, so plastic extensions go between the ranks"
+    );
+    for ranks in [2, 3] {
+        let name = format!("resumed-on-{ranks}");
+        ok(
+            on_ranks(2, &["run", &scene, "-o", &out(&name), "--frames", "3"]),
+            "2 ranks, 3 frames",
+        );
+        ok(
+            on_ranks(ranks, &["run", &scene, "-o", &out(&name), "--resume"]),
+            &format!("resumed on {ranks} ranks"),
+        );
+        assert_same(
+            &dir.path().join("one"),
+            &dir.path().join(&name),
+            &format!("stopped on 2 ranks, resumed on {ranks}"),
+        );
+    }
+}
