@@ -21,6 +21,10 @@ pub struct StageTimes {
     /// Force densities (Eq. 2–4, 8, 12), with bond breaking and damage
     /// (Eq. 18–19) in the same pass when the scene can fracture.
     pub forces: f64,
+    /// Sending this rank's results of both and taking in the other ranks' (a
+    /// distributed run, [`super::share`]; 0 in one process).
+    #[serde(default)]
+    pub exchange: f64,
 }
 
 macro_rules! dispatch_features {
@@ -51,13 +55,17 @@ fn step_stages<const P: bool, const F: bool, const A: bool, const L: bool>(
     let t = Instant::now();
     let before = share::Before::dilatation(m, &owned);
     dilatation_plasticity::<P, F, A, L>(m, &owned);
+    let exchange = Instant::now();
+    m.times.dilatation += (exchange - t).as_secs_f64();
     share::after_dilatation(m, &owned, before);
-    m.times.dilatation += t.elapsed().as_secs_f64();
+    m.times.exchange += exchange.elapsed().as_secs_f64();
     let t = Instant::now();
     let before = share::Before::forces(m, &owned);
     let broken = forces::<P, F, A, L>(m, &owned);
+    let exchange = Instant::now();
+    m.times.forces += (exchange - t).as_secs_f64();
     let broken = share::after_forces(m, &owned, before, broken);
-    m.times.forces += t.elapsed().as_secs_f64();
+    m.times.exchange += exchange.elapsed().as_secs_f64();
     broken
 }
 

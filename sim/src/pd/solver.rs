@@ -305,7 +305,11 @@ impl Model for Peridynamics {
 
     fn stage_times(&self) -> Vec<(&'static str, f64)> {
         let t = self.model.times;
-        vec![("dilatation", t.dilatation), ("forces", t.forces)]
+        let mut times = vec![("dilatation", t.dilatation), ("forces", t.forces)];
+        if self.model.share.is_some() {
+            times.push(("exchange", t.exchange));
+        }
+        times
     }
 
     fn reset_stage_times(&mut self) {
