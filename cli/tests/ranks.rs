@@ -71,6 +71,15 @@ fn on_ranks(ranks: usize, args: &[&str]) -> Output {
         .expect("mpirun runs (scripts/setup.sh installs OpenMPI)")
 }
 
+/// `perifrac ARGS --quiet` in one process, without MPI.
+fn one_process(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_perifrac"))
+        .args(args)
+        .arg("--quiet")
+        .output()
+        .unwrap()
+}
+
 fn ok(out: Output, what: &str) {
     assert!(
         out.status.success(),
@@ -139,11 +148,10 @@ fn two_and_four_ranks_give_the_bytes_of_one_process() {
     let dir = tempfile::tempdir().unwrap();
     let scene = write_scene(dir.path(), "wall.toml", SCENE);
     let out = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
-    let single = Command::new(env!("CARGO_BIN_EXE_perifrac"))
-        .args(["run", &scene, "-o", &out("one"), "--quiet"])
-        .output()
-        .unwrap();
-    ok(single, "one process");
+    ok(
+        one_process(&["run", &scene, "-o", &out("one")]),
+        "one process",
+    );
     for ranks in [2, 4] {
         let name = format!("ranks{ranks}");
         ok(
@@ -175,11 +183,10 @@ fn a_run_stopped_on_two_ranks_resumes_on_two_or_three_to_the_same_bytes() {
     let dir = tempfile::tempdir().unwrap();
     let scene = write_scene(dir.path(), "wall.toml", &plastic_scene());
     let out = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
-    let single = Command::new(env!("CARGO_BIN_EXE_perifrac"))
-        .args(["run", &scene, "-o", &out("one"), "--quiet"])
-        .output()
-        .unwrap();
-    ok(single, "one process");
+    ok(
+        one_process(&["run", &scene, "-o", &out("one")]),
+        "one process",
+    );
     let last = ParticleFrame::read(&dir.path().join("one/particles/0006.ply")).unwrap();
     assert!(
         last.plastic.iter().any(|&p| p > 0.0),
