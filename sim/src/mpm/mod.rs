@@ -1,5 +1,6 @@
 //! The material point method: MLS-MPM (Lyu 2021 ch. 3; Hu et al. 2018) behind the
-//! [`Model`] interface, stepping itself ([`Stepping::Own`]).
+//! [`Model`](crate::model::Model) interface, stepping itself
+//! ([`Stepping::Own`](crate::model::Stepping::Own)).
 //!
 //! One step is `sort → stress → p2g → grid_update → g2p → plasticity` on a sparse grid
 //! of spacing Δx (the smallest `resolution` of the scene's bodies): see [`grid`] for
@@ -18,7 +19,7 @@
 //! **Time step.** The world's step is bounded by the elastic wave: Δt ≤
 //! [`ELASTIC_COURANT`] Δx / c_p with c_p = √((λ + 2μ)/ρ) of the stiffest material
 //! and by the CFL condition v_max Δt ≤ [`CFL`] Δx at the initial velocities (both in
-//! [`Model::stable_time_step`]). The step is not adapted during the run (that would
+//! [`Model::stable_time_step`](crate::model::Model::stable_time_step)). The step is not adapted during the run (that would
 //! hide an elastic instability from the blow-up detector): a scene whose particles
 //! end up faster than its fastest initial one (a long fall) sets a smaller
 //! `dt_safety` or `dt`.
@@ -37,6 +38,8 @@ mod patch_tests;
 pub mod patches;
 pub mod plasticity;
 mod seed;
+mod setup;
+mod solver;
 pub mod spectral;
 #[cfg(test)]
 mod spectral_tests;
@@ -47,15 +50,11 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use crate::cache::checkpoint::{Decoder, Encoder};
-use crate::cache::ply::VOLUME;
 use crate::error::{Result, SimError};
-use crate::model::{Environment, Model, ParticleColumns, Points, PointsMut, Stepping};
-use crate::scene::Scene;
-use crate::scene::{MpmElasticity, MpmPlasticity, MpmTransfer};
+use crate::scene::MpmElasticity;
 use constitutive::{Elastic, IDENTITY, Mat3};
 use grid::{Boundary, D_INVERSE_FACTOR, SparseGrid};
-use patches::{Fracture, Measure, PatchBody, Patches};
+use patches::{Measure, Patches};
 use plasticity::{FlowInput, Plasticity};
 
 pub use seed::{PARTICLES_PER_CELL_AXIS, SEED_JITTER};
@@ -238,140 +237,6 @@ impl Mpm {
             held: Vec::new(),
             times: StageTimes::default(),
         }
-    }
-
-    /// The model of a scene whose bodies all use `model = "mpm"`: particles seeded
-    /// from each body's shape with the scene's seed, each body's angular velocity in
-    /// C (the velocities are the caller's).
-    pub fn from_scene(scene: &Scene) -> Result<Mpm> {
-        let mut particles = seed::seed(scene)?;
-        let materials: Vec<MpmMaterial> = scene
-            .bodies
-            .iter()
-            .map(|b| {
-                let spec = &scene.materials[&b.material];
-                let m = crate::material::Material::from_spec(spec);
-                let mpm = spec.mpm.clone().unwrap_or_default();
-                MpmMaterial {
-                    density: spec.density,
-                    elastic: Elastic::from_young(
-                        mpm.elasticity,
-                        m.youngs_modulus(),
-                        m.poisson_ratio(),
-                    ),
-                    eos: mpm.bulk_sound_speed.map(|c| plasticity::MieGruneisen {
-                        density: spec.density,
-                        sound_speed: c,
-                        slope: mpm.shock_slope,
-                        gamma: mpm.gruneisen,
-                    }),
-                    plasticity: match mpm.plasticity {
-                        MpmPlasticity::None => Plasticity::None,
-                        MpmPlasticity::JohnsonCook {
-                            yield_stress,
-                            hardening,
-                            exponent,
-                            rate_coefficient,
-                            reference_rate,
-                            melting_temperature,
-                            room_temperature,
-                            thermal_exponent,
-                            specific_heat,
-                            taylor_quinney,
-                        } => Plasticity::JohnsonCook(plasticity::JohnsonCook {
-                            a: yield_stress,
-                            b: hardening,
-                            n: exponent,
-                            c: rate_coefficient,
-                            reference_rate,
-                            // The scene's checks make the four keys all or none.
-                            thermal: match (
-                                melting_temperature,
-                                room_temperature,
-                                thermal_exponent,
-                                specific_heat,
-                            ) {
-                                (Some(melt), Some(room), Some(m), Some(c)) => {
-                                    Some(plasticity::Thermal {
-                                        melting_temperature: melt,
-                                        room_temperature: room,
-                                        exponent: m,
-                                        specific_heat: c,
-                                        taylor_quinney: taylor_quinney
-                                            .unwrap_or(plasticity::TAYLOR_QUINNEY),
-                                    })
-                                }
-                                _ => None,
-                            },
-                        }),
-                        MpmPlasticity::Snow {
-                            critical_compression,
-                            critical_stretch,
-                        } => Plasticity::Snow {
-                            critical_compression,
-                            critical_stretch,
-                        },
-                        MpmPlasticity::DruckerPrager { friction_angle } => {
-                            Plasticity::drucker_prager(friction_angle)
-                        }
-                    },
-                }
-            })
-            .collect();
-        if materials.iter().any(|m| m.eos.is_some()) {
-            particles.internal_energy = vec![0.0; particles.len()];
-        }
-        let room = |m: &MpmMaterial| match m.plasticity {
-            Plasticity::JohnsonCook(plasticity::JohnsonCook {
-                thermal: Some(t), ..
-            }) => Some(t.room_temperature),
-            _ => None,
-        };
-        if let Some(lowest) = materials.iter().filter_map(room).reduce(f64::min) {
-            particles.temperature = particles
-                .body
-                .iter()
-                .map(|&b| room(&materials[b as usize]).unwrap_or(lowest))
-                .collect();
-        }
-        let dx = scene
-            .bodies
-            .iter()
-            .map(|b| b.resolution)
-            .fold(f64::INFINITY, f64::min);
-        let mut model = Mpm::new(particles, materials, dx);
-        let shapes = crate::geometry::shape::bond_shapes(scene)?;
-        let bodies = scene
-            .bodies
-            .iter()
-            .zip(shapes)
-            .zip(&model.materials)
-            .map(|((b, shape), material)| {
-                let spec = scene.materials[&b.material].mpm.clone().unwrap_or_default();
-                PatchBody {
-                    fracture: spec.energy_release_rate.map(|g| Fracture {
-                        release_rate: g,
-                        erosion_rate: spec.erosion_release_rate.unwrap_or(g),
-                        young: material.elastic.young(),
-                    }),
-                    shape,
-                    resolution: b.resolution,
-                }
-            })
-            .collect();
-        model.patches = Patches::new(bodies, model.particles.len(), dx);
-        let settings = scene.mpm.unwrap_or_default();
-        model.transfer = match settings.transfer {
-            MpmTransfer::Apic => Transfer::Apic,
-            MpmTransfer::PicFlip => Transfer::PicFlip {
-                flip_ratio: settings.flip_ratio,
-            },
-        };
-        for (p, c) in model.particles.affine.iter_mut().enumerate() {
-            let w = scene.bodies[model.particles.body[p] as usize].angular_velocity;
-            *c = [[0.0, -w[2], w[1]], [w[2], 0.0, -w[0]], [-w[1], w[0], 0.0]];
-        }
-        Ok(model)
     }
 
     /// The largest speed of any particle (m/s).
@@ -636,267 +501,6 @@ impl Mpm {
             }
         }
         total
-    }
-}
-
-fn flatten(m: &[Mat3]) -> Vec<f64> {
-    m.iter().flat_map(|r| r.iter().flatten().copied()).collect()
-}
-
-fn unflatten(values: &[f64], out: &mut [Mat3]) {
-    for (m, chunk) in out.iter_mut().zip(values.chunks_exact(9)) {
-        for (r, row) in m.iter_mut().enumerate() {
-            row.copy_from_slice(&chunk[3 * r..3 * r + 3]);
-        }
-    }
-}
-
-impl Model for Mpm {
-    fn name(&self) -> &'static str {
-        "mpm"
-    }
-
-    fn points(&self) -> Points<'_> {
-        Points {
-            position: &self.particles.position,
-            velocity: &self.particles.velocity,
-            reference: &self.particles.reference,
-            mass: &self.particles.mass,
-        }
-    }
-
-    fn points_mut(&mut self) -> PointsMut<'_> {
-        PointsMut {
-            position: &mut self.particles.position,
-            velocity: &mut self.particles.velocity,
-            reference: &self.particles.reference,
-            mass: &self.particles.mass,
-        }
-    }
-
-    fn point_bodies(&self) -> &[u32] {
-        &self.particles.body
-    }
-
-    fn stepping(&self) -> Stepping {
-        Stepping::Own
-    }
-
-    /// Forces live on the grid: nothing to compute at the world's request.
-    fn internal_forces(&mut self) -> usize {
-        0
-    }
-
-    /// Gravity only: the MPM's accelerations come from its grid inside
-    /// [`Model::advance`].
-    fn accelerations(&self, gravity: [f64; 3], out: &mut [[f64; 3]]) {
-        out.iter_mut().for_each(|a| *a = gravity);
-    }
-
-    fn damp(&mut self, _dt: f64, _anchored: &[bool]) {}
-
-    fn advance(&mut self, dt: f64, environment: &Environment<'_>) -> Result<usize> {
-        let boundary = Boundary {
-            gravity: environment.gravity,
-            colliders: environment.colliders,
-        };
-        self.hold(environment.anchors, environment.time);
-        self.step(dt, &boundary)
-    }
-
-    /// min(ELASTIC_COURANT Δx / c_p, CFL Δx / v_max); the limiting particle is the
-    /// fastest one when the CFL bound is the smaller, else the first particle of the
-    /// stiffest body.
-    fn stable_time_step(&self) -> (f64, usize) {
-        let p = &self.particles;
-        let dx = self.grid.dx;
-        let (elastic, stiffest) = (0..p.len())
-            .map(|i| {
-                let m = &self.materials[p.body[i] as usize];
-                (ELASTIC_COURANT * dx / m.wave_speed(), i)
-            })
-            .fold((f64::INFINITY, 0), |a, b| if b.0 < a.0 { b } else { a });
-        let (speed, fastest) = (0..p.len())
-            .map(|i| {
-                let v = p.velocity[i];
-                ((v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt(), i)
-            })
-            .fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a });
-        let cfl = CFL * dx / speed;
-        if cfl < elastic {
-            (cfl, fastest)
-        } else {
-            (elastic, stiffest)
-        }
-    }
-
-    fn kinetic_energy(&self) -> f64 {
-        let p = &self.particles;
-        p.mass
-            .iter()
-            .zip(&p.velocity)
-            .map(|(m, v)| 0.5 * m * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]))
-            .sum()
-    }
-
-    /// Σ_p V_p⁰ ψ(F_p) of the elastic part; a shock material counts its stable
-    /// Neo-Hookean energy plus the work it took in, J_p V_p⁰ (e_p − e⁰).
-    fn strain_energy(&self) -> f64 {
-        let p = &self.particles;
-        (0..p.len())
-            .map(|i| {
-                let material = &self.materials[p.body[i] as usize];
-                let f = &p.deformation[i];
-                let taken = match material.eos {
-                    Some(_) => constitutive::determinant(f) * p.internal_energy[i],
-                    None => 0.0,
-                };
-                p.volume[i] * (material.elastic.energy_density(f) + taken)
-            })
-            .sum()
-    }
-
-    fn particles(&self) -> ParticleColumns {
-        let p = &self.particles;
-        let f32x3 = |v: &[f64; 3]| v.map(|x| x as f32);
-        // The search behind the fragments was built when the first particle joined.
-        let fragment = self
-            .patches
-            .as_ref()
-            .and_then(|patches| patches.fragments(p).ok())
-            .unwrap_or_else(|| p.body.clone());
-        ParticleColumns {
-            position: p.position.iter().map(f32x3).collect(),
-            velocity: p.velocity.iter().map(f32x3).collect(),
-            damage: self
-                .patches
-                .as_ref()
-                .map_or_else(|| vec![0.0; p.len()], Patches::damage),
-            plastic: p.plastic.iter().map(|&e| e as f32).collect(),
-            body: p.body.clone(),
-            fragment,
-            extra: vec![
-                // The current volume V_p = J_p V_p⁰.
-                (
-                    VOLUME.to_string(),
-                    (0..p.len())
-                        .map(|i| {
-                            (constitutive::determinant(&p.deformation[i]) * p.volume[i]) as f32
-                        })
-                        .collect(),
-                ),
-                (
-                    "J".to_string(),
-                    p.deformation
-                        .iter()
-                        .map(|f| constitutive::determinant(f) as f32)
-                        .collect(),
-                ),
-                (
-                    "constitutive".to_string(),
-                    p.body
-                        .iter()
-                        .map(|&b| self.materials[b as usize].id() as f32)
-                        .collect(),
-                ),
-            ]
-            .into_iter()
-            .chain((!p.temperature.is_empty()).then(|| {
-                (
-                    "temperature".to_string(),
-                    p.temperature.iter().map(|&t| t as f32).collect(),
-                )
-            }))
-            .chain(self.patches.as_ref().map(|patches| {
-                // SPB-MPM's region: 0 a material point, 1 a peridynamic particle.
-                (
-                    "region".to_string(),
-                    (0..p.len())
-                        .map(|i| f32::from(u8::from(patches.is_member(i))))
-                        .collect(),
-                )
-            }))
-            .collect(),
-        }
-    }
-
-    fn save(&self, out: &mut Encoder) {
-        let p = &self.particles;
-        out.put_f64x3_slice(&p.position);
-        out.put_f64x3_slice(&p.velocity);
-        out.put_f64_slice(&flatten(&p.deformation));
-        out.put_f64_slice(&flatten(&p.affine));
-        out.put_f64_slice(&p.plastic);
-        out.put_f64_slice(&p.internal_energy);
-        out.put_f64_slice(&p.temperature);
-        if let Some(patches) = &self.patches {
-            patches.save(out);
-        }
-    }
-
-    fn restore(&mut self, input: &mut Decoder<'_>) -> Result<()> {
-        let p = &mut self.particles;
-        let n = p.len();
-        p.position = input.take_finite_f64x3_slice("MPM positions", n)?;
-        p.velocity = input.take_finite_f64x3_slice("MPM velocities", n)?;
-        let f = input.take_finite_f64_slice("MPM deformation gradients", 9 * n)?;
-        unflatten(&f, &mut p.deformation);
-        let c = input.take_finite_f64_slice("MPM affine matrices", 9 * n)?;
-        unflatten(&c, &mut p.affine);
-        p.plastic = input.take_finite_f64_slice("MPM plastic strains", n)?;
-        if let Some(i) = p.plastic.iter().position(|&e| e < 0.0) {
-            let message = format!("particle {i} has a negative plastic strain");
-            return Err(input.error("MPM plastic strains", message).into());
-        }
-        let energies = p.internal_energy.len();
-        p.internal_energy = input.take_finite_f64_slice("MPM internal energies", energies)?;
-        let temperatures = p.temperature.len();
-        p.temperature = input.take_finite_f64_slice("MPM temperatures", temperatures)?;
-        if let Some(i) = p.temperature.iter().position(|&t| t <= 0.0) {
-            let message = format!("particle {i} has a temperature at or below 0 K");
-            return Err(input.error("MPM temperatures", message).into());
-        }
-        if let Some(patches) = &mut self.patches {
-            patches.restore(input, &self.particles)?;
-        }
-        Ok(())
-    }
-
-    /// SPB-MPM's bonds (both directions), built as particles turn peridynamic.
-    fn bonds(&self) -> usize {
-        self.patches.as_ref().map_or(0, Patches::bonds)
-    }
-
-    fn broken_bonds(&self) -> u64 {
-        self.patches
-            .as_ref()
-            .map_or(0, |patches| patches.broken_bonds() as u64)
-    }
-
-    fn stage_times(&self) -> Vec<(&'static str, f64)> {
-        vec![
-            ("mpm sort", self.times.sort),
-            ("stress", self.times.stress),
-            ("p2g", self.times.p2g),
-            ("grid", self.times.grid),
-            ("g2p", self.times.g2p),
-            ("plasticity", self.times.plasticity),
-        ]
-        .into_iter()
-        .chain(self.patches.iter().flat_map(|patches| {
-            [
-                ("spb erosion", patches.times.erode),
-                ("spb bonds", patches.times.evolve),
-            ]
-        }))
-        .collect()
-    }
-
-    fn reset_stage_times(&mut self) {
-        self.times = StageTimes::default();
-        if let Some(patches) = &mut self.patches {
-            patches.times = patches::PatchTimes::default();
-        }
     }
 }
 

@@ -5,8 +5,10 @@ use perifrac_math::{mul_transpose, rotation_svd};
 use super::constitutive::{Elastic, Mat3, determinant, mul, polar_rotation};
 use super::plasticity::{FlowInput, Plasticity};
 use super::*;
+use crate::cache::checkpoint::Encoder;
 use crate::run::{Prepared, prepare};
 use crate::scene::MpmElasticity;
+use crate::scene::Scene;
 use crate::world::World;
 
 fn prepared(text: &str) -> Prepared {
