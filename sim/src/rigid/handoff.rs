@@ -156,7 +156,7 @@ impl RigidPhase {
                 .map(|x| mat_vec(turn, [0, 1, 2].map(|k| x[k] - rest[k])))
                 .collect();
             let solid = fit::solid_inertia(&vertices, &surface.triangles, fit.mass);
-            let shape = shape::surface(&vertices, &surface.triangles, points.len())?;
+            let shape = shape::surface(&vertices, &surface.triangles, &local)?;
             Some((shape, surface.reach, solid))
         });
         let (shape, reach, solid) = surface
