@@ -68,24 +68,26 @@ pub(super) fn surface(
         .map(|(hull, _)| hull)
         .collect();
     let parts: Vec<(Isometry<f64>, SharedShape)> = cover(hulls, &points)
-        .iter()
-        .filter_map(|hull| SharedShape::convex_hull(hull))
+        .into_iter()
         .map(|shape| (Isometry::identity(), shape))
         .collect();
     (!parts.is_empty()).then(|| ColliderBuilder::compound(parts))
 }
 
-/// The convex parts `hulls` (their points), each grown to take in the particles of
-/// `points` that no part holds: a particle outside every part joins the part nearest
-/// it. V-HACD's exact hulls are the hulls of the surface vertices in each part's
-/// voxels, so a part whose voxels reach into the piece but whose vertices lie on one
-/// face is a thin shell over that face; on the demo shot the largest pieces had up to
-/// 563 particles outside every part, one 3.9 cm out.
-fn cover(mut hulls: Vec<Vec<Point3<f64>>>, points: &[Point3<f64>]) -> Vec<Vec<Point3<f64>>> {
-    let shapes: Vec<Option<SharedShape>> = hulls
+/// The convex parts `hulls` (their points) as shapes, each grown to take in the
+/// particles of `points` that no part holds: a particle outside every part joins the
+/// part nearest it, whose hull is then taken again (the others are kept as they are).
+/// V-HACD's exact hulls are the hulls of the surface vertices in each part's voxels,
+/// so a part whose voxels reach into the piece but whose vertices lie on one face is a
+/// thin shell over that face; on the demo shot the largest pieces had up to 563
+/// particles outside every part, one 3.9 cm out. Degenerate (flat) parts are left
+/// out.
+fn cover(mut hulls: Vec<Vec<Point3<f64>>>, points: &[Point3<f64>]) -> Vec<SharedShape> {
+    let mut shapes: Vec<Option<SharedShape>> = hulls
         .iter()
         .map(|hull| SharedShape::convex_hull(hull))
         .collect();
+    let mut grown = vec![false; hulls.len()];
     for p in points {
         let distances = shapes.iter().map(|shape| {
             shape
@@ -99,9 +101,15 @@ fn cover(mut hulls: Vec<Vec<Point3<f64>>>, points: &[Point3<f64>]) -> Vec<Vec<Po
             );
         if distance > 0.0 && distance.is_finite() {
             hulls[nearest].push(*p);
+            grown[nearest] = true;
         }
     }
-    hulls
+    for ((shape, hull), grown) in shapes.iter_mut().zip(&hulls).zip(grown) {
+        if grown {
+            *shape = SharedShape::convex_hull(hull);
+        }
+    }
+    shapes.into_iter().flatten().collect()
 }
 
 /// A scene collider's body and shape in rapier: the ground fixed, colliders with a
