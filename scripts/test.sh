@@ -5,7 +5,9 @@ cd "$(dirname "$0")/.."
 scripts/setup.sh
 cargo fmt --all -- --check
 cargo clippy --workspace --all-targets -q -- -D warnings
-cargo clippy -p perifrac --all-targets --features mpi -q -- -D warnings
+# With --workspace the dependencies keep the features of the step above (`-p perifrac`
+# alone resolves them differently and rebuilds the simulator crates).
+cargo clippy --workspace --all-targets --features perifrac/mpi -q -- -D warnings
 cargo run -q -p licence-check
 # The build without OpenVDB and without GL that the README promises, and the API docs
 # with every warning (broken or private intra-doc links, missing docs) an error.
@@ -15,4 +17,5 @@ RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps -q
 # validator and Blender's importers (PyPI usd-core, meshio, bpy in target/dcc-venv).
 cargo test --workspace
 # `mpirun -np N perifrac run` (cli/tests/ranks.rs) on a build with the `mpi` feature.
-cargo test -p perifrac --features mpi --test ranks
+# --workspace for the same reason as the clippy step: only the CLI is built again.
+cargo test --workspace --features perifrac/mpi --test ranks
