@@ -36,6 +36,6 @@ pub use sum::det_sum;
 pub use tet::TET_FACES;
 pub use union_find::UnionFind;
 pub use vector::{
-    add, cross, det3, dist, dot, from_matrix, from_vector, inverse3, lerp, mat_mul, mat_vec, norm,
-    normalize, scale, signed_volume, sub, to_matrix, to_vector,
+    IDENTITY3, add, cross, det3, dist, dot, from_matrix, from_vector, inverse3, lerp, mat_mul,
+    mat_vec, norm, normalize, scale, signed_volume, sub, to_matrix, to_vector,
 };

@@ -80,6 +80,9 @@ pub fn signed_volume(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> f64 
     dot(sub(b, a), cross(sub(c, a), sub(d, a))) / 6.0
 }
 
+/// The 3×3 identity, row-major.
+pub const IDENTITY3: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+
 /// m v, for a row-major `m`.
 #[inline]
 pub fn mat_vec(m: [[f64; 3]; 3], v: [f64; 3]) -> [f64; 3] {

@@ -240,6 +240,15 @@ pub trait Model: Any + Debug + Send + Sync {
         let _ = points;
     }
 
+    /// How rigid piece `points` has turned from the reference configuration (its
+    /// body's rotation times its collider's turn at the switch), given before each
+    /// frame's tets are placed: a point whose intact bonds no longer span 3-D (a chip
+    /// of one to a few points) places its tet by this rotation, so that the tet turns
+    /// with the body and stays on its collider. Models without a tet mesh ignore it.
+    fn orient(&mut self, points: &[u32], rotation: [[f64; 3]; 3]) {
+        let _ = (points, rotation);
+    }
+
     /// The surface of `points` (a fragment going rigid) in the reference
     /// configuration, for its rigid body's collider; `None` (the default) for a model without a tet mesh, whose pieces
     /// collide as their particles (docs/rigid.md, "Colliders and contact").

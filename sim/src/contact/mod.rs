@@ -11,7 +11,7 @@
 
 use std::sync::Arc;
 
-use perifrac_math::{UnitQuaternion, dot, mat_vec, norm, sub};
+use perifrac_math::{IDENTITY3, UnitQuaternion, dot, mat_vec, norm, sub};
 use rayon::prelude::*;
 
 use crate::error::{Result, SimError};
@@ -67,8 +67,6 @@ pub struct Collider {
     /// The collider's clock (s): where a mesh is on its keyframes.
     pub time: f64,
 }
-
-const IDENTITY: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
 
 /// The colliders of a scene, mesh files read and transform files parsed; an error
 /// names the collider, the file and the line.
@@ -139,7 +137,7 @@ impl Collider {
             mass,
             gravity,
             friction,
-            rotation: IDENTITY,
+            rotation: IDENTITY3,
             angular_velocity: [0.0; 3],
             time: 0.0,
         };

@@ -2,7 +2,9 @@
 //! [`super::EmbeddedMesh::positions`]): its bonds' deformation gradient where it can be
 //! trusted, else its rotation.
 
-use perifrac_math::{det3, inverse3, mat_mul, mul_transpose, rotation_svd, sub, to_matrix};
+use perifrac_math::{
+    IDENTITY3, det3, inverse3, mat_mul, mul_transpose, rotation_svd, sub, to_matrix,
+};
 use rayon::prelude::*;
 
 use crate::family::{BROKEN, Bonds, INDEX};
@@ -24,7 +26,9 @@ pub const TRUSTED_STRETCH: f64 = 2.0;
 /// (smallest over largest eigenvalue at least [`TRUSTED_CONDITIONING`]) and F's
 /// singular values within [1/[`TRUSTED_STRETCH`], [`TRUSTED_STRETCH`]]. Otherwise F's
 /// rotation R = UVᵀ (its inversion-safe SVD F = UΣVᵀ, so R is a rotation even when F
-/// is inverted), or the identity where the intact bonds do not span 3-D.
+/// is inverted). Where the intact bonds do not span 3-D: `turned[i]` if given (how
+/// the rigid piece holding a frozen particle has turned, [`crate::model::Model::orient`]),
+/// else the identity.
 ///
 /// Why: F fitted to the few bonds a nearly detached particle keeps fits their
 /// rotations and compressions exactly, and is then anything in the other
@@ -38,8 +42,8 @@ pub fn deformation_gradients(
     reference: &[[f64; 3]],
     position: &[[f64; 3]],
     volume: &[f64],
+    turned: Option<&[[[f64; 3]; 3]]>,
 ) -> Vec<[[f64; 3]; 3]> {
-    const IDENTITY: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     (0..reference.len())
         .into_par_iter()
         .map(|i| {
@@ -62,7 +66,7 @@ pub fn deformation_gradients(
                 }
             }
             let Some(ki) = inverse(k) else {
-                return IDENTITY;
+                return turned.map_or(IDENTITY3, |r| r[i]);
             };
             let f = mat_mul(&m, &ki);
             let svd = rotation_svd(&f);

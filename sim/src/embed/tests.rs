@@ -272,7 +272,7 @@ fn affine_motion_is_exact() {
         }
     };
     let y: Vec<[f64; 3]> = x.iter().map(|&p| motion(p, p[1] > plane)).collect();
-    let gradient = deformation_gradients(&bonds, &x, &y, &disc.volume);
+    let gradient = deformation_gradients(&bonds, &x, &y, &disc.volume, None);
     let positions = mesh.positions(&x, &y, &mass, &gradient);
     let mut worst = 0.0f64;
     for (v, p) in positions.iter().enumerate() {
@@ -453,7 +453,7 @@ fn a_nearly_detached_particle_does_not_invert_or_stretch_its_tet() {
     let fitted = mat_mul(&m, &inverse(k).expect("three bonds span 3-D"));
     assert!(det3(&fitted) < 0.0, "det F = {}", det3(&fitted));
     let mass: Vec<f64> = disc.volume.iter().map(|v| 2200.0 * v).collect();
-    let gradient = deformation_gradients(&bonds, &x, &y, &disc.volume);
+    let gradient = deformation_gradients(&bonds, &x, &y, &disc.volume, None);
     assert!(
         (det3(&gradient[q]) - 1.0).abs() < 1e-9,
         "a rotation replaces F"
@@ -489,7 +489,7 @@ fn a_tet_hanging_by_one_face_and_pushed_through_it_is_mended() {
     let mirror = reflect(x[q], face);
     y[q] = [0, 1, 2].map(|a| x[q][a] + 3.0 * (mirror[a] - x[q][a]));
     let mass: Vec<f64> = disc.volume.iter().map(|v| 2200.0 * v).collect();
-    let gradient = deformation_gradients(&bonds, &x, &y, &disc.volume);
+    let gradient = deformation_gradients(&bonds, &x, &y, &disc.volume, None);
     // Eq. 20–21's average alone leaves the tet inside out.
     let mut plain = vec![[0.0; 3]; mesh.vertex_count()];
     let mut weight = vec![0.0; mesh.vertex_count()];

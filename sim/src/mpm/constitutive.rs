@@ -13,7 +13,7 @@ use crate::scene::MpmElasticity;
 pub type Mat3 = [[f64; 3]; 3];
 
 /// The identity.
-pub const IDENTITY: Mat3 = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+pub const IDENTITY: Mat3 = perifrac_math::IDENTITY3;
 
 /// Lamé parameters μ, λ (Lyu Eq. 3.6) and the elastic energy of a material.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -5,6 +5,7 @@
 
 use std::sync::Arc;
 
+use perifrac_math::IDENTITY3;
 use rayon::prelude::*;
 
 use super::{PdModel, stable_time_step};
@@ -33,6 +34,10 @@ pub struct Peridynamics {
     /// Whether the run writes the split mesh: then it is split at every frame and its
     /// crack faces are checkpointed.
     writes_tets: bool,
+    /// How each frozen particle's rigid piece has turned from the reference
+    /// configuration ([`Model::orient`]), the identity for the others; `None` until a
+    /// piece is oriented. Set again before every frame, so never checkpointed.
+    orientation: Option<Vec<[[f64; 3]; 3]>>,
 }
 
 impl Peridynamics {
@@ -45,6 +50,7 @@ impl Peridynamics {
             mass,
             embedded,
             writes_tets,
+            orientation: None,
         }
     }
 }
@@ -222,6 +228,22 @@ impl Model for Peridynamics {
                 frozen[i as usize] = false;
             }
         }
+        if let Some(orientation) = &mut self.orientation {
+            for &i in points {
+                orientation[i as usize] = IDENTITY3;
+            }
+        }
+    }
+
+    fn orient(&mut self, points: &[u32], rotation: [[f64; 3]; 3]) {
+        if self.embedded.is_none() || !self.writes_tets {
+            return;
+        }
+        let n = self.model.len();
+        let orientation = self.orientation.get_or_insert_with(|| vec![IDENTITY3; n]);
+        for &i in points {
+            orientation[i as usize] = rotation;
+        }
     }
 
     fn frozen(&self) -> Option<&[bool]> {
@@ -324,7 +346,13 @@ impl Model for Peridynamics {
         mesh.update(&m.bonds);
         let reference = &m.reference.position;
         let position = &m.particles.position;
-        let gradient = deformation_gradients(&m.bonds, reference, position, &m.reference.volume);
+        let gradient = deformation_gradients(
+            &m.bonds,
+            reference,
+            position,
+            &m.reference.volume,
+            self.orientation.as_deref(),
+        );
         Some(TetFrame {
             points: mesh.positions(reference, position, &self.mass, &gradient),
             tets: mesh.tets.clone(),

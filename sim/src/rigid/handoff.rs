@@ -157,10 +157,17 @@ impl RigidPhase {
                 .collect();
             let solid = fit::solid_inertia(&vertices, &surface.triangles, fit.mass);
             let shape = shape::surface(&vertices, &surface.triangles, &local)?;
-            Some((shape, surface.reach, solid))
+            Some((shape, surface.reach, solid, turn))
         });
-        let (shape, reach, solid) = surface
-            .unwrap_or_else(|| (shape::piece(&local, &spacing, 0.5 * fit.spacing), 0.0, None));
+        let (shape, reach, solid, turn) = match surface {
+            Some((shape, reach, solid, turn)) => (shape, reach, solid, Some(turn)),
+            None => (
+                shape::piece(&local, &spacing, 0.5 * fit.spacing),
+                0.0,
+                None,
+                None,
+            ),
+        };
         // A piece of fewer than four points has next to no inertia of its points
         // (none at all about the line through two): it turns as the solid its
         // collider is, its tets' own inertia, with the fragment's angular momentum
@@ -208,6 +215,7 @@ impl RigidPhase {
             volume: piece_volume,
             reach,
             limit,
+            turn,
         };
         place(&piece, &self.physics.bodies[handle], part);
         self.pieces.push(piece);

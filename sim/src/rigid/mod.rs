@@ -54,6 +54,7 @@
 
 use std::collections::BTreeMap;
 
+use perifrac_math::mat_mul;
 use rapier3d_f64::na::{UnitQuaternion, Vector3};
 use rapier3d_f64::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -106,6 +107,12 @@ struct Piece {
     /// `reenter` × s_c c_p, ∞ for small pieces and what cannot break ([`RigidPhase::reenter`]).
     #[serde(default = "never")]
     limit: f64,
+    /// The rotation from the reference configuration to the body frame at the switch
+    /// (its collider's surface was turned by it), `None` for a piece that collides as
+    /// its particles; with the body's rotation, how its tets turn
+    /// ([`RigidPhase::orient`]). A checkpoint written before it was kept reads `None`.
+    #[serde(default)]
+    turn: Option<[[f64; 3]; 3]>,
 }
 
 impl Piece {
@@ -394,6 +401,26 @@ impl RigidPhase {
                 torque[2] += r[0] * fi[1] - r[1] * fi[0];
             }
             *slot = (total, torque);
+        }
+    }
+
+    /// Tells each piece's model how the piece has turned from the reference
+    /// configuration, R(t) R_s (its body's rotation since the switch after the turn
+    /// its collider was given then), before the frame's tets are placed
+    /// ([`crate::model::Model::orient`]): the tets of its points whose bonds no longer
+    /// say (dust and chips) then turn with it and lie where its collider is.
+    pub fn orient(&self, parts: &mut [Part]) {
+        for piece in &self.pieces {
+            let Some(turn) = piece.turn else {
+                continue;
+            };
+            let body = self.physics.bodies[piece.body]
+                .rotation()
+                .to_rotation_matrix();
+            let rotation = [0, 1, 2].map(|r| [0, 1, 2].map(|c| body[(r, c)]));
+            parts[piece.part as usize]
+                .model
+                .orient(&piece.points, mat_mul(&rotation, &turn));
         }
     }
 

@@ -193,6 +193,9 @@ impl<'a> Frames<'a> {
             bytes += record.bytes;
             self.manifest.record(&layout.root, &path, record);
         }
+        if let Some(rigid) = &world.rigid {
+            rigid.orient(&mut world.parts);
+        }
         for part in &mut world.parts {
             let s = Instant::now();
             // Split on every rank: the split is state the rigid phase reads.
