@@ -5,8 +5,8 @@ cd "$(dirname "$0")/.."
 scripts/setup.sh
 cargo fmt --all -- --check
 cargo clippy --workspace --all-targets -q -- -D warnings
-# With --workspace the dependencies keep the features of the step above (`-p perifrac`
-# alone resolves them differently and rebuilds the simulator crates).
+# And with the CLI's `mpi` feature (cli/src/ranks.rs); --workspace keeps the other
+# crates' features as above, so only the CLI is checked again.
 cargo clippy --workspace --all-targets --features perifrac/mpi -q -- -D warnings
 cargo run -q -p licence-check
 # The build without OpenVDB and without GL that the README promises, and the API docs
@@ -15,7 +15,9 @@ cargo check --workspace --all-targets --no-default-features -q
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps -q
 # cli/tests/usd.rs runs scripts/dcc-check.sh: cache.usd through Pixar's usd-core
 # validator and Blender's importers (PyPI usd-core, meshio, bpy in target/dcc-venv).
-cargo test --workspace
-# `mpirun -np N perifrac run` (cli/tests/ranks.rs) on a build with the `mpi` feature.
-# --workspace for the same reason as the clippy step: only the CLI is built again.
-cargo test --workspace --features perifrac/mpi --test ranks
+# With the CLI's `mpi` feature, so that `mpirun -np N perifrac run` (cli/tests/ranks.rs)
+# is tested in the same build: a second build for it alone compiled the simulator
+# crates again (2 minutes). A single process never starts MPI, so every other test
+# runs as without it; the refusal of a build without MPI is tested by its unit test
+# here and end to end by input_errors.rs in a plain `cargo test`.
+cargo test --workspace --features perifrac/mpi

@@ -83,7 +83,15 @@ pub fn launch() -> Result<Launch, Failure> {
 /// Refuses to run as one of several ranks without MPI.
 #[cfg(not(feature = "mpi"))]
 pub fn launch() -> Result<Launch, Failure> {
-    match launched_ranks() {
+    without_mpi(launched_ranks())
+}
+
+/// The launch of a build without MPI started as one of `launched` ranks: one
+/// process, or a refusal (exit 2) that says how to build it. Compiled for the tests
+/// of the `mpi` build too, where CI runs them.
+#[cfg(any(test, not(feature = "mpi")))]
+fn without_mpi(launched: Option<usize>) -> Result<Launch, Failure> {
+    match launched {
         Some(n) if n > 1 => Err(Failure::input(anyhow::anyhow!(
             "started as one of {n} MPI ranks, but this perifrac was built without MPI: \
              every rank would run the whole scene into the same cache. Build it with \
@@ -165,5 +173,24 @@ impl Ranks for Mpi {
         let mut any = 0i32;
         world.all_reduce_into(&i32::from(flag), &mut any, SystemOperation::logical_or());
         any != 0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::commands::EXIT_INPUT;
+
+    #[test]
+    fn a_build_without_mpi_started_as_several_ranks_refuses_with_exit_2() {
+        let Err(refusal) = without_mpi(Some(2)) else {
+            panic!("two ranks without MPI must refuse");
+        };
+        assert_eq!(refusal.code, EXIT_INPUT);
+        assert!(refusal.error.to_string().contains("--features mpi"));
+        for launched in [None, Some(1)] {
+            let launch = without_mpi(launched).map_err(|f| f.error.to_string());
+            assert!(launch.is_ok_and(|l| l.ranks.is_none()), "{launched:?}");
+        }
     }
 }
