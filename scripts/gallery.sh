@@ -31,7 +31,7 @@ LIST
 "$bin" render "$out/demo" --size 480x270 --movie --overlay --quiet
 cp "$out/demo/preview/movie.png" "$root/docs/gallery/demo-movie.png"
 echo "docs/gallery/demo-movie.png: the demo's $(ls "$out/demo/preview"/0*.png | wc -l) frames"
-# The demo as a finished shot (4 s, the pieces rigid once they stop breaking): its
+# The demo as a finished shot (5 s, the pieces rigid once they stop breaking): its
 # movie, the camera following the shot, and a still of the pieces flying (frame 33,
 # 0.13 s).
 "$bin" run "$root/assets/scenes/demo-shot.toml" -o "$out/demo-shot" --force --quiet

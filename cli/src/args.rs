@@ -47,7 +47,7 @@ pub enum Command {
         /// The scene file.
         scene: PathBuf,
     },
-    /// Run the built-in demo: a steel ball through a glass wall, and the 4 s after it
+    /// Run the built-in demo: a steel ball through a glass wall, and the 5 s after it
     /// with the pieces landing (a finished shot).
     Demo {
         /// Output directory.

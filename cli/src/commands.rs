@@ -94,7 +94,7 @@ impl From<anyhow::Error> for Failure {
 /// The built-in demo's impact: its first 4 ms (also `assets/scenes/demo.toml`).
 pub const DEMO_SCENE: &str = include_str!("../../assets/scenes/demo.toml");
 
-/// The built-in demo as a finished shot: the impact and 4 s of pieces landing (also
+/// The built-in demo as a finished shot: the impact and 5 s of pieces landing (also
 /// `assets/scenes/demo-shot.toml`).
 pub const DEMO_SHOT_SCENE: &str = include_str!("../../assets/scenes/demo-shot.toml");
 
