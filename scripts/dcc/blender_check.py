@@ -41,6 +41,13 @@ RESTS = "--rests-on-colliders" in sys.argv
 TOLERANCE = 1e-6  # metres
 
 
+def allowed(expected):
+    """TOLERANCE, plus one float32 step (2^-23 of the largest coordinate): Blender turns
+    the stage's Y-up points to Z-up in float32, which at the demo shot's 81 m rounds a
+    coordinate by up to 6e-6 m."""
+    return TOLERANCE + float(np.abs(expected).max(initial=0.0)) * 2.0**-23
+
+
 def y_up_to_blender(p):
     """Cache coordinates (y up) in Blender's world (z up): (x, -z, y)."""
     p = np.asarray(p, dtype="f8")
@@ -376,7 +383,7 @@ def main(out):
         expected = y_up_to_blender(np.stack([ply["x"], ply["y"], ply["z"]], axis=1))
         pos, cloud = evaluated_points(cloud_obj)
         err = worst(pos, expected)
-        check(err <= TOLERANCE, f"frame {frame}: points off by {err} m")
+        check(err <= allowed(expected), f"frame {frame}: points off by {err} m")
         names = set(cloud.attributes.keys())
         check({"damage", "fragment"} <= names, f"the point cloud's attributes are {sorted(names)}")
         damage = np.empty(len(cloud.points))
@@ -387,13 +394,13 @@ def main(out):
         if "Surface" in objects:
             [(_, p, _)] = glb
             err = worst(evaluated_vertices(objects["Surface"]), y_up_to_blender(p))
-            check(err <= TOLERANCE, f"frame {frame}: crack surface off by {err} m from the .glb")
+            check(err <= allowed(p), f"frame {frame}: crack surface off by {err} m from the .glb")
         else:
             for name, p, _ in glb:
                 obj = objects.get(name.replace(" ", "_"))
                 check(obj is not None, f"frame {frame}: no object for {name}")
                 err = worst(evaluated_vertices(obj), y_up_to_blender(p))
-                check(err <= TOLERANCE, f"frame {frame}: {name} off by {err} m from the .glb")
+                check(err <= allowed(p), f"frame {frame}: {name} off by {err} m from the .glb")
         print(f"blender usd: frame {frame} points within {TOLERANCE} m of the PLY, meshes of the .glb, "
               f"point attributes {sorted(names - {'position'})}")
     # Colliders: Blender 5.0 makes each collider's Xform and its child one object, named
