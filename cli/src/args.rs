@@ -150,8 +150,9 @@ pub enum BenchCommand {
         threads: Option<usize>,
     },
     /// Run time against error on the validation scenes (Chen §6): peridynamics and
-    /// both FEM references against the converged corotated FEM; writes
-    /// `accuracy.md` and `accuracy.png`.
+    /// both FEM references against the converged corotated FEM; the analytic figures;
+    /// the Kalthoff–Winkler plate's crack angle; writes `accuracy.md` and
+    /// `accuracy.png`.
     Accuracy {
         /// Two scenes, two resolutions, a short run (under five minutes).
         #[arg(long)]

@@ -69,6 +69,8 @@ fn accuracy(quick: bool, scenes: &Path, out: &Path, quiet: bool) -> Result<(), F
         crate::accuracy::report(&points, &same_tets, sweep, rayon::current_num_threads());
     report.push('\n');
     report.push_str(&crate::accuracy::analytic(scenes, quiet)?);
+    report.push('\n');
+    report.push_str(&crate::accuracy::crack_angles(scenes, quick, quiet)?);
     std::fs::create_dir_all(out)
         .map_err(|e| Failure::from(anyhow::anyhow!("{}: {e}", out.display())))?;
     let path = out.join("accuracy.md");

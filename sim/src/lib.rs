@@ -26,6 +26,7 @@ pub mod accuracy;
 pub mod analytic;
 pub mod clamp;
 pub mod contact;
+pub mod crack_angle;
 pub mod embed;
 pub mod error;
 pub mod family;

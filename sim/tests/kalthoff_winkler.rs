@@ -6,143 +6,58 @@
 //! to 45 mm from the tip, on the side away from the centreline; also by 15 mm shells and
 //! the principal axis of their second moments. `KW_MAP` prints the broken bonds a 4 mm
 //! cell, `KW_CONTACT_MAP` where the contact force acted, `KW_ZERO_WIDTH` cuts the
-//! notches as zero-width pre-cuts instead of slots.
+//! notches as zero-width pre-cuts instead of slots, `KW_LATTICE=aligned` meshes the
+//! plate on the aligned lattice instead of the unstructured mesh.
 
 use std::path::Path;
 
+use perifrac_sim::crack_angle::{
+    CrackAngle, KALTHOFF_WINKLER_NOTCHES, KALTHOFF_WINKLER_REACH, NotchCut, broken_during_run,
+    crack_angle, kalthoff_winkler_variant,
+};
 use perifrac_sim::family::BROKEN;
 use perifrac_sim::run;
-use perifrac_sim::scene::Scene;
+use perifrac_sim::scene::{LatticeOrientation, Scene};
 
-/// The shipped scene at λ = `lambda` (its critical stretch scaled as δ^{-1/2}, as
-/// Silling & Askari 2005's s₀ = √(5G/(9κδ))), with `contact` appended to its text.
-fn scene(lambda: f64, contact: &str) -> String {
+/// The shipped scene at λ = `lambda` with `cut` notches on `lattice`
+/// (`kalthoff_winkler_variant`).
+fn scene(lambda: f64, cut: NotchCut, lattice: LatticeOrientation) -> Scene {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/scenes/kalthoff-winkler.toml");
-    let text = std::fs::read_to_string(&path).expect("the Kalthoff–Winkler scene");
-    let stretch = 0.00422 * (0.003 / lambda).sqrt();
-    for part in ["resolution = 0.003 ", "critical_stretch = 0.00422\n"] {
-        assert!(text.contains(part), "the scene changed: no {part:?}");
-    }
-    text.replace("resolution = 0.003 ", &format!("resolution = {lambda} "))
-        .replace(
-            "critical_stretch = 0.00422\n",
-            &format!("critical_stretch = {stretch}\n"),
-        )
-        + contact
+    let base = Scene::load(&path).expect("the Kalthoff–Winkler scene");
+    kalthoff_winkler_variant(&base, lambda, cut, lattice).expect("a variant")
 }
 
-/// `text` with zero-width notches: the plate a plain box and the notches'
-/// bonds cut (`[[body.crack]]`) instead of 1.5 mm slots.
-fn zero_width(text: &str) -> String {
-    let start = text
-        .find("shape = { type = \"difference\"")
-        .expect("the plate's shape");
-    let end = start + text[start..].find('\n').expect("one line");
-    let mut out = text[..start].to_string();
-    out += "shape = { type = \"box\", center = [0.05, 0.0, 0.0], size = [0.1, 0.2, 0.009] }\n";
-    for y in [0.025, -0.025] {
-        out += &format!(
-            "[[body.crack]]\npoint = [0.0, {y}, 0.0]\nnormal = [0.0, 1.0, 0.0]\n\
-             region = {{ type = \"box\", center = [0.025, {y}, 0.0], size = [0.05, 0.01, 0.02] }}\n"
-        );
-    }
-    out += &text[end + 1..];
-    out
-}
-
-/// What a run gives, for each notch: the crack angle (degrees from the notch, +x,
-/// toward the plate's outer edge), the number of broken bonds it read, and the medians
-/// of the shells 2δ–15, 15–30 and 30–45 mm followed by the principal axis.
-#[derive(Debug)]
-struct Angles {
-    upper: (f64, usize, Vec<f64>),
-    lower: (f64, usize, Vec<f64>),
-}
-
-/// Runs `text` to its end and fits the cracks.
-fn crack_angles(text: &str) -> Angles {
-    let scene = Scene::parse(text, Path::new("kw.toml"), Path::new(".")).expect("scene");
-    let delta = scene.bodies[0].delta();
-    let mut p = run::prepare(&scene).expect("prepares");
-    let steps = p.steps_per_frame * (scene.scene.duration * scene.scene.fps).round() as usize;
-    let cut: Vec<bool> = {
-        let model = p.world.parts[0].model.as_ref();
-        let bonds = model.contact_points().and_then(|c| c.bonds).expect("bonds");
-        bonds.neighbours.iter().map(|&n| n & BROKEN != 0).collect()
-    };
+/// Runs `scene` to its end and reads the cracks of the upper and lower notches
+/// (`perifrac_sim::crack_angle`, 2δ to 45 mm from the tips).
+fn crack_angles(scene: &Scene) -> [CrackAngle; 2] {
     // Where particle contact acts: Σ |F| Δt on each particle (N s) and the step it
     // first did, for KW_CONTACT_MAP.
-    let n = p.world.parts[0].model.points().position.len();
-    let (mut impulse, mut first) = (vec![0.0f64; n], vec![usize::MAX; n]);
-    for step in 0..steps {
-        p.world.step().expect("steps");
-        if let Some(c) = &p.world.contact {
-            for (i, f) in c.force(0).iter().enumerate() {
-                let m = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
-                if m > 0.0 {
-                    impulse[i] += m * p.world.dt;
-                    first[i] = first[i].min(step);
-                }
+    let (mut impulse, mut first) = (Vec::new(), Vec::new());
+    let mut reference = Vec::new();
+    let broken = broken_during_run(scene, |world, step| {
+        let Some(c) = &world.contact else { return };
+        let f = c.force(0);
+        if impulse.is_empty() {
+            impulse = vec![0.0f64; f.len()];
+            first = vec![usize::MAX; f.len()];
+            reference = world.parts[0].model.points().reference.to_vec();
+        }
+        for (i, f) in f.iter().enumerate() {
+            let m = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
+            if m > 0.0 {
+                impulse[i] += m * world.dt;
+                first[i] = first[i].min(step);
             }
         }
-    }
+    })
+    .expect("runs");
     if std::env::var_os("KW_CONTACT_MAP").is_some() {
-        let x = p.world.parts[0].model.points().reference;
-        let mut grid = vec![[(0.0f64, usize::MAX); 25]; 50];
-        for i in 0..n {
-            let (c, r) = (
-                (x[i][0] / 0.004) as usize,
-                ((0.1 - x[i][1]) / 0.004) as usize,
-            );
-            if c < 25 && r < 50 {
-                grid[r][c].0 += impulse[i];
-                grid[r][c].1 = grid[r][c].1.min(first[i]);
-            }
-        }
-        eprintln!("contact impulse a 4 mm cell, log10 N s (' ' none, 0: < 1e-6 … 9: ≥ 1e2)");
-        for row in &grid {
-            let line: String = row
-                .iter()
-                .map(|&(j, _)| {
-                    if j == 0.0 {
-                        ' '
-                    } else {
-                        char::from(b'0' + (j.log10() + 6.0).clamp(0.0, 9.0) as u8)
-                    }
-                })
-                .collect();
-            let when: Vec<String> = row
-                .iter()
-                .filter(|c| c.1 != usize::MAX)
-                .map(|c| format!("{}", c.1))
-                .take(3)
-                .collect();
-            eprintln!("|{line}| first steps {}", when.join(" "));
-        }
-        let total: f64 = impulse.iter().sum();
-        let near_edge: f64 = (0..n).filter(|&i| x[i][0] < 0.01).map(|i| impulse[i]).sum();
-        eprintln!(
-            "contact impulse: {total:.3e} N s in all, {near_edge:.3e} within 10 mm of the impacted edge"
-        );
-    }
-    let model = p.world.parts[0].model.as_ref();
-    let bonds = model.contact_points().and_then(|c| c.bonds).expect("bonds");
-    let x = model.points().reference;
-    let mut midpoints = Vec::new();
-    for i in 0..x.len() {
-        for k in bonds.range(i) {
-            let n = bonds.neighbours[k];
-            if n & BROKEN == 0 || cut[k] {
-                continue;
-            }
-            let j = (n & !BROKEN) as usize;
-            midpoints.push([0.5 * (x[i][0] + x[j][0]), 0.5 * (x[i][1] + x[j][1])]);
-        }
+        contact_map(&reference, &impulse, &first);
     }
     if std::env::var_os("KW_MAP").is_some() {
         // Broken bonds a 4 mm cell of the reference plate, x across, y down the page.
         let mut grid = vec![[0usize; 25]; 50];
-        for m in &midpoints {
+        for m in &broken.midpoints {
             let (c, r) = ((m[0] / 0.004) as usize, ((0.1 - m[1]) / 0.004) as usize);
             if c < 25 && r < 50 {
                 grid[r][c] += 1;
@@ -162,50 +77,51 @@ fn crack_angles(text: &str) -> Angles {
             eprintln!("|{line}|");
         }
     }
-    let fit = |side: f64| {
-        // Tip at (0.05, ±0.025); the crack runs into x > 0.05, outward (side · y > 0.025).
-        // The median polar angle about the tip of the midpoints 2δ to 45 mm from it: the
-        // damaged band is widest near the tip, where a least-squares line leans on it.
-        let polar: Vec<(f64, f64)> = midpoints
+    KALTHOFF_WINKLER_NOTCHES.map(|notch| crack_angle(&broken, notch, KALTHOFF_WINKLER_REACH))
+}
+
+/// Prints the contact impulse a 4 mm cell of the reference plate (log scale) and the
+/// first steps it acted there.
+fn contact_map(x: &[[f64; 3]], impulse: &[f64], first: &[usize]) {
+    let mut grid = vec![[(0.0f64, usize::MAX); 25]; 50];
+    for i in 0..impulse.len() {
+        let (c, r) = (
+            (x[i][0] / 0.004) as usize,
+            ((0.1 - x[i][1]) / 0.004) as usize,
+        );
+        if c < 25 && r < 50 {
+            grid[r][c].0 += impulse[i];
+            grid[r][c].1 = grid[r][c].1.min(first[i]);
+        }
+    }
+    eprintln!("contact impulse a 4 mm cell, log10 N s (' ' none, 0: < 1e-6 … 9: ≥ 1e2)");
+    for row in &grid {
+        let line: String = row
             .iter()
-            .filter_map(|m| {
-                let (dx, dy) = (m[0] - 0.05, side * m[1] - 0.025);
-                let r = (dx * dx + dy * dy).sqrt();
-                (dx >= -delta && dy >= 0.0 && r >= 2.0 * delta && r <= 0.045)
-                    .then(|| (r, dy.atan2(dx).to_degrees()))
+            .map(|&(j, _)| {
+                if j == 0.0 {
+                    ' '
+                } else {
+                    char::from(b'0' + (j.log10() + 6.0).clamp(0.0, 9.0) as u8)
+                }
             })
             .collect();
-        let median = |lo: f64, hi: f64| {
-            let mut a: Vec<f64> = polar
-                .iter()
-                .filter(|p| p.0 >= lo && p.0 < hi)
-                .map(|p| p.1)
-                .collect();
-            a.sort_by(f64::total_cmp);
-            if a.is_empty() {
-                f64::NAN
-            } else {
-                a[a.len() / 2]
-            }
-        };
-        // And the principal axis of the second moments about the tip (the first measure
-        // taken, which leans on the wide band near the tip).
-        let (sxx, sxy, syy) = polar.iter().fold((0.0, 0.0, 0.0), |(a, b, c), &(r, t)| {
-            let (dx, dy) = (r * t.to_radians().cos(), r * t.to_radians().sin());
-            (a + dx * dx, b + dx * dy, c + dy * dy)
-        });
-        let axis = (0.5 * (2.0 * sxy).atan2(sxx - syy)).to_degrees();
-        let mut shells: Vec<f64> = [0.0, 0.015, 0.03, 0.045]
-            .windows(2)
-            .map(|w| median(w[0], w[1]))
+        let when: Vec<String> = row
+            .iter()
+            .filter(|c| c.1 != usize::MAX)
+            .map(|c| format!("{}", c.1))
+            .take(3)
             .collect();
-        shells.push(axis);
-        (median(0.0, 1.0), polar.len(), shells)
-    };
-    Angles {
-        upper: fit(1.0),
-        lower: fit(-1.0),
+        eprintln!("|{line}| first steps {}", when.join(" "));
     }
+    let total: f64 = impulse.iter().sum();
+    let near_edge: f64 = (0..impulse.len())
+        .filter(|&i| x[i][0] < 0.01)
+        .map(|i| impulse[i])
+        .sum();
+    eprintln!(
+        "contact impulse: {total:.3e} N s in all, {near_edge:.3e} within 10 mm of the impacted edge"
+    );
 }
 
 /// Measurement (`KW_LAMBDA=0.003 cargo test --release -p perifrac-sim --test
@@ -219,29 +135,38 @@ fn kalthoff_winkler_angles() {
         .unwrap_or(0.003);
     let cases = std::env::var("KW_CASES").unwrap_or_else(|_| "on frictionless off".into());
     for case in cases.split_whitespace() {
-        let contact = match case {
-            "on" => "",
-            "frictionless" => "\n[contact]\nfriction = 0.0\n",
-            "off" => "\n[contact]\nparticles = false\n",
-            "near" => "\n[contact]\ndistance = 0.5\n",
-            "soft" => "\n[contact]\nstiffness = 0.01\n",
-            other => panic!("KW_CASES: on, frictionless, off, near or soft, not {other}"),
+        let cut = if std::env::var_os("KW_ZERO_WIDTH").is_some() {
+            NotchCut::ZeroWidth
+        } else {
+            NotchCut::Slots
         };
-        let start = std::time::Instant::now();
-        let mut text = scene(lambda, contact);
-        if std::env::var_os("KW_ZERO_WIDTH").is_some() {
-            text = zero_width(&text);
+        let lattice = match std::env::var("KW_LATTICE").as_deref() {
+            Ok("aligned") => LatticeOrientation::Aligned,
+            Ok("rotated") => LatticeOrientation::Rotated,
+            _ => LatticeOrientation::Unstructured,
+        };
+        let mut scene = scene(lambda, cut, lattice);
+        match case {
+            "on" => {}
+            "frictionless" => scene.contact.friction = 0.0,
+            "off" => scene.contact.particles = Some(false),
+            "near" => scene.contact.distance = 0.5,
+            "soft" => scene.contact.stiffness = 0.01,
+            other => panic!("KW_CASES: on, frictionless, off, near or soft, not {other}"),
         }
-        let a = crack_angles(&text);
+        let start = std::time::Instant::now();
+        let [upper, lower] = crack_angles(&scene);
         eprintln!(
-            "λ = {lambda} m, contact {case}: upper notch {:.1}° ({} bonds; 2δ–15, 15–30, 30–45 mm, axis: {:.1?}), \
-             lower {:.1}° ({} bonds; {:.1?}), {:.0} s",
-            a.upper.0,
-            a.upper.1,
-            a.upper.2,
-            a.lower.0,
-            a.lower.1,
-            a.lower.2,
+            "λ = {lambda} m, {cut:?} on {lattice:?}, contact {case}: upper notch {:.1}° ({} bonds; 2δ–15, 15–30, 30–45 mm: {:.1?}, axis {:.1}°), \
+             lower {:.1}° ({} bonds; {:.1?}, axis {:.1}°), {:.0} s",
+            upper.median,
+            upper.bonds,
+            upper.shells,
+            upper.axis,
+            lower.median,
+            lower.bonds,
+            lower.shells,
+            lower.axis,
             start.elapsed().as_secs_f64()
         );
     }
@@ -255,8 +180,7 @@ fn kalthoff_winkler_angles() {
 #[test]
 #[ignore = "measurement: run it on purpose"]
 fn notch_faces_within_contact_reach() {
-    let text = scene(0.003, "");
-    let scene = Scene::parse(&text, Path::new("kw.toml"), Path::new(".")).expect("scene");
+    let scene = scene(0.003, NotchCut::Slots, LatticeOrientation::Unstructured);
     let p = run::prepare(&scene).expect("prepares");
     let model = p.world.parts[0].model.as_ref();
     let bonds = model.contact_points().and_then(|c| c.bonds).expect("bonds");
