@@ -136,15 +136,16 @@ pub fn analytic(dir: &Path, quiet: bool) -> Result<String, Failure> {
 const KALTHOFF_WINKLER_LAMBDAS: [f64; 2] = [0.004, 0.003];
 
 /// Finer spacings (m) run on the aligned lattice with slotted notches only: the
-/// unstructured plate at 2.5 mm has a particle whose stable step is 5.7e-9 s
-/// (`perifrac check`; 3.8e-8 s at 3 mm) and would take over an hour.
+/// unstructured plate at 2.5 mm has a particle in a slot whose stable step is 5.7e-9 s
+/// (`perifrac check`; 5.5e-8 s at 3 mm) and would take over an hour.
 const KALTHOFF_WINKLER_FINE: [f64; 2] = [0.0025, 0.002];
 
 /// The "Crack angle" section of `accuracy.md` (issue 33, item 7): the
 /// Kalthoff–Winkler plate (`kalthoff-winkler.toml`, contact on as shipped) with its
 /// notches as slots and as zero-width pre-cuts, on the unstructured and the aligned
-/// mesh, at two spacings, and the aligned slotted plate at two finer ones; the angle of each notch's crack read from the bonds that
-/// broke (`perifrac_sim::crack_angle`) against the experiment's 68–70°.
+/// mesh, at two spacings, and the aligned slotted plate at two finer ones; the angle
+/// of each notch's crack read from the bonds that broke (`perifrac_sim::crack_angle`)
+/// against the experiment's 68–70°.
 pub fn crack_angles(dir: &Path, quick: bool, quiet: bool) -> Result<String, Failure> {
     use perifrac_cache::scene::LatticeOrientation;
     use perifrac_sim::crack_angle::{

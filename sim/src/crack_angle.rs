@@ -11,7 +11,7 @@
 //! that range, and the principal axis of their second moments about the tip.
 
 use crate::error::{Result, SimError};
-use crate::family::BROKEN;
+use crate::family::{BROKEN, INDEX};
 use crate::run;
 use crate::scene::{CrackSpec, LatticeOrientation, Scene, ShapeSpec};
 use crate::world::World;
@@ -135,7 +135,16 @@ pub fn broken_during_run(
     scene: &Scene,
     mut each_step: impl FnMut(&World, usize),
 ) -> Result<Broken> {
-    let delta = scene.bodies[0].delta();
+    let delta = scene
+        .bodies
+        .first()
+        .ok_or_else(|| {
+            SimError::Refused(format!(
+                "scene '{}': no body to read cracks from (add a [[body]])",
+                scene.scene.name
+            ))
+        })?
+        .delta();
     let mut p = run::prepare(scene)?;
     let steps = p.steps_per_frame * scene.frame_count();
     let broken_at_setup = broken_flags(&p.world);
@@ -153,7 +162,7 @@ pub fn broken_during_run(
                 if n & BROKEN == 0 || broken_at_setup[k] {
                     continue;
                 }
-                let xj = x[(n & !BROKEN) as usize];
+                let xj = x[(n & INDEX) as usize];
                 midpoints.push([0.5 * (xi[0] + xj[0]), 0.5 * (xi[1] + xj[1])]);
             }
         }
