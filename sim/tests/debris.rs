@@ -63,10 +63,20 @@ fn fastest(text: &str) -> (f64, String) {
 
 #[test]
 fn no_wall_particle_leaves_faster_than_twice_the_ball() {
-    let (crushing, _) = fastest(&demo(0.024, 0, false));
-    let (tension_only, _) = fastest(&demo(0.024, 0, true));
+    // The first 2 ms of the 4: the fastest particles leave at 0.37 ms (tension-only)
+    // and 0.50 ms (crushing), and nothing later in the 4 ms comes near them.
+    let first_half = |text: String| {
+        let text = text.replace("duration = 0.004 ", "duration = 0.002 ");
+        assert!(
+            text.contains("duration = 0.002 "),
+            "the demo's duration line"
+        );
+        text
+    };
+    let (crushing, _) = fastest(&first_half(demo(0.024, 0, false)));
+    let (tension_only, _) = fastest(&first_half(demo(0.024, 0, true)));
     eprintln!(
-        "demo at λ = 0.024 m: fastest particle {crushing:.2}× the ball with crushing glass, \
+        "demo at λ = 0.024 m, first 2 ms: fastest particle {crushing:.2}× the ball with crushing glass, \
          {tension_only:.2}× with Chen's tension-only glass"
     );
     assert!(crushing < 2.0, "debris at {crushing:.2}× the ball's speed");
