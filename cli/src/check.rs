@@ -34,6 +34,12 @@ pub fn command(path: &Path) -> Result<(), Failure> {
         if spec.model == ModelKind::Mpm {
             continue; // Seeded by the model, not meshed: see `check_mpm`.
         }
+        if spec.model == ModelKind::Membrane {
+            // A sheet of particles, not a tet mesh: no edges or angles to report.
+            let n = disc.body.iter().filter(|&&i| i as usize == b).count();
+            println!("  body {}: {n} membrane particles (a sheet)", spec.name);
+            continue;
+        }
         let q = &disc.quality[b];
         let fit = disc.conformity[b].map_or(String::new(), |c| {
             format!(

@@ -481,3 +481,29 @@ fn bad_sheet_meshes_are_refused_naming_the_file_and_the_fix() {
     assert_eq!(code, Some(2), "{stderr}");
     assert!(stderr.contains("membrane.thickness"), "{stderr}");
 }
+
+/// `perifrac check` on a membrane scene reports the sheet's particles, not an empty tet
+/// mesh ("0 particles, mean edge 0.0000 m, dihedral angles 0.0°–0.0°", as it did).
+#[test]
+fn check_reports_a_membrane_bodys_particles() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("sheet.toml");
+    std::fs::write(&scene, SCENE).unwrap();
+    let run = Command::new(env!("CARGO_BIN_EXE_perifrac"))
+        .args(["check", scene.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(run.status.success(), "{stdout}");
+    let total = stdout
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("particles:"))
+        .map(|n| n.trim().to_string())
+        .expect("a particle count");
+    assert_ne!(total, "0", "{stdout}");
+    assert!(
+        stdout.contains(&format!(": {total} membrane particles (a sheet)")),
+        "{stdout}"
+    );
+    assert!(!stdout.contains("dihedral"), "{stdout}");
+}
