@@ -8,7 +8,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use perifrac_cache::scene::{ModelKind, Scene};
+use perifrac_cache::scene::{LatticeOrientation, ModelKind, Scene};
 use perifrac_sim::accuracy::{Recording, deviation, diagonal, record};
 
 use crate::commands::Failure;
@@ -139,6 +139,12 @@ const KALTHOFF_WINKLER_LAMBDAS: [f64; 2] = [0.004, 0.003];
 /// the unstructured mesh, 81 and 207 s on the aligned one, docs/contact.md).
 const KALTHOFF_WINKLER_FINE: [f64; 2] = [0.0025, 0.002];
 
+/// The meshes every Kalthoff–Winkler spacing runs on.
+const KALTHOFF_WINKLER_MESHES: [LatticeOrientation; 2] = [
+    LatticeOrientation::Unstructured,
+    LatticeOrientation::Aligned,
+];
+
 /// The "Crack angle" section of `accuracy.md` (issue 33, item 7): the
 /// Kalthoff–Winkler plate (`kalthoff-winkler.toml`, contact on as shipped) with its
 /// notches as slots and as zero-width pre-cuts, on the unstructured and the aligned
@@ -146,7 +152,6 @@ const KALTHOFF_WINKLER_FINE: [f64; 2] = [0.0025, 0.002];
 /// of each notch's crack read from the bonds that broke (`perifrac_sim::crack_angle`)
 /// against the experiment's 68–70°.
 pub fn crack_angles(dir: &Path, quick: bool, quiet: bool) -> Result<String, Failure> {
-    use perifrac_cache::scene::LatticeOrientation;
     use perifrac_sim::crack_angle::{
         KALTHOFF_WINKLER_NOTCHES, KALTHOFF_WINKLER_REACH, NotchCut, broken_during_run, crack_angle,
         kalthoff_winkler_variant,
@@ -172,19 +177,13 @@ pub fn crack_angles(dir: &Path, quick: bool, quiet: bool) -> Result<String, Fail
         let mut runs = Vec::new();
         for lambda in KALTHOFF_WINKLER_LAMBDAS {
             for cut in [NotchCut::Slots, NotchCut::ZeroWidth] {
-                for lattice in [
-                    LatticeOrientation::Unstructured,
-                    LatticeOrientation::Aligned,
-                ] {
+                for lattice in KALTHOFF_WINKLER_MESHES {
                     runs.push((lambda, cut, lattice));
                 }
             }
         }
         for lambda in KALTHOFF_WINKLER_FINE {
-            for lattice in [
-                LatticeOrientation::Unstructured,
-                LatticeOrientation::Aligned,
-            ] {
+            for lattice in KALTHOFF_WINKLER_MESHES {
                 runs.push((lambda, NotchCut::Slots, lattice));
             }
         }

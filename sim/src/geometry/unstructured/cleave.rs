@@ -86,9 +86,11 @@ pub(super) fn cleave(
     let mut emit = |mut t: [u32; 4]| {
         let [a, b, c, d] = t.map(|v| vertices[v as usize]);
         let volume = signed_volume(a, b, c, d);
-        // A piece whose middle lies well outside spans a gap (a slot thinner than r,
-        // between two inside vertices on its two faces).
-        if middle_distance(sdf, &vertices, values, t, GAP_MIDDLE * r) > GAP_MIDDLE * r {
+        // A piece of a cut tetrahedron (one with a cut point) whose middle lies well
+        // outside spans a gap (a slot thinner than r, between two inside vertices on
+        // its two faces). Whole tetrahedra had their middles tested below.
+        let piece = t.iter().any(|&v| v as usize >= values.len());
+        if piece && middle_distance(sdf, &vertices, values, t, GAP_MIDDLE * r) > GAP_MIDDLE * r {
             return;
         }
         if volume.abs() > min_volume {
@@ -117,32 +119,22 @@ pub(super) fn cleave(
         };
         let (neg, zero, pos) = (with(-1), with(0), with(1));
         match (neg.len(), zero.len(), pos.len()) {
-            (0, 4, 0) => {
-                // All four on the surface (a tetrahedron spanning a crease, or a thin
-                // part): kept where its middle is inside, or the body would pinch there.
-                let middle = middle(&vertices, *tet);
-                let value = sdf.distance(middle);
-                if value.is_nan() {
-                    return Err(MeshError::NonFiniteDistance { point: middle });
-                }
-                if value < 0.0 {
-                    emit(*tet);
-                }
-            }
-            (0, _, _) => {}
-            (_, _, 0) => {
+            (0, 4, 0) | (1.., _, 0) => {
                 // No vertex outside, but the points are r apart: a gap thinner than
-                // that (a slot) can pass between them. Kept where its middle is inside.
+                // that (a slot) can pass between them. Kept where its middle is inside
+                // (strictly, when all four are on the surface: such a tetrahedron spans
+                // a crease or a thin part, and the body would pinch without it).
                 let value = middle_distance(sdf, &vertices, values, *tet, 0.0);
                 if value.is_nan() {
                     return Err(MeshError::NonFiniteDistance {
                         point: middle(&vertices, *tet),
                     });
                 }
-                if value <= 0.0 {
+                if value < 0.0 || (value == 0.0 && zero.len() < 4) {
                     emit(*tet);
                 }
             }
+            (0, _, _) => {}
             (1, _, _) => {
                 // One inside vertex: a corner tetrahedron on the zeros and cut points.
                 let n = neg[0];
