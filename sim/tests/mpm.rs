@@ -73,6 +73,26 @@ fn an_spb_mpm_run_resumes_to_the_same_bytes_and_caches_region_and_damage() {
     assert!(region.iter().all(|&r| r == 0.0 || r == 1.0));
 }
 
+/// SPB-MPM of a plastic material: the peridynamic particles' plastic parts F_P⁻¹ go
+/// through the checkpoint too, and they flow (ε^p above 0 in the peridynamic region).
+#[test]
+fn a_plastic_spb_mpm_run_resumes_to_the_same_bytes() {
+    let text = SCENE.replace(
+        "elasticity = \"neo-hookean\"",
+        "energy_release_rate = 0.05\n\
+         plasticity = { type = \"johnson-cook\", yield_stress = 2e3, hardening = 1e4, exponent = 0.5 }",
+    );
+    resumed_run_matches(&text);
+    let frame = last_frame(&text);
+    let region = frame.extra("region").expect("a region column");
+    let flowing = region
+        .iter()
+        .zip(&frame.plastic)
+        .filter(|&(&r, &e)| r == 1.0 && e > 0.0)
+        .count();
+    assert!(flowing > 0, "no peridynamic particle flows");
+}
+
 /// The last particle frame of a whole run of the scene `text`.
 fn last_frame(text: &str) -> ParticleFrame {
     let scene = Scene::parse(text, Path::new("mpm.toml"), Path::new(".")).expect("scene");

@@ -188,7 +188,8 @@ impl Search {
 
     /// The family of particle `i` as [`build_through`] finds it: the particles of its
     /// body within `delta` of it (not itself), through `solid` when given, sorted by
-    /// index. `positions` and `body` are those the search was built over.
+    /// index. `positions` and `body` are those the search was built over; `depths`
+    /// each particle's signed distance to its body's solid (read only with a `solid`).
     pub fn family(
         &self,
         positions: &[[f64; 3]],
@@ -196,9 +197,9 @@ impl Search {
         i: usize,
         delta: f64,
         solid: Option<&Solid>,
+        depths: &[f64],
     ) -> Vec<u32> {
-        let depth = |k: usize| solid.map_or(0.0, |s| s.sdf.distance(positions[k]));
-        neighbours_of(&self.tree, positions, body, delta, solid, &depth, i)
+        neighbours_of(&self.tree, positions, body, delta, solid, &|k| depths[k], i)
     }
 }
 

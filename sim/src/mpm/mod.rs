@@ -154,6 +154,41 @@ impl MpmMaterial {
         }
         shock
     }
+
+    /// Projects a particle's elastic gradient `f` onto the admissible set
+    /// ([`Plasticity::project`]), at its plastic strain `plastic`, temperature
+    /// `temperature` (K; read by the thermal Johnson–Cook term only) and APIC affine
+    /// velocity `affine` (the strain rate, where read). Returns Δε^p and the adiabatic
+    /// heating β σ_y(ε^p + Δε^p, ε̇, T) Δε^p/(ρ c) of [`plasticity::Thermal::heating`]
+    /// (0 without the thermal term).
+    pub fn flow(&self, f: &mut Mat3, plastic: f64, temperature: f64, affine: &Mat3) -> (f64, f64) {
+        let mut input = FlowInput {
+            mu: self.elastic.mu,
+            lambda: self.elastic.lambda,
+            rate: 0.0,
+            plastic_strain: plastic,
+            temperature,
+        };
+        if self.plasticity.surely_elastic(f, &input) {
+            return (0.0, 0.0);
+        }
+        if self.plasticity.reads_rate() {
+            input.rate = plasticity::equivalent_strain_rate(affine);
+        }
+        let increment = self.plasticity.project_yielding(f, &input);
+        let heating = match &self.plasticity {
+            Plasticity::JohnsonCook(hardening) if increment > 0.0 => {
+                hardening.thermal.as_ref().map_or(0.0, |thermal| {
+                    let stress = hardening
+                        .at_temperature(temperature)
+                        .yield_stress(plastic + increment, input.rate);
+                    thermal.heating(stress, increment, self.density)
+                })
+            }
+            _ => 0.0,
+        };
+        (increment, heating)
+    }
 }
 
 impl MpmMaterial {
@@ -273,7 +308,7 @@ impl Mpm {
     /// [`SimError::Refused`] if the patches' neighbour search cannot be built.
     pub fn step(&mut self, dt: f64, boundary: &Boundary<'_>) -> Result<usize> {
         let broken = match &mut self.patches {
-            Some(patches) => patches.prepare(&self.particles, &self.materials),
+            Some(patches) => patches.prepare(&mut self.particles, &self.materials),
             None => 0,
         };
         let t0 = Instant::now();
@@ -408,9 +443,10 @@ impl Mpm {
     }
 
     /// Projects each plastic particle's grown deformation gradient onto its material's
-    /// admissible set and accumulates ε^p ([`Plasticity::project`]); a thermal
-    /// Johnson–Cook particle, returned at its temperature T of the step's start, is
-    /// heated by β σ_y(ε^p + Δε^p, ε̇, T) Δε^p/(ρ c) ([`plasticity::Thermal::heating`]).
+    /// admissible set and accumulates ε^p and the heating of [`MpmMaterial::flow`]. A
+    /// peridynamic particle that measures F by its bonds has its flow counted by
+    /// them ([`patches`]); its material point's F_E is still projected, since it
+    /// stands in when the bonds measure an inverted F.
     fn plasticity(&mut self) {
         if self
             .materials
@@ -421,36 +457,22 @@ impl Mpm {
         }
         let p = &mut self.particles;
         let materials = &self.materials;
+        let patches = self.patches.as_ref();
         let (body, affine) = (&p.body, &p.affine);
         let kernel = |i: usize, f: &mut Mat3, plastic: &mut f64, temperature: Option<&mut f64>| {
             let material = &materials[body[i] as usize];
             if material.plasticity == Plasticity::None {
                 return;
             }
-            let mut input = FlowInput {
-                mu: material.elastic.mu,
-                lambda: material.elastic.lambda,
-                rate: 0.0,
-                plastic_strain: *plastic,
-                temperature: temperature.as_deref().copied().unwrap_or(0.0),
-            };
-            if material.plasticity.surely_elastic(f, &input) {
+            let at = temperature.as_deref().copied().unwrap_or(0.0);
+            let (increment, heating) = material.flow(f, *plastic, at, &affine[i]);
+            if patches.is_some_and(|patches| matches!(patches.measure(i), Some(Measure::Bonds(_))))
+            {
                 return;
             }
-            if material.plasticity.reads_rate() {
-                input.rate = plasticity::equivalent_strain_rate(&affine[i]);
-            }
-            let increment = material.plasticity.project_yielding(f, &input);
             *plastic += increment;
-            if let Some(temperature) = temperature
-                && let Plasticity::JohnsonCook(hardening) = &material.plasticity
-                && let Some(thermal) = &hardening.thermal
-                && increment > 0.0
-            {
-                let stress = hardening
-                    .at_temperature(input.temperature)
-                    .yield_stress(*plastic, input.rate);
-                *temperature += thermal.heating(stress, increment, material.density);
+            if let Some(temperature) = temperature {
+                *temperature += heating;
             }
         };
         if p.temperature.is_empty() {

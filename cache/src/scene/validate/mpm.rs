@@ -267,13 +267,5 @@ fn fracture(name: &str, spec: &MpmSpec) -> Check {
             "the released energy at which a cell erodes (J/m²)",
         )?;
     }
-    if spec.plasticity != MpmPlasticity::None {
-        return Err(issue(
-            &at("energy_release_rate"),
-            "SPB-MPM fracture takes elastic materials (fixed corotated, Neo-Hookean, stable \
-             Neo-Hookean, shock); its peridynamic particles have no plastic flow yet: remove \
-             plasticity or energy_release_rate",
-        ));
-    }
     Ok(())
 }

@@ -38,6 +38,20 @@
 //! (2) counting a halo particle's stress on its bonds as well as on the grid pulled
 //! the halo off the MPM region below it (a gap of the same size).
 //!
+//! **Plasticity.** The thesis' SPB-MPM runs plastic materials (Table 6.2 clamps the
+//! bars' and chocolates' F by θ_c, θ_s) but says nothing of how a peridynamic
+//! particle flows. Here a member of a plastic material keeps its plastic part as
+//! F_P⁻¹, the multiplicative split F^PD = F_E F_P of MPM (§3.3.3) with F^PD in the
+//! place of the grid-grown F: each step the trial F_E = F^PD F_P⁻¹ is projected by
+//! the material's own return mapping (the MPM's, [`MpmMaterial::flow`]: ε^p and the
+//! heating accumulate as for a material point), F_P⁻¹ ← (F^PD)⁻¹ F_E, and the stress
+//! on the bonds is the first Piola–Kirchhoff stress of the reference configuration,
+//! P = τ(F_E) (F^PD)⁻ᵀ (τ F^PD⁻ᵀ with τ the Kirchhoff stress: the elastic P when
+//! F_P = I). F_P⁻¹ is set at a member's first measure, (F^PD)⁻¹ F_E^MPM, so its
+//! elastic state, and its stress, carry on from the material point it was. Tested
+//! as the elastic bar: a J2 bar half peridynamic, pulled past yield, carries the
+//! stress and the plastic strain of its MPM half.
+//!
 //! **Failure** (Eq. 6.11–6.13): W = (T_pq − T_qp)·U with U = Y − X; a bond breaks for
 //! good when W > W_c = 4G_p/(π δ⁴) (3D). Only bonds between two peridynamic particles
 //! break: cracks live in Ω^PD, which eigenerosion grows ahead of them.
@@ -62,6 +76,7 @@ use super::MpmMaterial;
 use super::MpmParticles;
 use super::constitutive::{self, Mat3};
 use super::grid::SparseGrid;
+use super::plasticity::Plasticity;
 use crate::error::Result;
 use crate::family::{BROKEN, INDEX, Search, Solid};
 use crate::geometry::Sdf;
@@ -107,7 +122,8 @@ pub struct PatchBody {
 /// The stress a member puts on the grid this step.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Measure {
-    /// σ(F^PD) of its intact bonds.
+    /// σ(F_E) of the F^PD of its intact bonds: F_E = F^PD for an elastic material,
+    /// F^PD F_P⁻¹ after its flow for a plastic one.
     Bonds(Mat3),
     /// σ(F^MPM): its bonds measure an inverted F^PD, so the material point's own F
     /// stands in.
@@ -146,6 +162,8 @@ pub struct Patches {
     members: Vec<u32>,
     /// Each member's family: neighbour indices, [`BROKEN`] set on broken bonds.
     families: Vec<Vec<u32>>,
+    /// Each member's F_P⁻¹ (plastic materials, from its first measure on).
+    plastic_inverse: Vec<Option<Mat3>>,
     /// Scratch: each member's state this step.
     states: Vec<State>,
     /// Scratch: this step's bond accelerations of the members and their halo.
@@ -155,6 +173,10 @@ pub struct Patches {
     still: Vec<Mat3>,
     /// The reference neighbour search, built when the first particle joins.
     search: Option<Search>,
+    /// Each particle's signed distance at its reference position to its body's
+    /// shape (0 for a body without one), which every family's bonds through the
+    /// shape read: computed once, where a mesh's distance costs a tree search.
+    depths: Vec<f64>,
     /// Stage timers.
     pub times: PatchTimes,
 }
@@ -169,19 +191,29 @@ impl std::fmt::Debug for Patches {
 }
 
 impl Patches {
-    /// The patches of `n` particles on a grid of spacing `dx`; `None` when no body
+    /// The patches of `particles` on a grid of spacing `dx`; `None` when no body
     /// fractures (the scene pays nothing).
-    pub fn new(bodies: Vec<PatchBody>, n: usize, dx: f64) -> Option<Patches> {
+    pub fn new(bodies: Vec<PatchBody>, particles: &MpmParticles, dx: f64) -> Option<Patches> {
+        let n = particles.len();
         bodies
             .iter()
             .any(|b| b.fracture.is_some())
             .then(|| Patches {
+                depths: (0..n)
+                    .into_par_iter()
+                    .with_min_len(256)
+                    .map(|i| {
+                        let shape = bodies[particles.body[i] as usize].shape.as_deref();
+                        shape.map_or(0.0, |sdf| sdf.distance(particles.reference[i]))
+                    })
+                    .collect(),
                 bodies,
                 horizon: HORIZON_CELLS * dx,
                 history: vec![0.0; n],
                 slot: vec![OUTSIDE; n],
                 members: Vec::new(),
                 families: Vec::new(),
+                plastic_inverse: Vec::new(),
                 states: Vec::new(),
                 accelerations: Vec::new(),
                 carried: Vec::new(),
@@ -256,20 +288,36 @@ impl Patches {
         [0, 1, 2].map(|a| omega * tpq[a] - omega * tqp[a])
     }
 
-    /// At the step's start: each member's K, F^PD and P at the positions x^n
-    /// (Eq. 6.7–6.8); bonds whose energy W exceeds W_c break (Eq. 6.11–6.13); each
-    /// member's and halo particle's acceleration by the bonds (see the module
-    /// documentation). Returns how many directed bonds broke.
-    pub fn prepare(&mut self, particles: &MpmParticles, materials: &[MpmMaterial]) -> usize {
+    /// At the step's start: each member's K, F^PD, its plastic flow and P at the
+    /// positions x^n (Eq. 6.7–6.8); bonds whose energy W exceeds W_c break (Eq.
+    /// 6.11–6.13); each member's and halo particle's acceleration by the bonds (see
+    /// the module documentation). Returns how many directed bonds broke.
+    pub fn prepare(&mut self, particles: &mut MpmParticles, materials: &[MpmMaterial]) -> usize {
         let started = std::time::Instant::now();
-        let p = particles;
         let delta = self.horizon;
-        self.states = self
+        let p = &*particles;
+        let measured: Vec<(State, Option<Flow>)> = self
             .members
             .par_iter()
             .zip(&self.families)
-            .map(|(&i, family)| state(i as usize, family, p, materials, delta))
+            .zip(&self.plastic_inverse)
+            .map(|((&i, family), inverse)| {
+                state(i as usize, family, inverse.as_ref(), p, materials, delta)
+            })
             .collect();
+        self.states.clear();
+        for (s, (state, flow)) in measured.into_iter().enumerate() {
+            self.states.push(state);
+            if let Some(flow) = flow {
+                let i = self.members[s] as usize;
+                self.plastic_inverse[s] = Some(flow.plastic_inverse);
+                particles.plastic[i] += flow.increment;
+                if let Some(temperature) = particles.temperature.get_mut(i) {
+                    *temperature += flow.heating;
+                }
+            }
+        }
+        let p = &*particles;
         let critical: Vec<f64> = (0..self.bodies.len())
             .map(|b| self.critical_energy(b))
             .collect();
@@ -485,6 +533,7 @@ impl Patches {
             self.slot[i] = self.members.len() as u32;
             self.members.push(i as u32);
             self.families.push(family);
+            self.plastic_inverse.push(None);
         }
         Ok(())
     }
@@ -498,19 +547,41 @@ impl Patches {
             .map(|sdf| Solid::of(sdf, body.resolution));
         self.search
             .as_ref()
-            .map(|s| s.family(&p.reference, &p.body, i, self.horizon, solid.as_ref()))
+            .map(|s| {
+                s.family(
+                    &p.reference,
+                    &p.body,
+                    i,
+                    self.horizon,
+                    solid.as_ref(),
+                    &self.depths,
+                )
+            })
             .unwrap_or_default()
     }
 }
 
-/// Member `i`'s state: K and F^PD over its intact bonds (Eq. 6.7), P and P K⁻¹.
+/// A plastic member's flow this step.
+struct Flow {
+    /// F_P⁻¹ = (F^PD)⁻¹ F_E after the projection.
+    plastic_inverse: Mat3,
+    /// Δε^p.
+    increment: f64,
+    /// The adiabatic temperature rise (K).
+    heating: f64,
+}
+
+/// Member `i`'s state: K and F^PD over its intact bonds (Eq. 6.7), its elastic part
+/// F_E after the plastic flow (the module documentation; F_E = F^PD for an elastic
+/// material) from its F_P⁻¹ `plastic_inverse`, P and P K⁻¹.
 fn state(
     i: usize,
     family: &[u32],
+    plastic_inverse: Option<&Mat3>,
     p: &MpmParticles,
     materials: &[MpmMaterial],
     delta: f64,
-) -> State {
+) -> (State, Option<Flow>) {
     let free = State {
         measure: Measure::Free,
         force: [[0.0; 3]; 3],
@@ -538,33 +609,69 @@ fn state(
     let smallest = eigenvalues.iter().copied().fold(f64::INFINITY, f64::min);
     let det = det3(&shape);
     if smallest.is_nan() || smallest < MIN_SHAPE * whole / 3.0 || det <= 0.0 {
-        return free;
+        return (free, None);
     }
     let shape_inverse = inverse3(&shape, det);
     let bonds = mat_mul(&moment, &shape_inverse);
-    let (measure, f) = if constitutive::determinant(&bonds) > 0.0 {
-        (Measure::Bonds(bonds), bonds)
+    let material = &materials[p.body[i] as usize];
+    let (measure, elastic, total, flow) = if constitutive::determinant(&bonds) > 0.0 {
+        let (elastic, flow) = elastic_part(i, &bonds, plastic_inverse, p, material);
+        (Measure::Bonds(elastic), elastic, bonds, flow)
     } else {
-        (Measure::Material, p.deformation[i])
+        let f = p.deformation[i];
+        (Measure::Material, f, f, None)
     };
     let energy = p.internal_energy.get(i).copied().unwrap_or(0.0);
-    let Some(piola) = piola(&materials[p.body[i] as usize], &f, energy) else {
-        return free;
+    let Some(piola) = piola(material, &elastic, &total, energy) else {
+        return (free, None);
     };
-    State {
+    let state = State {
         measure,
         force: mat_mul(&piola, &shape_inverse),
-    }
+    };
+    (state, flow)
 }
 
-/// The first Piola–Kirchhoff stress P = τ F⁻ᵀ of `material` at `f`, or `None` if F is
-/// inverted.
-fn piola(material: &MpmMaterial, f: &Mat3, energy: f64) -> Option<Mat3> {
-    let j = constitutive::determinant(f);
-    if j.is_nan() || j <= 0.0 {
+/// Member `i`'s elastic part F_E of `bonds` = F^PD and its flow: F^PD itself for an
+/// elastic material; else the trial F^PD F_P⁻¹ projected by the material's return
+/// mapping, with F_P⁻¹ = `plastic_inverse` or, at the first measure,
+/// (F^PD)⁻¹ F_E^MPM (the module documentation).
+fn elastic_part(
+    i: usize,
+    bonds: &Mat3,
+    plastic_inverse: Option<&Mat3>,
+    p: &MpmParticles,
+    material: &MpmMaterial,
+) -> (Mat3, Option<Flow>) {
+    if material.plasticity == Plasticity::None {
+        return (*bonds, None);
+    }
+    let bonds_inverse = inverse3(bonds, constitutive::determinant(bonds));
+    let plastic_inverse =
+        plastic_inverse.map_or_else(|| mat_mul(&bonds_inverse, &p.deformation[i]), |f| *f);
+    let mut elastic = mat_mul(bonds, &plastic_inverse);
+    let temperature = p.temperature.get(i).copied().unwrap_or(0.0);
+    let (increment, heating) = material.flow(&mut elastic, p.plastic[i], temperature, &p.affine[i]);
+    let flow = Flow {
+        plastic_inverse: mat_mul(&bonds_inverse, &elastic),
+        increment,
+        heating,
+    };
+    (elastic, Some(flow))
+}
+
+/// The first Piola–Kirchhoff stress P = τ(F_E) F⁻ᵀ of `material` in the reference
+/// configuration, with `elastic` F_E and `total` F (the same for an elastic
+/// material), or `None` if either is inverted.
+fn piola(material: &MpmMaterial, elastic: &Mat3, total: &Mat3, energy: f64) -> Option<Mat3> {
+    let (j_elastic, j) = (
+        constitutive::determinant(elastic),
+        constitutive::determinant(total),
+    );
+    if j_elastic.is_nan() || j_elastic <= 0.0 || j.is_nan() || j <= 0.0 {
         return None;
     }
-    let tau = material.kirchhoff(f, energy);
-    let f_inverse = inverse3(f, j);
+    let tau = material.kirchhoff(elastic, energy);
+    let f_inverse = inverse3(total, j);
     Some([0, 1, 2].map(|a| [0, 1, 2].map(|b| (0..3).map(|c| tau[a][c] * f_inverse[b][c]).sum())))
 }

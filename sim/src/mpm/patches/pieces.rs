@@ -9,6 +9,7 @@ use crate::cache::checkpoint::{Decoder, Encoder};
 use crate::error::Result;
 use crate::family::{BROKEN, INDEX, Search, Solid};
 use crate::mpm::MpmParticles;
+use crate::mpm::constitutive::Mat3;
 
 impl Patches {
     /// Connected pieces, numbered by their smallest particle index in increasing
@@ -42,7 +43,14 @@ impl Patches {
                     .shape
                     .as_deref()
                     .map(|sdf| Solid::of(sdf, body.resolution));
-                search.family(&p.reference, &p.body, i, self.horizon, solid.as_ref())
+                search.family(
+                    &p.reference,
+                    &p.body,
+                    i,
+                    self.horizon,
+                    solid.as_ref(),
+                    &self.depths,
+                )
             })
             .collect();
         let mut sets = UnionFind::new(p.len());
@@ -70,7 +78,7 @@ impl Patches {
         Ok(sets.labels())
     }
 
-    /// Writes the histories, the members and their bonds.
+    /// Writes the histories, the members, their bonds and plastic parts F_P⁻¹.
     pub fn save(&self, out: &mut Encoder) {
         out.put_f64_slice(&self.history);
         out.put_u64(self.members.len() as u64);
@@ -80,6 +88,21 @@ impl Patches {
         let bonds: Vec<u32> = self.families.iter().flatten().copied().collect();
         out.put_u64(bonds.len() as u64);
         out.put_u32_slice(&bonds);
+        let set: Vec<u32> = self
+            .plastic_inverse
+            .iter()
+            .map(|f| u32::from(f.is_some()))
+            .collect();
+        out.put_u32_slice(&set);
+        let values: Vec<f64> = self
+            .plastic_inverse
+            .iter()
+            .flatten()
+            .flatten()
+            .flatten()
+            .copied()
+            .collect();
+        out.put_f64_slice(&values);
     }
 
     /// Reads what [`Patches::save`] wrote, refusing members or bonds that are not
@@ -109,6 +132,17 @@ impl Patches {
         }
         let bonds = input
             .take_u32_slice_checked("SPB-MPM bonds", total as usize, |v| (v & INDEX) < n as u32)?;
+        let set =
+            input.take_u32_slice_checked("SPB-MPM plastic parts", count as usize, |v| v <= 1)?;
+        let measured = set.iter().filter(|&&v| v == 1).count();
+        let values = input.take_finite_f64_slice("SPB-MPM plastic parts", 9 * measured)?;
+        let mut matrices = values
+            .chunks_exact(9)
+            .map(|m| [0, 1, 2].map(|a| [0, 1, 2].map(|b| m[3 * a + b])));
+        let plastic_inverse: Vec<Option<Mat3>> = set
+            .iter()
+            .map(|&v| if v == 1 { matrices.next() } else { None })
+            .collect();
         let mut slot = vec![OUTSIDE; n];
         for (s, &i) in members.iter().enumerate() {
             if slot[i as usize] != OUTSIDE {
@@ -123,6 +157,7 @@ impl Patches {
         self.history = history;
         self.slot = slot;
         self.members = members;
+        self.plastic_inverse = plastic_inverse;
         let mut families = Vec::with_capacity(lengths.len());
         let mut start = 0;
         for (&i, &l) in self.members.iter().zip(&lengths) {
