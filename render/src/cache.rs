@@ -8,11 +8,12 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
+use perifrac_cache::CacheError;
 use perifrac_cache::Layout;
 use perifrac_cache::collider::{MovingCollider, mesh_colliders};
 use perifrac_cache::manifest::Manifest;
 use perifrac_cache::mesh::SurfaceMesh;
-use perifrac_cache::ply::ParticleFrame;
+use perifrac_cache::ply::{FloatPly, ParticleFrame};
 use perifrac_cache::scene::{ColliderSpec, Scene};
 use rayon::prelude::*;
 
@@ -252,6 +253,37 @@ impl Cache {
         Ok(())
     }
 
+    /// The vdb method's debris of `frame` (`surface/NNNN_debris.ply`: the fragments
+    /// too small to surface, loose particles), as points of their `radius` in their
+    /// body's colour. Without them a piece that comes apart into particles vanishes
+    /// from the previews.
+    fn push_debris(&self, frame: usize, g: &mut FrameGeometry) -> Result<(), RenderError> {
+        let path = self.layout.debris(frame);
+        if !path.is_file() {
+            return Ok(());
+        }
+        let bytes = std::fs::read(&path).map_err(|e| CacheError::io(&path, e))?;
+        let ply = FloatPly::from_bytes(&bytes).map_err(|m| CacheError::format(&path, m))?;
+        let column = |name: &str| {
+            ply.column(name).ok_or_else(|| {
+                CacheError::format(
+                    &path,
+                    format!(
+                        "the debris points have no '{name}' property; run perifrac surface again"
+                    ),
+                )
+            })
+        };
+        let [x, y, z, radius, material] = ["x", "y", "z", "radius", "material"].map(column);
+        let (x, y, z, radius, material) = (x?, y?, z?, radius?, material?);
+        g.points.reserve(ply.count * geometry::POINT_STRIDE);
+        for i in 0..ply.count {
+            let color = self.body_color(material[i]);
+            g.push_point([x[i], y[i], z[i]], radius[i], color);
+        }
+        Ok(())
+    }
+
     fn radius(&self, material: f32) -> f32 {
         let fallback = self.radii.first().copied().unwrap_or(0.005);
         if material.is_finite() && material >= 0.0 {
@@ -280,6 +312,7 @@ impl Cache {
             if color_by == ColorBy::Material {
                 self.paint_by_material(frame, &mut g)?;
             }
+            self.push_debris(frame, &mut g)?;
         } else if self.layout.particles(frame).is_file() {
             let path = self.layout.particles(frame);
             let p = ParticleFrame::read(&path)?;
@@ -927,6 +960,60 @@ mod tests {
         assert!(
             (r[0] - 0.005).abs() < 1e-7 && (r[1] - 0.01).abs() < 1e-7,
             "{r:?}"
+        );
+    }
+
+    /// A vdb frame's debris points are drawn beside its meshes, at their radius and in
+    /// their body's colour; a debris file without a radius is named.
+    #[test]
+    fn a_vdb_frames_debris_is_drawn_beside_its_meshes() {
+        let dir = tempfile::tempdir().unwrap();
+        let layout = Layout::new(dir.path());
+        layout.create().unwrap();
+        let scene = "[scene]\nname = \"t\"\n\n[materials.m]\ndensity = 1000.0\n\
+                     bulk_modulus = 1e5\nshear_modulus = 1e5\ncolor = \"#ff0000\"\n\n\
+                     [[body]]\nmaterial = \"m\"\nresolution = 0.02\n\
+                     shape = { type = \"box\", center = [0, 0.4, 0], size = [0.1, 0.1, 0.1] }\n";
+        std::fs::write(layout.scene(), scene).unwrap();
+        let mesh = SurfaceMesh {
+            positions: vec![[0.0, 0.4, 0.0], [0.1, 0.4, 0.0], [0.0, 0.5, 0.0]],
+            normals: vec![[0.0, 0.0, 1.0]; 3],
+            surface_indices: vec![0, 1, 2],
+            ..SurfaceMesh::default()
+        };
+        std::fs::create_dir_all(layout.surface_dir()).unwrap();
+        std::fs::write(layout.surface(1), crate::gltf::to_glb(&[mesh]).unwrap()).unwrap();
+        let debris = |scalars: &[(&str, &[f32])]| {
+            let bytes = perifrac_cache::ply::encode_points(
+                "debris",
+                &[[0.3, 0.1, 0.0], [0.4, 0.1, 0.0]],
+                &[[0.0; 3]; 2],
+                scalars,
+            );
+            std::fs::write(layout.debris(1), bytes).unwrap();
+        };
+        debris(&[
+            ("radius", &[0.004, 0.006]),
+            ("fragment", &[5.0, 6.0]),
+            ("material", &[0.0, 0.0]),
+        ]);
+        let cache = Cache::open(dir.path()).unwrap();
+        let g = cache
+            .geometry(1, ColorBy::Material, &Ranges::default())
+            .unwrap();
+        assert!(!g.mesh_vertices.is_empty(), "the mesh is drawn");
+        let points: Vec<&[f32]> = g.points.chunks_exact(geometry::POINT_STRIDE).collect();
+        assert_eq!(points.len(), 2);
+        assert_eq!(&points[1][..4], &[0.4, 0.1, 0.0, 0.006]);
+        assert_eq!(&points[0][4..7], &[1.0, 0.0, 0.0], "the body's colour");
+        debris(&[("fragment", &[5.0, 6.0]), ("material", &[0.0, 0.0])]);
+        let err = cache
+            .geometry(1, ColorBy::Material, &Ranges::default())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("0001_debris.ply") && err.contains("'radius'"),
+            "{err}"
         );
     }
 
