@@ -254,9 +254,10 @@ impl Cache {
     }
 
     /// The vdb method's debris of `frame` (`surface/NNNN_debris.ply`: the fragments
-    /// too small to surface, loose particles), as points of their `radius` in their
-    /// body's colour. Without them a piece that comes apart into particles vanishes
-    /// from the previews.
+    /// too small to surface, loose particles), as particles of their body's size and
+    /// colour (the file's `radius` is the level set's sphere, about twice a
+    /// particle's). Without them a piece that comes apart into particles vanishes from
+    /// the previews.
     fn push_debris(&self, frame: usize, g: &mut FrameGeometry) -> Result<(), RenderError> {
         let path = self.layout.debris(frame);
         if !path.is_file() {
@@ -274,12 +275,12 @@ impl Cache {
                 )
             })
         };
-        let [x, y, z, radius, material] = ["x", "y", "z", "radius", "material"].map(column);
-        let (x, y, z, radius, material) = (x?, y?, z?, radius?, material?);
+        let [x, y, z, material] = ["x", "y", "z", "material"].map(column);
+        let (x, y, z, material) = (x?, y?, z?, material?);
         g.points.reserve(ply.count * geometry::POINT_STRIDE);
         for i in 0..ply.count {
-            let color = self.body_color(material[i]);
-            g.push_point([x[i], y[i], z[i]], radius[i], color);
+            let (radius, color) = (self.radius(material[i]), self.body_color(material[i]));
+            g.push_point([x[i], y[i], z[i]], radius, color);
         }
         Ok(())
     }
@@ -963,8 +964,8 @@ mod tests {
         );
     }
 
-    /// A vdb frame's debris points are drawn beside its meshes, at their radius and in
-    /// their body's colour; a debris file without a radius is named.
+    /// A vdb frame's debris points are drawn beside its meshes, at their body's
+    /// particle size and in its colour; a debris file without a material is named.
     #[test]
     fn a_vdb_frames_debris_is_drawn_beside_its_meshes() {
         let dir = tempfile::tempdir().unwrap();
@@ -1004,15 +1005,15 @@ mod tests {
         assert!(!g.mesh_vertices.is_empty(), "the mesh is drawn");
         let points: Vec<&[f32]> = g.points.chunks_exact(geometry::POINT_STRIDE).collect();
         assert_eq!(points.len(), 2);
-        assert_eq!(&points[1][..4], &[0.4, 0.1, 0.0, 0.006]);
+        assert_eq!(&points[1][..4], &[0.4, 0.1, 0.0, 0.01], "half λ");
         assert_eq!(&points[0][4..7], &[1.0, 0.0, 0.0], "the body's colour");
-        debris(&[("fragment", &[5.0, 6.0]), ("material", &[0.0, 0.0])]);
+        debris(&[("radius", &[0.004, 0.006]), ("fragment", &[5.0, 6.0])]);
         let err = cache
             .geometry(1, ColorBy::Material, &Ranges::default())
             .unwrap_err()
             .to_string();
         assert!(
-            err.contains("0001_debris.ply") && err.contains("'radius'"),
+            err.contains("0001_debris.ply") && err.contains("'material'"),
             "{err}"
         );
     }
