@@ -222,12 +222,6 @@ fn bad_mpm_scene_input_names_the_key() {
             "materials.m.mpm.erosion_release_rate",
             "positive finite",
         ),
-        (
-            "energy_release_rate = 1\nplasticity = { type = \"snow\", critical_compression = 0.025, \
-             critical_stretch = 0.0075 }",
-            "materials.m.mpm.energy_release_rate",
-            "remove plasticity or energy_release_rate",
-        ),
     ] {
         let text = SCENE.replace("elasticity = \"neo-hookean\"", replacement);
         let e = Scene::parse(&text, Path::new("mpm.toml"), Path::new(".")).expect_err("refused");
