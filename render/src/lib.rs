@@ -3,7 +3,7 @@
 //!
 //! | module | main items |
 //! |---|---|
-//! | [`gltf`] | [`gltf::to_glb`], [`gltf::crack_glb`], [`gltf::animated_glb`], [`gltf::Glb`]: glTF 2.0 binary (.glb) writing of the cache's `SurfaceMesh`, animations at the playback time base |
+//! | [`gltf`] | [`gltf::to_glb`], [`gltf::crack_glb`], [`gltf::animated_glb`], [`gltf::Glb`]: glTF 2.0 binary (.glb) writing of the cache's `SurfaceMesh`, animations at the playback time base; [`gltf::read_glb`], [`gltf::read_surfaces`]: reading them back |
 //! | [`cache`] | [`cache::Cache`]: an output directory read for previews (frames, colliders, surfaces, particles) |
 //! | [`geometry`] | [`geometry::FrameGeometry`]: what a preview draws, as flat arrays, and the colour maps |
 //! | [`camera`] | [`camera::Camera`], [`camera::Bounds`], [`camera::Lights`]: automatic framing, turntables, the studio lights |

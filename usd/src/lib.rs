@@ -138,7 +138,7 @@ pub fn write_stage(layout: &Layout) -> Result<UsdReport, UsdError> {
         message,
     };
     let surface = if layout.surface(1).is_file() {
-        let first = perifrac_render::cache::read_surfaces(&layout.surface(1))?;
+        let first = perifrac_render::gltf::read_surfaces(&layout.surface(1))?;
         // The vdb method names its meshes `fragment N`; the embedded method writes one
         // mesh a frame (whichever method last surfaced the cache wrote the files).
         let vdb = !first.is_empty() && first.iter().all(|m| m.name.starts_with("fragment "));
@@ -351,7 +351,7 @@ impl ClipFrames<'_> {
                     message: "missing: surface the cache again with `perifrac surface OUT`".into(),
                 });
             }
-            let meshes = perifrac_render::cache::read_surfaces(&path)?;
+            let meshes = perifrac_render::gltf::read_surfaces(&path)?;
             match method {
                 Method::Embedded => {
                     let [mesh] = meshes.as_slice() else {

@@ -1,4 +1,5 @@
-//! A glTF 2.0 binary (.glb) writer for triangle meshes, on `gltf-json`'s types.
+//! A glTF 2.0 binary (.glb) writer for triangle meshes, on `gltf-json`'s types, and
+//! the reader of what it wrote ([`read_glb`], [`read_surfaces`]).
 //!
 //! Every function takes the cache's one surface type, [`SurfaceMesh`], and [`Glb`]
 //! offers them to the surface stage as its [`SurfaceEncoder`].
@@ -35,8 +36,10 @@ use crate::geometry::quantity_color;
 
 mod animated;
 mod plain;
+mod read;
 pub use animated::animated_glb;
 pub use plain::to_glb;
+pub use read::{read_glb, read_surfaces};
 
 /// The glTF binary writer as the surface stage's [`SurfaceEncoder`], with the
 /// scene's `[output]` settings it needs.

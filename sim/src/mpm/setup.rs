@@ -129,7 +129,7 @@ impl Mpm {
                 }
             })
             .collect();
-        model.patches = Patches::new(bodies, &model.particles, dx);
+        model.patches = Patches::new(bodies, model.particles.len(), dx);
         let settings = scene.mpm.unwrap_or_default();
         model.transfer = match settings.transfer {
             MpmTransfer::Apic => Transfer::Apic,

@@ -67,16 +67,18 @@
 //! follows from the checkpointed positions, histories and bonds, so a resumed run
 //! gives the same bytes.
 
-use perifrac_math::{det3, dot, inverse3, mat_mul, mat_vec, norm, sub};
+use perifrac_math::{dot, mat_vec, norm, sub};
 use rayon::prelude::*;
 
+mod correspondence;
 mod pieces;
+
+use correspondence::{Flow, State, state};
 
 use super::MpmMaterial;
 use super::MpmParticles;
 use super::constitutive::{self, Mat3};
 use super::grid::SparseGrid;
-use super::plasticity::Plasticity;
 use crate::error::Result;
 use crate::family::{BROKEN, INDEX, Search, Solid};
 use crate::geometry::Sdf;
@@ -132,14 +134,6 @@ pub enum Measure {
     Free,
 }
 
-/// One member's correspondence state at the step's start.
-#[derive(Debug, Clone, Copy)]
-struct State {
-    measure: Measure,
-    /// P_p K_p⁻¹, so that T_pq = ω P_p K_p⁻¹ X (zero when free).
-    force: Mat3,
-}
-
 /// Wall time of the patches' stages (s).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct PatchTimes {
@@ -172,11 +166,7 @@ pub struct Patches {
     carried: Vec<[f64; 3]>,
     still: Vec<Mat3>,
     /// The reference neighbour search, built when the first particle joins.
-    search: Option<Search>,
-    /// Each particle's signed distance at its reference position to its body's
-    /// shape (0 for a body without one), which every family's bonds through the
-    /// shape read: computed once, where a mesh's distance costs a tree search.
-    depths: Vec<f64>,
+    reference: Option<Reference>,
     /// Stage timers.
     pub times: PatchTimes,
 }
@@ -193,20 +183,11 @@ impl std::fmt::Debug for Patches {
 impl Patches {
     /// The patches of `particles` on a grid of spacing `dx`; `None` when no body
     /// fractures (the scene pays nothing).
-    pub fn new(bodies: Vec<PatchBody>, particles: &MpmParticles, dx: f64) -> Option<Patches> {
-        let n = particles.len();
+    pub fn new(bodies: Vec<PatchBody>, n: usize, dx: f64) -> Option<Patches> {
         bodies
             .iter()
             .any(|b| b.fracture.is_some())
             .then(|| Patches {
-                depths: (0..n)
-                    .into_par_iter()
-                    .with_min_len(256)
-                    .map(|i| {
-                        let shape = bodies[particles.body[i] as usize].shape.as_deref();
-                        shape.map_or(0.0, |sdf| sdf.distance(particles.reference[i]))
-                    })
-                    .collect(),
                 bodies,
                 horizon: HORIZON_CELLS * dx,
                 history: vec![0.0; n],
@@ -218,7 +199,7 @@ impl Patches {
                 accelerations: Vec::new(),
                 carried: Vec::new(),
                 still: Vec::new(),
-                search: None,
+                reference: None,
                 times: PatchTimes::default(),
             })
     }
@@ -525,8 +506,8 @@ impl Patches {
     /// # Errors
     /// [`crate::error::SimError::Refused`] if the neighbour search cannot be built.
     pub(super) fn join(&mut self, joining: &[usize], p: &MpmParticles) -> Result<()> {
-        if self.search.is_none() {
-            self.search = Some(Search::new(&p.reference)?);
+        if self.reference.is_none() {
+            self.reference = Some(Reference::new(&self.bodies, p)?);
         }
         let families: Vec<Vec<u32>> = joining.par_iter().map(|&i| self.family(i, p)).collect();
         for (&i, family) in joining.iter().zip(families) {
@@ -540,138 +521,63 @@ impl Patches {
 
     /// The reference family of particle `i` (the search exists).
     fn family(&self, i: usize, p: &MpmParticles) -> Vec<u32> {
-        let body = &self.bodies[p.body[i] as usize];
-        let solid = body
-            .shape
-            .as_deref()
-            .map(|sdf| Solid::of(sdf, body.resolution));
-        self.search
+        self.reference
             .as_ref()
-            .map(|s| {
-                s.family(
-                    &p.reference,
-                    &p.body,
-                    i,
-                    self.horizon,
-                    solid.as_ref(),
-                    &self.depths,
-                )
-            })
+            .map(|r| r.family(&self.bodies, self.horizon, i, p))
             .unwrap_or_default()
     }
 }
 
-/// A plastic member's flow this step.
-struct Flow {
-    /// F_P⁻¹ = (F^PD)⁻¹ F_E after the projection.
-    plastic_inverse: Mat3,
-    /// Δε^p.
-    increment: f64,
-    /// The adiabatic temperature rise (K).
-    heating: f64,
+/// The reference configuration's neighbour search, and each particle's signed
+/// distance at its reference position to its body's shape (0 for a body without one),
+/// which every family's bonds through the shape read: computed once, where a mesh's
+/// distance costs a tree search (twice a bond, every frame, in the fragments before).
+pub(super) struct Reference {
+    search: Search,
+    depths: Vec<f64>,
 }
 
-/// Member `i`'s state: K and F^PD over its intact bonds (Eq. 6.7), its elastic part
-/// F_E after the plastic flow (the module documentation; F_E = F^PD for an elastic
-/// material) from its F_P⁻¹ `plastic_inverse`, P and P K⁻¹.
-fn state(
-    i: usize,
-    family: &[u32],
-    plastic_inverse: Option<&Mat3>,
-    p: &MpmParticles,
-    materials: &[MpmMaterial],
-    delta: f64,
-) -> (State, Option<Flow>) {
-    let free = State {
-        measure: Measure::Free,
-        force: [[0.0; 3]; 3],
-    };
-    let mut shape = [[0.0; 3]; 3];
-    let mut moment = [[0.0; 3]; 3];
-    let mut whole = 0.0;
-    for &nb in family {
-        let q = (nb & INDEX) as usize;
-        let xi = sub(p.reference[q], p.reference[i]);
-        let w = delta / norm(xi) * p.volume[q];
-        whole += w * dot(xi, xi);
-        if nb & BROKEN != 0 {
-            continue;
-        }
-        let y = sub(p.position[q], p.position[i]);
-        for a in 0..3 {
-            for b in 0..3 {
-                shape[a][b] += w * xi[a] * xi[b];
-                moment[a][b] += w * y[a] * xi[b];
-            }
-        }
+impl Reference {
+    /// The search over `p`'s reference positions.
+    ///
+    /// # Errors
+    /// [`crate::error::SimError::Refused`] if the tree cannot be built.
+    pub(super) fn new(bodies: &[PatchBody], p: &MpmParticles) -> Result<Reference> {
+        let depths = (0..p.len())
+            .into_par_iter()
+            .with_min_len(256)
+            .map(|i| {
+                let shape = bodies[p.body[i] as usize].shape.as_deref();
+                shape.map_or(0.0, |sdf| sdf.distance(p.reference[i]))
+            })
+            .collect();
+        Ok(Reference {
+            search: Search::new(&p.reference)?,
+            depths,
+        })
     }
-    let (eigenvalues, _) = constitutive::symmetric_eigen(&shape);
-    let smallest = eigenvalues.iter().copied().fold(f64::INFINITY, f64::min);
-    let det = det3(&shape);
-    if smallest.is_nan() || smallest < MIN_SHAPE * whole / 3.0 || det <= 0.0 {
-        return (free, None);
-    }
-    let shape_inverse = inverse3(&shape, det);
-    let bonds = mat_mul(&moment, &shape_inverse);
-    let material = &materials[p.body[i] as usize];
-    let (measure, elastic, total, flow) = if constitutive::determinant(&bonds) > 0.0 {
-        let (elastic, flow) = elastic_part(i, &bonds, plastic_inverse, p, material);
-        (Measure::Bonds(elastic), elastic, bonds, flow)
-    } else {
-        let f = p.deformation[i];
-        (Measure::Material, f, f, None)
-    };
-    let energy = p.internal_energy.get(i).copied().unwrap_or(0.0);
-    let Some(piola) = piola(material, &elastic, &total, energy) else {
-        return (free, None);
-    };
-    let state = State {
-        measure,
-        force: mat_mul(&piola, &shape_inverse),
-    };
-    (state, flow)
-}
 
-/// Member `i`'s elastic part F_E of `bonds` = F^PD and its flow: F^PD itself for an
-/// elastic material; else the trial F^PD F_P⁻¹ projected by the material's return
-/// mapping, with F_P⁻¹ = `plastic_inverse` or, at the first measure,
-/// (F^PD)⁻¹ F_E^MPM (the module documentation).
-fn elastic_part(
-    i: usize,
-    bonds: &Mat3,
-    plastic_inverse: Option<&Mat3>,
-    p: &MpmParticles,
-    material: &MpmMaterial,
-) -> (Mat3, Option<Flow>) {
-    if material.plasticity == Plasticity::None {
-        return (*bonds, None);
+    /// The reference neighbours of particle `i` within `horizon` in its body, through
+    /// the body's shape when it has one.
+    pub(super) fn family(
+        &self,
+        bodies: &[PatchBody],
+        horizon: f64,
+        i: usize,
+        p: &MpmParticles,
+    ) -> Vec<u32> {
+        let body = &bodies[p.body[i] as usize];
+        let solid = body
+            .shape
+            .as_deref()
+            .map(|sdf| Solid::of(sdf, body.resolution));
+        self.search.family(
+            &p.reference,
+            &p.body,
+            i,
+            horizon,
+            solid.as_ref(),
+            &self.depths,
+        )
     }
-    let bonds_inverse = inverse3(bonds, constitutive::determinant(bonds));
-    let plastic_inverse =
-        plastic_inverse.map_or_else(|| mat_mul(&bonds_inverse, &p.deformation[i]), |f| *f);
-    let mut elastic = mat_mul(bonds, &plastic_inverse);
-    let temperature = p.temperature.get(i).copied().unwrap_or(0.0);
-    let (increment, heating) = material.flow(&mut elastic, p.plastic[i], temperature, &p.affine[i]);
-    let flow = Flow {
-        plastic_inverse: mat_mul(&bonds_inverse, &elastic),
-        increment,
-        heating,
-    };
-    (elastic, Some(flow))
-}
-
-/// The first Piola–Kirchhoff stress P = τ(F_E) F⁻ᵀ of `material` in the reference
-/// configuration, with `elastic` F_E and `total` F (the same for an elastic
-/// material), or `None` if either is inverted.
-fn piola(material: &MpmMaterial, elastic: &Mat3, total: &Mat3, energy: f64) -> Option<Mat3> {
-    let (j_elastic, j) = (
-        constitutive::determinant(elastic),
-        constitutive::determinant(total),
-    );
-    if j_elastic.is_nan() || j_elastic <= 0.0 || j.is_nan() || j <= 0.0 {
-        return None;
-    }
-    let tau = material.kirchhoff(elastic, energy);
-    let f_inverse = inverse3(total, j);
-    Some([0, 1, 2].map(|a| [0, 1, 2].map(|b| (0..3).map(|c| tau[a][c] * f_inverse[b][c]).sum())))
 }

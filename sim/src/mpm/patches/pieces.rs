@@ -4,10 +4,10 @@
 use perifrac_math::UnionFind;
 use rayon::prelude::*;
 
-use super::{OUTSIDE, Patches};
+use super::{OUTSIDE, Patches, Reference};
 use crate::cache::checkpoint::{Decoder, Encoder};
 use crate::error::Result;
-use crate::family::{BROKEN, INDEX, Search, Solid};
+use crate::family::{BROKEN, INDEX};
 use crate::mpm::MpmParticles;
 use crate::mpm::constitutive::Mat3;
 
@@ -25,10 +25,10 @@ impl Patches {
             return Ok(p.body.clone());
         }
         let built;
-        let search = match &self.search {
-            Some(s) => s,
+        let reference = match &self.reference {
+            Some(r) => r,
             None => {
-                built = Search::new(&p.reference)?;
+                built = Reference::new(&self.bodies, p)?;
                 &built
             }
         };
@@ -38,19 +38,7 @@ impl Patches {
                 if self.is_member(i) {
                     return Vec::new();
                 }
-                let body = &self.bodies[p.body[i] as usize];
-                let solid = body
-                    .shape
-                    .as_deref()
-                    .map(|sdf| Solid::of(sdf, body.resolution));
-                search.family(
-                    &p.reference,
-                    &p.body,
-                    i,
-                    self.horizon,
-                    solid.as_ref(),
-                    &self.depths,
-                )
+                reference.family(&self.bodies, self.horizon, i, p)
             })
             .collect();
         let mut sets = UnionFind::new(p.len());
@@ -151,8 +139,8 @@ impl Patches {
             }
             slot[i as usize] = s as u32;
         }
-        if !members.is_empty() && self.search.is_none() {
-            self.search = Some(Search::new(&particles.reference)?);
+        if !members.is_empty() && self.reference.is_none() {
+            self.reference = Some(Reference::new(&self.bodies, particles)?);
         }
         self.history = history;
         self.slot = slot;
