@@ -171,6 +171,17 @@ fn check_mpm(scene: &Scene, disc: Discretization, before: &MemoryEstimate) -> Re
             "  body {}: {n} MPM particles ({}³ a grid cell of {:.4} m)",
             spec.name, PARTICLES_PER_CELL_AXIS, spec.resolution
         );
+        let material = &scene.materials[&spec.material];
+        let bonded = material.mpm.as_ref().is_some_and(|m| m.bonds.is_some());
+        let nu = perifrac_sim::material::Material::from_spec(material).poisson_ratio();
+        if bonded && (nu - 0.25).abs() > 1e-9 {
+            println!(
+                "  note: body {}'s bonds (integral-based MPM) act as a bond-based solid of \
+                 Poisson's ratio 1/4: they keep its P-wave modulus λ + 2μ, not its ratio {nu} \
+                 (docs/mpm.md, \"Integral-based MPM\")",
+                spec.name
+            );
+        }
     }
     let particles = owners.len();
     let bonds = prepared.world.bonds();

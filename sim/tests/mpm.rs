@@ -93,6 +93,27 @@ fn a_plastic_spb_mpm_run_resumes_to_the_same_bytes() {
     assert!(flowing > 0, "no peridynamic particle flows");
 }
 
+/// The integral-based MPM (Lyu ch. 5): the bonds of every particle, their plastic
+/// extensions and their breaks go through the checkpoint; the impact on the box
+/// breaks bonds and makes them flow, and the cache shows both.
+#[test]
+fn an_integral_based_mpm_run_resumes_to_the_same_bytes() {
+    let text = SCENE.replace(
+        "elasticity = \"neo-hookean\"",
+        "bonds = { yield_stress = 5e3, critical_stretch = 0.02 }",
+    );
+    resumed_run_matches(&text);
+    let frame = last_frame(&text);
+    let region = frame.extra("region").expect("a region column");
+    let damaged = frame.damage.iter().filter(|&&d| d > 0.0).count();
+    let flowing = frame.plastic.iter().filter(|&&e| e > 0.0).count();
+    assert!(region.iter().all(|&r| r == 1.0), "every particle is bonded");
+    assert!(
+        damaged > 0 && flowing > 0,
+        "{damaged} damaged, {flowing} flowing"
+    );
+}
+
 /// The last particle frame of a whole run of the scene `text`.
 fn last_frame(text: &str) -> ParticleFrame {
     let scene = Scene::parse(text, Path::new("mpm.toml"), Path::new(".")).expect("scene");
@@ -206,6 +227,16 @@ fn bad_mpm_scene_input_names_the_key() {
              room_temperature = 293, thermal_exponent = 1, specific_heat = 383, taylor_quinney = 1.5 }",
             "materials.m.mpm.plasticity.taylor_quinney",
             "[0, 1]",
+        ),
+        (
+            "elasticity = \"neo-hookean\"\nbonds = {}",
+            "materials.m.mpm.elasticity",
+            "remove elasticity, or remove the bonds table",
+        ),
+        (
+            "bonds = { critical_stretch = -0.1 }",
+            "materials.m.mpm.bonds.critical_stretch",
+            "positive finite",
         ),
         (
             "elasticity = \"neo-hookean\"\nenergy_release_rate = -1",

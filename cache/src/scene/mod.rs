@@ -25,7 +25,7 @@ pub use material::{DilatationForm, MaterialSpec, ModelKind};
 pub use membrane::{
     MembraneFormulation, MembraneLaw, MembraneMaterialSpec, MembraneSpec, ScatterSpec, SourceSpec,
 };
-pub use mpm::{MpmElasticity, MpmPlasticity, MpmSettings, MpmSpec, MpmTransfer};
+pub use mpm::{MpmBonds, MpmElasticity, MpmPlasticity, MpmSettings, MpmSpec, MpmTransfer};
 pub use output::{EmbeddedSpec, OutputSpec, ScheduleSpec, SurfaceMethod, VdbFilter, VdbSpec};
 pub use rigid::RigidSpec;
 pub use shape::{Axis, MeshScale, ShapeSpec};

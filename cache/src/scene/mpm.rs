@@ -38,6 +38,29 @@ pub struct MpmSpec {
     /// the crack.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub erosion_release_rate: Option<f64>,
+    /// `[materials.NAME.mpm.bonds]`: the integral-based MPM (Lyu ch. 5), internal
+    /// forces from peridynamic bonds between the material points instead of the
+    /// stress divergence. Default none (the stress of `elasticity`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bonds: Option<MpmBonds>,
+}
+
+/// `[materials.NAME.mpm.bonds]`: the integral-based MPM's bonds (Lyu ch. 5). Their
+/// energy (Eq. 5.5) takes λ and μ from the material's Young's modulus and Poisson
+/// ratio.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MpmBonds {
+    /// The bonds' yield stress σ_Y (Pa): a bond flows where its deviatoric stress
+    /// (2μ + λ)(e_dev − e_p) passes ±σ_Y (Eq. 5.10 with ψ_p = σ_Y²/2), about the
+    /// uniaxial yield stress. Default none (elastic bonds).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub yield_stress: Option<f64>,
+    /// The critical elastic stretch l_threshold (Eq. 5.21) at which a bond breaks,
+    /// raised by the share of broken bonds in its grid cell. Default none (bonds
+    /// never break).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub critical_stretch: Option<f64>,
 }
 
 impl Default for MpmSpec {
@@ -50,6 +73,7 @@ impl Default for MpmSpec {
             plasticity: MpmPlasticity::default(),
             energy_release_rate: None,
             erosion_release_rate: None,
+            bonds: None,
         }
     }
 }

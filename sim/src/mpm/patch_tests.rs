@@ -7,19 +7,19 @@ use super::patches::Measure;
 use crate::run::{Prepared, prepare};
 use crate::scene::Scene;
 
-fn prepared(text: &str) -> Prepared {
+pub(super) fn prepared(text: &str) -> Prepared {
     let scene = Scene::parse(text, Path::new("spb.toml"), Path::new(".")).expect("scene");
     prepare(&scene).expect("prepares")
 }
 
-fn mpm(p: &Prepared) -> &Mpm {
+pub(super) fn mpm(p: &Prepared) -> &Mpm {
     p.world.model::<Mpm>().expect("an MPM model")
 }
 
 /// A 4 × 20 × 4 cm bar of jelly (E = 100 kPa), its bottom held and its top pulled at
 /// `pull` m/s, notched halfway across at mid-height from the −x side, on a grid of
 /// spacing `dx`; `fracture` goes into its `[materials.jelly.mpm]`.
-fn notched_bar(dx: f64, pull: f64, fracture: &str) -> String {
+pub(super) fn notched_bar(dx: f64, pull: f64, fracture: &str) -> String {
     format!(
         "[scene]\nduration = 0.3\nfps = 100\ngravity = [0, 0, 0]\n\
          [materials.jelly]\ndensity = 1000\nyoungs_modulus = 1e5\npoisson_ratio = 0.2\n\
@@ -37,22 +37,22 @@ fn notched_bar(dx: f64, pull: f64, fracture: &str) -> String {
 
 /// What pulling a notched bar showed.
 #[derive(Debug)]
-struct Pulled {
+pub(super) struct Pulled {
     /// Reference heights of the first particles to turn peridynamic (lowest, highest).
-    first_members: (f64, f64),
+    pub(super) first_members: (f64, f64),
     /// Particles in each piece of over 5% of them, largest first.
-    pieces: Vec<usize>,
+    pub(super) pieces: Vec<usize>,
     /// The lowest and highest reference height of the two largest pieces, lower first.
-    extents: Vec<(f64, f64)>,
+    pub(super) extents: Vec<(f64, f64)>,
     /// The largest share of the bar's stretch taken up within 2 cm of its height, in
     /// its unnotched half (x > 0), from the mean displacement of each centimetre.
-    localized: f64,
+    pub(super) localized: f64,
     /// Simulated time at the end (s).
-    time: f64,
+    pub(super) time: f64,
 }
 
 /// Pulls the notched bar for `seconds` or, with `stop`, until it is in two pieces.
-fn pull(dx: f64, fracture: &str, seconds: f64, stop: bool) -> Pulled {
+pub(super) fn pull(dx: f64, fracture: &str, seconds: f64, stop: bool) -> Pulled {
     let mut p = prepared(&notched_bar(dx, 0.05, fracture));
     let steps = (seconds / p.world.dt) as usize;
     let mut first_members = (f64::NAN, f64::NAN);

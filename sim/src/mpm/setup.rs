@@ -1,9 +1,10 @@
 //! Setting up the MPM model from a scene: particles seeded from each body's shape,
-//! each body's material (elasticity, plasticity, the shock model, SPB-MPM's fracture)
+//! each body's material (elasticity, plasticity, the shock model, SPB-MPM's fracture,
+//! the integral-based MPM's bonds)
 //! from its scene keys, and the transfer and grid the scene asks for.
 
 use super::constitutive::Elastic;
-use super::patches::{Fracture, PatchBody, Patches};
+use super::patches::{Fracture, IntegralBonds, PatchBody, Patches};
 use super::plasticity::{self, Plasticity};
 use super::{Mpm, MpmMaterial, Transfer, seed};
 use crate::error::Result;
@@ -124,12 +125,21 @@ impl Mpm {
                         erosion_rate: spec.erosion_release_rate.unwrap_or(g),
                         young: material.elastic.young(),
                     }),
+                    bonds: spec.bonds.map(|bonds| IntegralBonds {
+                        lambda: material.elastic.lambda,
+                        mu: material.elastic.mu,
+                        yield_stress: bonds.yield_stress,
+                        critical_stretch: bonds.critical_stretch,
+                    }),
                     shape,
                     resolution: b.resolution,
                 }
             })
             .collect();
         model.patches = Patches::new(bodies, model.particles.len(), dx);
+        if let Some(patches) = &mut model.patches {
+            patches.join_bonded(&model.particles)?;
+        }
         let settings = scene.mpm.unwrap_or_default();
         model.transfer = match settings.transfer {
             MpmTransfer::Apic => Transfer::Apic,

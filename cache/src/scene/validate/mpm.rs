@@ -100,6 +100,7 @@ fn mpm_material(name: &str, spec: &MpmSpec) -> Check {
         "the Grüneisen parameter γ",
     )?;
     fracture(name, spec)?;
+    bonds(name, spec)?;
     let plastic = |key: &'static str| ["materials", name, "mpm", "plasticity", key];
     match spec.plasticity {
         MpmPlasticity::None => {}
@@ -265,6 +266,47 @@ fn fracture(name: &str, spec: &MpmSpec) -> Check {
             &at("erosion_release_rate"),
             erosion,
             "the released energy at which a cell erodes (J/m²)",
+        )?;
+    }
+    Ok(())
+}
+
+/// The integral-based MPM's keys of one `[materials.NAME.mpm]` (Lyu ch. 5): its bonds
+/// replace the stress of `elasticity`, the plastic flow of `plasticity` and SPB-MPM's
+/// fracture, so those keys would be ignored and are refused instead.
+fn bonds(name: &str, spec: &MpmSpec) -> Check {
+    let Some(bonds) = spec.bonds else {
+        return Ok(());
+    };
+    let at = |key: &'static str| ["materials", name, "mpm", key];
+    let replaced = [
+        ("elasticity", spec.elasticity != MpmElasticity::default()),
+        ("plasticity", spec.plasticity != MpmPlasticity::None),
+        ("energy_release_rate", spec.energy_release_rate.is_some()),
+    ];
+    if let Some((key, _)) = replaced.iter().find(|(_, set)| *set) {
+        return Err(issue(
+            &at(key),
+            format!(
+                "[materials.{name}.mpm.bonds] computes the forces from bonds (Lyu ch. 5), which \
+                 have their own elasticity, yield and failure: remove {key}, or remove the bonds \
+                 table to use {key}"
+            ),
+        ));
+    }
+    let keys = |key: &'static str| ["materials", name, "mpm", "bonds", key];
+    if let Some(yield_stress) = bonds.yield_stress {
+        positive(
+            &keys("yield_stress"),
+            yield_stress,
+            "the bonds' yield stress σ_Y (Pa)",
+        )?;
+    }
+    if let Some(stretch) = bonds.critical_stretch {
+        positive(
+            &keys("critical_stretch"),
+            stretch,
+            "the critical elastic stretch of a bond",
         )?;
     }
     Ok(())

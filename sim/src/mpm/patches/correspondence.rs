@@ -14,8 +14,15 @@ use crate::mpm::{MpmMaterial, MpmParticles};
 #[derive(Debug, Clone, Copy)]
 pub(super) struct State {
     pub(super) measure: Measure,
-    /// P_p K_p⁻¹, so that T_pq = ω P_p K_p⁻¹ X (zero when free).
+    /// P_p K_p⁻¹, so that T_pq = ω P_p K_p⁻¹ X (zero when free); for the
+    /// integral-based MPM's bonds, P_μ K⁻¹ of their μ term ([`super::integral`]).
     pub(super) force: Mat3,
+    /// c_p λ of the integral-based MPM's springs along the bonds (0 for SPB-MPM's
+    /// correspondence members).
+    pub(super) spring: f64,
+    /// The integral-based MPM's surface correction s_a along the axes
+    /// ([`super::integral::direction_factor`]; 1 for SPB-MPM's members).
+    pub(super) scales: [f64; 3],
 }
 
 /// A plastic member's flow this step.
@@ -42,6 +49,8 @@ pub(super) fn state(
     let free = State {
         measure: Measure::Free,
         force: [[0.0; 3]; 3],
+        spring: 0.0,
+        scales: [1.0; 3],
     };
     let mut shape = [[0.0; 3]; 3];
     let mut moment = [[0.0; 3]; 3];
@@ -85,6 +94,8 @@ pub(super) fn state(
     let state = State {
         measure,
         force: mat_mul(&piola, &shape_inverse),
+        spring: 0.0,
+        scales: [1.0; 3],
     };
     (state, flow)
 }

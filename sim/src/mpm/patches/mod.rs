@@ -1,5 +1,7 @@
 //! SPB-MPM (Lyu 2021 ch. 6): peridynamic particles superposed on the MLS-MPM where
 //! the grid's released energy erodes a cell, with bonds that break by their energy.
+//! The integral-based MPM (ch. 5, `integral.rs`) keeps its bonds here too: its
+//! bodies' particles are all members from the start, with their own bond model.
 //!
 //! **Eigenerosion** (Eq. 6.9–6.10). Each particle of a fracturing material keeps the
 //! history EE_p = max(EE_p, Φ(σ_p⁺)) (§6.2.3, after Wolper et al. 2019), with σ⁺ the
@@ -71,9 +73,12 @@ use perifrac_math::{dot, mat_vec, norm, sub};
 use rayon::prelude::*;
 
 mod correspondence;
+mod integral;
 mod pieces;
 
 use correspondence::{Flow, State, state};
+pub use integral::IntegralBonds;
+use integral::force_state;
 
 use super::MpmMaterial;
 use super::MpmParticles;
@@ -113,8 +118,11 @@ pub struct Fracture {
 
 /// What a body brings to the patches.
 pub struct PatchBody {
-    /// Its fracture, or `None`: its particles never join Ω^PD.
+    /// Its fracture, or `None`: its particles never join Ω^PD by erosion.
     pub fracture: Option<Fracture>,
+    /// The integral-based MPM's bonds (Lyu ch. 5, [`IntegralBonds`]), or `None`: given,
+    /// all its particles are peridynamic from the start, with these bonds.
+    pub bonds: Option<IntegralBonds>,
     /// Its shape when it is not convex: bonds stay inside it.
     pub shape: Option<Box<dyn Sdf>>,
     /// Its resolution λ (the shape's sampling step, [`Solid::of`]).
@@ -148,6 +156,8 @@ pub struct Patches {
     bodies: Vec<PatchBody>,
     /// The horizon δ (m).
     pub horizon: f64,
+    /// The grid spacing Δx (m).
+    dx: f64,
     /// EE_p = max Φ(σ_p⁺) so far (J/m³), one entry a particle.
     history: Vec<f64>,
     /// Each particle's member slot, or [`OUTSIDE`].
@@ -158,6 +168,15 @@ pub struct Patches {
     families: Vec<Vec<u32>>,
     /// Each member's F_P⁻¹ (plastic materials, from its first measure on).
     plastic_inverse: Vec<Option<Mat3>>,
+    /// Each integral-based member's bonds' plastic extensions e^p, in family order
+    /// (empty for elastic bonds and SPB-MPM members).
+    extensions: Vec<Vec<f64>>,
+    /// The integral-based members with a broken bond, which move by their own
+    /// forces (`integral.rs`, two-time integration), in increasing order.
+    loose: Vec<u32>,
+    /// Each body's Σ ω V over its fullest family (bodies with bonds; 0 for the
+    /// others), the bulk that the bonds' weights are scaled to (`integral.rs`).
+    full_weights: Vec<f64>,
     /// Scratch: each member's state this step.
     states: Vec<State>,
     /// Scratch: this step's bond accelerations of the members and their halo.
@@ -182,19 +201,24 @@ impl std::fmt::Debug for Patches {
 
 impl Patches {
     /// The patches of `particles` on a grid of spacing `dx`; `None` when no body
-    /// fractures (the scene pays nothing).
+    /// fractures or has bonds (the scene pays nothing). The particles of bodies with
+    /// bonds join with [`Patches::join_bonded`].
     pub fn new(bodies: Vec<PatchBody>, n: usize, dx: f64) -> Option<Patches> {
         bodies
             .iter()
-            .any(|b| b.fracture.is_some())
+            .any(|b| b.fracture.is_some() || b.bonds.is_some())
             .then(|| Patches {
                 bodies,
                 horizon: HORIZON_CELLS * dx,
+                dx,
                 history: vec![0.0; n],
                 slot: vec![OUTSIDE; n],
                 members: Vec::new(),
                 families: Vec::new(),
                 plastic_inverse: Vec::new(),
+                extensions: Vec::new(),
+                loose: Vec::new(),
+                full_weights: Vec::new(),
                 states: Vec::new(),
                 accelerations: Vec::new(),
                 carried: Vec::new(),
@@ -277,18 +301,34 @@ impl Patches {
         let started = std::time::Instant::now();
         let delta = self.horizon;
         let p = &*particles;
+        let bodies = &self.bodies;
+        let full_weights = &self.full_weights;
         let measured: Vec<(State, Option<Flow>)> = self
             .members
             .par_iter()
             .zip(&self.families)
             .zip(&self.plastic_inverse)
-            .map(|((&i, family), inverse)| {
-                state(i as usize, family, inverse.as_ref(), p, materials, delta)
+            .zip(self.extensions.par_iter_mut())
+            .map(|(((&i, family), inverse), extensions)| {
+                let i = i as usize;
+                match &bodies[p.body[i] as usize].bonds {
+                    Some(bonds) => {
+                        let full = full_weights[p.body[i] as usize];
+                        let state = integral::state(i, family, extensions, p, bonds, full, delta);
+                        (state, None)
+                    }
+                    None => state(i, family, inverse.as_ref(), p, materials, delta),
+                }
             })
             .collect();
         self.states.clear();
         for (s, (state, flow)) in measured.into_iter().enumerate() {
             self.states.push(state);
+            if let Some(largest) = self.extensions[s].iter().map(|e| e.abs()).reduce(f64::max) {
+                // The cache's plastic strain of a particle with plastic bonds: the
+                // largest plastic extension of its bonds.
+                particles.plastic[self.members[s] as usize] = largest;
+            }
             if let Some(flow) = flow {
                 let i = self.members[s] as usize;
                 self.plastic_inverse[s] = Some(flow.plastic_inverse);
@@ -302,13 +342,18 @@ impl Patches {
         let critical: Vec<f64> = (0..self.bodies.len())
             .map(|b| self.critical_energy(b))
             .collect();
+        let inactive = self.inactive_shares(p);
         let this = &*self;
-        let broken: Vec<Vec<usize>> = self
+        let mut broken: Vec<Vec<usize>> = self
             .members
             .par_iter()
             .zip(&self.families)
-            .map(|(&i, family)| {
+            .enumerate()
+            .map(|(s, (&i, family))| {
                 let i = i as usize;
+                if let Some(bonds) = &this.bodies[p.body[i] as usize].bonds {
+                    return this.stretched(s, bonds, &inactive, p);
+                }
                 let w_c = critical[p.body[i] as usize];
                 let free = this.states[this.slot[i] as usize].measure == Measure::Free;
                 family
@@ -337,6 +382,7 @@ impl Patches {
                     .collect()
             })
             .collect();
+        self.cut(&mut broken, &inactive, p);
         let mut count = 0;
         for (family, broken) in self.families.iter_mut().zip(broken) {
             count += broken.len();
@@ -344,6 +390,7 @@ impl Patches {
                 family[k] |= BROKEN;
             }
         }
+        self.loosen(p);
         self.forces(p);
         self.times.evolve += started.elapsed().as_secs_f64();
         count
@@ -367,23 +414,30 @@ impl Patches {
             .zip(&self.families)
             .map(|(&i, family)| {
                 let i = i as usize;
-                let own = &this.states[this.slot[i] as usize];
+                let s = this.slot[i] as usize;
+                let own = &this.states[s];
                 let mut sum = [0.0; 3];
                 let mut reactions = Vec::new();
-                for &nb in family.iter().filter(|&&nb| nb & BROKEN == 0) {
+                for (k, &nb) in family
+                    .iter()
+                    .enumerate()
+                    .filter(|&(_, &nb)| nb & BROKEN == 0)
+                {
                     let q = nb as usize;
                     let xi = sub(p.reference[q], p.reference[i]);
-                    let omega = this.horizon / norm(xi);
-                    let back = xi.map(|c| -c);
-                    let tpq = mat_vec(own.force, xi);
+                    let y = sub(p.position[q], p.position[i]);
+                    let tpq = force_state(own, xi, y, this.extension(s, k), this.horizon);
                     let member = this.is_member(q);
                     let tqp = if member {
-                        mat_vec(this.states[this.slot[q] as usize].force, back)
+                        let back = (xi.map(|c| -c), y.map(|c| -c));
+                        let state = &this.states[this.slot[q] as usize];
+                        let plastic = this.extension_of(q, i);
+                        force_state(state, back.0, back.1, plastic, this.horizon)
                     } else {
                         [0.0; 3]
                     };
                     let pair = p.volume[i] * p.volume[q];
-                    let f = [0, 1, 2].map(|a| pair * (omega * tpq[a] - omega * tqp[a]));
+                    let f = [0, 1, 2].map(|a| pair * (tpq[a] - tqp[a]));
                     for a in 0..3 {
                         sum[a] += f[a];
                     }
@@ -444,6 +498,9 @@ impl Patches {
         materials: &[MpmMaterial],
         grid: &mut SparseGrid,
     ) -> Result<usize> {
+        if self.bodies.iter().all(|b| b.fracture.is_none()) {
+            return Ok(0);
+        }
         let started = std::time::Instant::now();
         let p = particles;
         let this = &*self;
@@ -511,8 +568,16 @@ impl Patches {
         }
         let families: Vec<Vec<u32>> = joining.par_iter().map(|&i| self.family(i, p)).collect();
         for (&i, family) in joining.iter().zip(families) {
+            let plastic = self.bodies[p.body[i] as usize]
+                .bonds
+                .is_some_and(|b| b.yield_stress.is_some());
             self.slot[i] = self.members.len() as u32;
             self.members.push(i as u32);
+            self.extensions.push(if plastic {
+                vec![0.0; family.len()]
+            } else {
+                Vec::new()
+            });
             self.families.push(family);
             self.plastic_inverse.push(None);
         }

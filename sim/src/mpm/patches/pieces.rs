@@ -66,7 +66,8 @@ impl Patches {
         Ok(sets.labels())
     }
 
-    /// Writes the histories, the members, their bonds and plastic parts F_P⁻¹.
+    /// Writes the histories, the members, their bonds and plastic parts F_P⁻¹, and
+    /// the integral-based MPM's plastic extensions where a body has them.
     pub fn save(&self, out: &mut Encoder) {
         out.put_f64_slice(&self.history);
         out.put_u64(self.members.len() as u64);
@@ -91,6 +92,18 @@ impl Patches {
             .copied()
             .collect();
         out.put_f64_slice(&values);
+        if self.plastic_bonds() {
+            let extensions: Vec<f64> = self.extensions.iter().flatten().copied().collect();
+            out.put_f64_slice(&extensions);
+        }
+    }
+
+    /// Whether a body has the integral-based MPM's plastic bonds, whose extensions
+    /// e^p the checkpoint carries.
+    fn plastic_bonds(&self) -> bool {
+        self.bodies
+            .iter()
+            .any(|b| b.bonds.is_some_and(|b| b.yield_stress.is_some()))
     }
 
     /// Reads what [`Patches::save`] wrote, refusing members or bonds that are not
@@ -162,6 +175,35 @@ impl Patches {
             }
             families.push(family);
         }
+        let plastic: Vec<bool> = self
+            .members
+            .iter()
+            .map(|&i| {
+                self.bodies[particles.body[i as usize] as usize]
+                    .bonds
+                    .is_some_and(|b| b.yield_stress.is_some())
+            })
+            .collect();
+        let mut extensions = vec![Vec::new(); self.members.len()];
+        if self.plastic_bonds() {
+            let total = families
+                .iter()
+                .zip(&plastic)
+                .filter(|&(_, &plastic)| plastic)
+                .map(|(f, _)| f.len())
+                .sum();
+            let values =
+                input.take_finite_f64_slice("integral-based MPM plastic extensions", total)?;
+            let mut rest = &values[..];
+            for ((row, family), &plastic) in extensions.iter_mut().zip(&families).zip(&plastic) {
+                if plastic {
+                    let (own, next) = rest.split_at(family.len());
+                    *row = own.to_vec();
+                    rest = next;
+                }
+            }
+        }
+        self.extensions = extensions;
         self.families = families;
         Ok(())
     }

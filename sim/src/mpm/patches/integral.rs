@@ -1,0 +1,543 @@
+//! The integral-based MPM (Lyu 2021 ch. 5): every material point of a body carries
+//! peridynamic bonds from the start, and the grid's internal forces come from the
+//! bond force states, f_i = Σ_p w_ip V_p Σ_q (T_p⟨q⟩ − T_q⟨p⟩) V_q (Eq. 5.2–5.3, 5.7),
+//! instead of the stress divergence. The forces reach the grid as SPB-MPM's do (Δt
+//! f_p / m_p on v_p before P2G, which P2G spreads by w_ip: Eq. 5.2); the families,
+//! their storage, the fragments and the checkpoint are the patches'.
+//!
+//! **Energy** (Eq. 5.5): ψ_p = c_p Σ_q G_p(n_q) ω_q V_q [μ (ē_q − e^p_q)² + λ/2 (e_q − e^p_q)²]
+//! with e = |Y|/|X| − 1 a bond's extension, ē = |F X|/|X| − 1 that of its average
+//! deformed bond Ȳ = F X (F of Eq. 4.4 over the intact bonds), e^p its plastic
+//! extension (Eq. 5.9), ω = δ/|X| as SPB-MPM's, and c_p = 5 / Σ_q ω_q V_q over a
+//! full reference family. The thesis leaves the weights' scale open (its λ, μ of Table 5.1
+//! are artistic: a "μ of 500" bar); with c_p a uniform uniaxial strain ε stores
+//! (λ + 2μ) ε²/2 (the isotropic mean of n_x⁴ is 1/5), the P-wave modulus of the
+//! material, so the MPM's time step and wave speed hold. In any uniform strain ē = e,
+//! so the bonds act as a bond-based model: λ_eff = μ_eff = (λ + 2μ)/3, exact for
+//! Poisson's ratio 1/4 (`perifrac check` says so for other ratios). Σ ω V is that of
+//! the body's fullest family; a family cut by a surface falls short along each axis a
+//! by s_a = (Σ_full ω V / 5) / Σ ω V n_a⁴, and each of its bonds' weights is raised
+//! by G(n) = (Σ_a n_a²/s_a²)^(−1/2) (the surface correction factors of Madenci and
+//! Oterkus, Peridynamic Theory and Its Applications, 2014): the bar of the tests, all within δ of a side but its core,
+//! was 17% too stiff without it, 5.5% with it.
+//!
+//! **Force state** (Eq. 5.6). The thesis differentiates μ(|Ȳ|/|X| − 1)² by Ȳ as if
+//! it were the bond's own, T = 2μω/|X|² (|Ȳ| − |X|) dir Ȳ: a force along F X, not
+//! along the bond, whose torques about p do not cancel when the deformation is not
+//! smooth (measured in the tests: 1.5·10⁻³ of Σ|T||Y| on a family scattered by 1 mm,
+//! against 2·10⁻¹⁷ here), so a body would spin itself up. Here ψ_p is differentiated through F
+//! (∂F/∂Y_q = ω_q V_q (·) ⊗ K⁻¹X_q):
+//!
+//! T_p⟨q⟩ = ω_q [P_μ K⁻¹ X_q + c_p G_p(n_q) λ (e_q − e^p_q)/|X_q| dir Y_q],
+//! P_μ = c_p Σ_k 2μ G_p(n_k) ω_k V_k (ē_k − e^p_k) dir(F X_k) ⊗ X_k/|X_k|,
+//!
+//! which is Eq. 5.6 where the deformation is uniform and keeps angular momentum
+//! always (P_μ Fᵀ is symmetric). The λ term, a spring along each bond, also holds the
+//! correspondence term's zero-energy modes. A family whose intact bonds no longer span
+//! space (K's smallest eigenvalue below [`super::MIN_SHAPE`] of its whole family's
+//! mean) keeps its springs only.
+//!
+//! **Plasticity** (Eq. 5.9–5.11): ϑ = 3 Σ ω |X|² e V / Σ ω |X|² V over the intact
+//! bonds (Eq. 5.16 with the reference lengths, so that a uniform dilatation ε gives ϑ
+//! = 3ε), e_dev = e − ϑ/3, and a bond flows where E_dev = (2μ + λ)(e_dev − e^p)
+//! passes ±σ_Y: e^p += (E_dev ∓ σ_Y)/(2μ + λ), which puts E_dev back on the yield
+//! surface f = E_dev²/2 − ψ_p = 0 with ψ_p = σ_Y²/2. Two changes from the print:
+//! Eq. 5.10's factor ω/|X| is left out of E_dev (it would tie the yield to the
+//! discretization), and Eq. 5.11's |X|/λ is replaced by the step that lands on the
+//! surface, 1/(2μ + λ) (with |X|/λ a bond overshoots or stops short of it). σ_Y is
+//! then about the uniaxial yield stress: a bar of Poisson's ratio 1/4 under σ has
+//! E_dev = σ on its bonds along the load.
+//!
+//! **Failure** (Eq. 5.21): a bond breaks when l = (e − e^p)/(1 + p_inactive) passes
+//! l_threshold, p_inactive the share of broken bonds among the bonds of the particles
+//! in the grid cell of the bond's particle; a pair breaks when either end's l passes,
+//! so both directions go together. Then **the crack cut** (§5.4): the particles that
+//! broke a bond this step are grouped by their grid cell; each group's centre point
+//! and the current direction of its most stretched broken bond make a fracture plane,
+//! and every intact bond that crosses the plane inside that cell is cut too.
+//!
+//! **Two-time integration** (§5.4): a particle with a broken bond (on a crack
+//! surface) moves by its own bond forces, gravity and the colliders, not by G2P, so
+//! the two sides of a crack within one kernel's reach do not share the grid's
+//! velocity; the other particles move with the grid as usual.
+
+use std::collections::{BTreeMap, HashMap};
+
+use perifrac_math::{add, det3, dot, inverse3, mat_mul, mat_vec, norm, normalize, scale, sub};
+use rayon::prelude::*;
+
+use super::{MIN_SHAPE, Measure, Patches, State};
+use crate::error::Result;
+use crate::family::{BROKEN, INDEX};
+use crate::mpm::MpmParticles;
+use crate::mpm::constitutive;
+
+/// The isotropic mean of n_x⁴ over directions, 1/5: c_p Σ ω V = 1/that.
+const UNIAXIAL_WEIGHT: f64 = 5.0;
+
+/// An integral-based body's bonds (`[materials.NAME.mpm.bonds]`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct IntegralBonds {
+    /// Lamé's λ (Pa).
+    pub lambda: f64,
+    /// Lamé's μ (Pa).
+    pub mu: f64,
+    /// The bonds' yield stress σ_Y (Pa), or `None` for elastic bonds.
+    pub yield_stress: Option<f64>,
+    /// l_threshold of Eq. 5.21, or `None`: the bonds never break.
+    pub critical_stretch: Option<f64>,
+}
+
+/// Member `i`'s state at the step's start, after its bonds' plastic flow: P_μ K⁻¹ in
+/// `force` and c_p λ in `spring` (the module documentation). `extensions` are its
+/// bonds' e^p (empty for elastic bonds), updated here.
+pub(super) fn state(
+    i: usize,
+    family: &[u32],
+    extensions: &mut [f64],
+    p: &MpmParticles,
+    bonds: &IntegralBonds,
+    full_weight: f64,
+    delta: f64,
+) -> State {
+    let (x0, x, volume) = (&p.reference, &p.position, &p.volume);
+    let mut whole_moment = 0.0;
+    let mut quartic = [0.0; 3];
+    let mut shape = [[0.0; 3]; 3];
+    let mut moment = [[0.0; 3]; 3];
+    let (mut dilatation, mut weights) = (0.0, 0.0);
+    for &nb in family {
+        let q = (nb & INDEX) as usize;
+        let xi = sub(x0[q], x0[i]);
+        let length = norm(xi);
+        let w = delta / length * volume[q];
+        whole_moment += w * length * length;
+        for (m, c) in quartic.iter_mut().zip(xi) {
+            *m += w * (c / length).powi(4);
+        }
+        if nb & BROKEN != 0 {
+            continue;
+        }
+        let y = sub(x[q], x[i]);
+        for a in 0..3 {
+            for b in 0..3 {
+                shape[a][b] += w * xi[a] * xi[b];
+                moment[a][b] += w * y[a] * xi[b];
+            }
+        }
+        dilatation += w * length * length * (norm(y) / length - 1.0);
+        weights += w * length * length;
+    }
+    let c = UNIAXIAL_WEIGHT / full_weight;
+    let scales = quartic.map(|m| {
+        if m > 0.0 {
+            full_weight / (UNIAXIAL_WEIGHT * m)
+        } else {
+            1.0
+        }
+    });
+    if let Some(sigma_y) = bonds.yield_stress
+        && weights > 0.0
+    {
+        let modulus = 2.0 * bonds.mu + bonds.lambda;
+        let theta = 3.0 * dilatation / weights;
+        for (k, &nb) in family.iter().enumerate() {
+            if nb & BROKEN != 0 {
+                continue;
+            }
+            let q = (nb & INDEX) as usize;
+            let e = norm(sub(x[q], x[i])) / norm(sub(x0[q], x0[i])) - 1.0;
+            let stress = modulus * (e - theta / 3.0 - extensions[k]);
+            if stress.abs() > sigma_y {
+                extensions[k] += (stress - sigma_y.copysign(stress)) / modulus;
+            }
+        }
+    }
+    let spring = c * bonds.lambda;
+    let (eigenvalues, _) = constitutive::symmetric_eigen(&shape);
+    let smallest = eigenvalues.iter().copied().fold(f64::INFINITY, f64::min);
+    let det = det3(&shape);
+    let springs_only = State {
+        measure: Measure::Bonds(p.deformation[i]),
+        force: [[0.0; 3]; 3],
+        spring,
+        scales,
+    };
+    if smallest.is_nan() || smallest < MIN_SHAPE * whole_moment / 3.0 || det <= 0.0 {
+        return springs_only;
+    }
+    let shape_inverse = inverse3(&shape, det);
+    let f = mat_mul(&moment, &shape_inverse);
+    if constitutive::determinant(&f) <= 0.0 {
+        return springs_only;
+    }
+    let mut piola = [[0.0; 3]; 3];
+    for (k, &nb) in family.iter().enumerate() {
+        if nb & BROKEN != 0 {
+            continue;
+        }
+        let q = (nb & INDEX) as usize;
+        let xi = sub(x0[q], x0[i]);
+        let length = norm(xi);
+        let average = mat_vec(f, xi);
+        let average_length = norm(average);
+        let plastic = extensions.get(k).copied().unwrap_or(0.0);
+        let magnitude = 2.0 * bonds.mu * c * direction_factor(scales, xi) * delta / length
+            * volume[q]
+            * (average_length / length - 1.0 - plastic)
+            / (length * average_length);
+        for a in 0..3 {
+            for b in 0..3 {
+                piola[a][b] += magnitude * average[a] * xi[b];
+            }
+        }
+    }
+    State {
+        measure: Measure::Bonds(f),
+        force: mat_mul(&piola, &shape_inverse),
+        spring,
+        scales,
+    }
+}
+
+/// The surface correction G(n) = (Σ_a n_a²/s_a²)^(−1/2) of a bond along `xi` for a
+/// particle whose uniaxial stiffnesses along the axes fall short by `scales` s_a
+/// (the module documentation).
+pub(super) fn direction_factor(scales: [f64; 3], xi: [f64; 3]) -> f64 {
+    let length2 = dot(xi, xi);
+    let sum: f64 = (0..3)
+        .map(|a| xi[a] * xi[a] / (scales[a] * scales[a]))
+        .sum();
+    (length2 / sum).sqrt()
+}
+
+/// T_p⟨q⟩ of the bond X = `xi` now `y` of a member in `state` with plastic extension
+/// `plastic` (the module documentation), for a horizon `delta`.
+pub(super) fn force_state(
+    state: &State,
+    xi: [f64; 3],
+    y: [f64; 3],
+    plastic: f64,
+    delta: f64,
+) -> [f64; 3] {
+    let length = norm(xi);
+    let omega = delta / length;
+    let mut t = mat_vec(state.force, xi);
+    if state.spring != 0.0 {
+        let current = norm(y);
+        let pull =
+            state.spring * direction_factor(state.scales, xi) * (current / length - 1.0 - plastic)
+                / (length * current);
+        t = [0, 1, 2].map(|a| t[a] + pull * y[a]);
+    }
+    scale(t, omega)
+}
+
+/// l of Eq. 5.21 for a bond X = `xi` now `y` with plastic extension `plastic`, in a
+/// cell whose share of broken bonds is `inactive`.
+pub(super) fn failure_measure(xi: [f64; 3], y: [f64; 3], plastic: f64, inactive: f64) -> f64 {
+    (norm(y) / norm(xi) - 1.0 - plastic) / (1.0 + inactive)
+}
+
+/// A fracture plane of §5.4 in the grid cell `cell`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Plane {
+    pub(super) cell: [i64; 3],
+    pub(super) centre: [f64; 3],
+    pub(super) normal: [f64; 3],
+}
+
+impl Plane {
+    /// Whether the segment from `a` to `b` crosses the plane inside its cell of
+    /// spacing `dx`. Symmetric in `a` and `b` only if the caller orders them.
+    pub(super) fn cuts(&self, a: [f64; 3], b: [f64; 3], dx: f64) -> bool {
+        let (sa, sb) = (
+            dot(self.normal, sub(a, self.centre)),
+            dot(self.normal, sub(b, self.centre)),
+        );
+        if sa * sb >= 0.0 {
+            return false;
+        }
+        let t = sa / (sa - sb);
+        let crossing = [0, 1, 2].map(|k| a[k] + t * (b[k] - a[k]));
+        cell_of(crossing, dx) == self.cell
+    }
+}
+
+/// The grid cell [⌊x/Δx⌋] of a point.
+pub(super) fn cell_of(x: [f64; 3], dx: f64) -> [i64; 3] {
+    x.map(|c| (c / dx).floor() as i64)
+}
+
+impl Patches {
+    /// Adds every particle of the bodies with bonds (the integral-based MPM) to
+    /// Ω^PD, at the start of a run.
+    ///
+    /// # Errors
+    /// [`crate::error::SimError::Refused`] if the neighbour search cannot be built.
+    pub fn join_bonded(&mut self, p: &MpmParticles) -> Result<()> {
+        let bonded: Vec<usize> = (0..p.len())
+            .filter(|&i| self.bodies[p.body[i] as usize].bonds.is_some())
+            .collect();
+        if bonded.is_empty() {
+            return Ok(());
+        }
+        self.join(&bonded, p)?;
+        self.full_weights = vec![0.0; self.bodies.len()];
+        for (&i, family) in self.members.iter().zip(&self.families) {
+            let i = i as usize;
+            let weight: f64 = family
+                .iter()
+                .map(|&q| {
+                    self.horizon / norm(sub(p.reference[q as usize], p.reference[i]))
+                        * p.volume[q as usize]
+                })
+                .sum();
+            let full = &mut self.full_weights[p.body[i] as usize];
+            *full = full.max(weight);
+        }
+        Ok(())
+    }
+
+    /// The integral-based members with a broken bond, in increasing order: they move
+    /// by their own forces (the module documentation: two-time integration).
+    pub fn loose(&self) -> &[u32] {
+        &self.loose
+    }
+
+    /// e^p of member slot `s`'s bond `k` (0 for elastic bonds).
+    pub(super) fn extension(&self, s: usize, k: usize) -> f64 {
+        self.extensions[s].get(k).copied().unwrap_or(0.0)
+    }
+
+    /// e^p of particle `q`'s bond to particle `i` (0 for elastic bonds and outside
+    /// Ω^PD).
+    pub(super) fn extension_of(&self, q: usize, i: usize) -> f64 {
+        let s = self.slot[q];
+        let Some(row) = self
+            .extensions
+            .get(s as usize)
+            .filter(|row| !row.is_empty())
+        else {
+            return 0.0;
+        };
+        self.families[s as usize]
+            .binary_search_by_key(&(i as u32), |&nb| nb & INDEX)
+            .map_or(0.0, |k| row[k])
+    }
+
+    /// Whether particle `i` belongs to a body with bonds that can break.
+    fn breakable(&self, i: usize, p: &MpmParticles) -> bool {
+        self.bodies[p.body[i] as usize]
+            .bonds
+            .is_some_and(|b| b.critical_stretch.is_some())
+    }
+
+    /// p_inactive of Eq. 5.21 for each particle: the share of broken bonds among the
+    /// bonds of the breakable integral-based members in its grid cell (empty when no
+    /// body has bonds that break).
+    pub(super) fn inactive_shares(&self, p: &MpmParticles) -> Vec<f64> {
+        if !(0..self.bodies.len()).any(|b| {
+            self.bodies[b]
+                .bonds
+                .is_some_and(|b| b.critical_stretch.is_some())
+        }) {
+            return Vec::new();
+        }
+        let counts: Vec<Option<([i64; 3], usize, usize)>> = self
+            .members
+            .par_iter()
+            .zip(&self.families)
+            .map(|(&i, family)| {
+                let i = i as usize;
+                self.breakable(i, p).then(|| {
+                    let broken = family.iter().filter(|&&nb| nb & BROKEN != 0).count();
+                    (cell_of(p.position[i], self.dx), broken, family.len())
+                })
+            })
+            .collect();
+        let mut cells: HashMap<[i64; 3], (usize, usize)> = HashMap::new();
+        for &(cell, broken, total) in counts.iter().flatten() {
+            let entry = cells.entry(cell).or_default();
+            entry.0 += broken;
+            entry.1 += total;
+        }
+        let mut shares = vec![0.0; p.len()];
+        for (&i, count) in self.members.iter().zip(&counts) {
+            if let Some((cell, _, _)) = count {
+                let (broken, total) = cells[cell];
+                shares[i as usize] = broken as f64 / total.max(1) as f64;
+            }
+        }
+        shares
+    }
+
+    /// The intact bonds of member slot `s` (of a body with `bonds`) whose l of Eq.
+    /// 5.21 at either end passes l_threshold, by index in its family.
+    pub(super) fn stretched(
+        &self,
+        s: usize,
+        bonds: &IntegralBonds,
+        inactive: &[f64],
+        p: &MpmParticles,
+    ) -> Vec<usize> {
+        let Some(threshold) = bonds.critical_stretch else {
+            return Vec::new();
+        };
+        let i = self.members[s] as usize;
+        self.families[s]
+            .iter()
+            .enumerate()
+            .filter(|&(_, &nb)| nb & BROKEN == 0)
+            .filter(|&(k, &nb)| {
+                let q = (nb & INDEX) as usize;
+                let xi = sub(p.reference[q], p.reference[i]);
+                let y = sub(p.position[q], p.position[i]);
+                let own = failure_measure(xi, y, self.extension(s, k), inactive[i]);
+                let theirs = failure_measure(xi, y, self.extension_of(q, i), inactive[q]);
+                own.max(theirs) > threshold
+            })
+            .map(|(k, _)| k)
+            .collect()
+    }
+
+    /// The crack cut of §5.4: each grid cell where bonds of breakable members broke
+    /// this step (`broken`, by member slot) gets a fracture plane through the mean
+    /// position of those members, normal to the current direction of the most
+    /// stretched of their broken bonds; each intact bond with both ends within reach
+    /// of the cell that crosses its plane inside the cell is added to `broken`.
+    pub(super) fn cut(&self, broken: &mut [Vec<usize>], inactive: &[f64], p: &MpmParticles) {
+        if inactive.is_empty() {
+            return;
+        }
+        let x = &p.position;
+        // (Σ x, count, largest l, its bond's direction) of each cell, in cell order.
+        type Group = ([f64; 3], f64, f64, [f64; 3]);
+        let mut groups: BTreeMap<[i64; 3], Group> = BTreeMap::new();
+        for (s, ks) in broken.iter().enumerate() {
+            let i = self.members[s] as usize;
+            if ks.is_empty() || !self.breakable(i, p) {
+                continue;
+            }
+            let group = groups.entry(cell_of(x[i], self.dx)).or_insert((
+                [0.0; 3],
+                0.0,
+                f64::NEG_INFINITY,
+                [0.0; 3],
+            ));
+            group.0 = add(group.0, x[i]);
+            group.1 += 1.0;
+            for &k in ks {
+                let q = (self.families[s][k] & INDEX) as usize;
+                let xi = sub(p.reference[q], p.reference[i]);
+                let y = sub(x[q], x[i]);
+                let l = failure_measure(xi, y, self.extension(s, k), inactive[i]);
+                if l > group.2 {
+                    group.2 = l;
+                    group.3 = normalize(y);
+                }
+            }
+        }
+        let planes: HashMap<[i64; 3], Plane> = groups
+            .into_iter()
+            .map(|(cell, (sum, count, _, normal))| {
+                let plane = Plane {
+                    cell,
+                    centre: scale(sum, 1.0 / count),
+                    normal,
+                };
+                (cell, plane)
+            })
+            .collect();
+        if planes.is_empty() {
+            return;
+        }
+        let reach = (self.horizon / self.dx).ceil() as i64 + 1;
+        let within = |a: [i64; 3], b: [i64; 3]| (0..3).all(|k| (a[k] - b[k]).abs() <= reach);
+        let this = self;
+        let cuts: Vec<Vec<usize>> = broken
+            .par_iter()
+            .enumerate()
+            .map(|(s, already)| {
+                let i = this.members[s] as usize;
+                if !this.breakable(i, p) {
+                    return Vec::new();
+                }
+                let cell = cell_of(x[i], this.dx);
+                let mut near: Vec<&Plane> = Vec::new();
+                for dz in -reach..=reach {
+                    for dy in -reach..=reach {
+                        for dx in -reach..=reach {
+                            let at = [cell[0] + dx, cell[1] + dy, cell[2] + dz];
+                            near.extend(planes.get(&at));
+                        }
+                    }
+                }
+                if near.is_empty() {
+                    return Vec::new();
+                }
+                this.families[s]
+                    .iter()
+                    .enumerate()
+                    .filter(|&(k, &nb)| nb & BROKEN == 0 && !already.contains(&k))
+                    .filter(|&(_, &nb)| {
+                        let q = (nb & INDEX) as usize;
+                        // Ordered by index, so both directions decide alike.
+                        let (a, b) = if i < q { (x[i], x[q]) } else { (x[q], x[i]) };
+                        let other = cell_of(x[q], this.dx);
+                        near.iter()
+                            .any(|plane| within(other, plane.cell) && plane.cuts(a, b, this.dx))
+                    })
+                    .map(|(k, _)| k)
+                    .collect()
+            })
+            .collect();
+        for (row, cut) in broken.iter_mut().zip(cuts) {
+            row.extend(cut);
+        }
+    }
+
+    /// The first Piola–Kirchhoff stress of integral-based member `i` this step, P =
+    /// Σ_q T_p⟨q⟩ ⊗ X_q V_q over its intact bonds (∂ψ_p/∂F where the deformation is
+    /// uniform): what the tests compare with the MPM's stress.
+    #[cfg(test)]
+    pub(crate) fn bond_stress(&self, i: usize, p: &MpmParticles) -> [[f64; 3]; 3] {
+        let s = self.slot[i] as usize;
+        let mut stress = [[0.0; 3]; 3];
+        for (k, &nb) in self.families[s].iter().enumerate() {
+            if nb & BROKEN != 0 {
+                continue;
+            }
+            let q = nb as usize;
+            let xi = sub(p.reference[q], p.reference[i]);
+            let y = sub(p.position[q], p.position[i]);
+            let t = force_state(&self.states[s], xi, y, self.extension(s, k), self.horizon);
+            for a in 0..3 {
+                for b in 0..3 {
+                    stress[a][b] += t[a] * xi[b] * p.volume[q];
+                }
+            }
+        }
+        stress
+    }
+
+    /// Lists the integral-based members with a broken bond, which move by their own
+    /// forces this step ([`Patches::loose`]).
+    pub(super) fn loosen(&mut self, p: &MpmParticles) {
+        let mut loose: Vec<u32> = self
+            .members
+            .iter()
+            .zip(&self.families)
+            .filter(|&(&i, family)| {
+                self.bodies[p.body[i as usize] as usize].bonds.is_some()
+                    && family.iter().any(|&nb| nb & BROKEN != 0)
+            })
+            .map(|(&i, _)| i)
+            .collect();
+        loose.sort_unstable();
+        self.loose = loose;
+    }
+}
+
+#[cfg(test)]
+mod tests;
