@@ -287,16 +287,32 @@ fn the_tets_of_rigid_dust_turn_with_their_grains_and_lie_on_the_ground() {
     );
 }
 
-/// Runs `s` again stopped once `after` steps are taken (at the next stop point) and
-/// resumed: the particle frames of `whole`, the uninterrupted run.
-fn stopped_and_resumed(s: &Scene, whole: &Path, after: u64) {
+/// Runs `s` again stopped once each of `stops` steps are taken (at the next stop
+/// point), in turn, each stop resumed (one run that goes through every stop, rather
+/// than a run to the end for each: a resume that lost state differs from the frames
+/// after it whichever stop came first): the particle frames of `whole`, the
+/// uninterrupted run.
+fn stopped_and_resumed(s: &Scene, whole: &Path, stops: &[u64]) {
     let stopped = tempfile::tempdir().expect("temp dir");
-    let stop = RunOptions {
-        stop: StopRequest::after_steps(after),
-        ..RunOptions::default()
-    };
-    let e = run::run(s, stopped.path(), &stop, &mut |_| {}).expect_err("stops");
-    assert!(e.to_string().contains("stop after"), "{e}");
+    let mut last = 0;
+    for (k, &after) in stops.iter().enumerate() {
+        let stop = RunOptions {
+            stop: StopRequest::after_steps(after),
+            resume: k > 0,
+            ..RunOptions::default()
+        };
+        let e = run::run(s, stopped.path(), &stop, &mut |_| {}).expect_err("stops");
+        assert!(e.to_string().contains("stop after"), "{e}");
+        // Each stop after the last: resumed, the run went on to the next one.
+        let perifrac_sim::SimError::Interrupted { step, .. } = e else {
+            panic!("expected an interruption, got {e}");
+        };
+        assert!(
+            step >= after && step > last,
+            "{e} (the stop before at step {last})"
+        );
+        last = step;
+    }
     let resume = RunOptions {
         resume: true,
         ..RunOptions::default()
@@ -307,7 +323,7 @@ fn stopped_and_resumed(s: &Scene, whole: &Path, after: u64) {
         let name = format!("particles/{f:04}.ply");
         let a = std::fs::read(whole.join(&name)).expect("frame");
         let b = std::fs::read(stopped.path().join(&name)).expect("frame");
-        assert!(a == b, "{name} differs after a stop after {after} steps");
+        assert!(a == b, "{name} differs after stops after {stops:?} steps");
     }
 }
 
@@ -319,7 +335,7 @@ fn the_rigid_phase_threads_stops_and_resumes_to_the_same_bytes() {
     let [whole, ..] = common::threads_and_resume(&s, 2);
     let m = perifrac_sim::cache::manifest::Manifest::read(&whole.path().join("manifest.json"))
         .expect("manifest");
-    stopped_and_resumed(&s, whole.path(), m.steps - 29);
+    stopped_and_resumed(&s, whole.path(), &[m.steps - 29]);
 }
 
 #[test]
@@ -339,9 +355,7 @@ fn a_stop_while_pieces_rest_among_particles_resumes_to_the_same_bytes() {
     let whole = tempfile::tempdir().expect("temp dir");
     let m = run::run(&s, whole.path(), &RunOptions::default(), &mut |_| {}).expect("runs");
     let frame = m.steps / 4;
-    for after in [frame + 1, 2 * frame + 40] {
-        stopped_and_resumed(&s, whole.path(), after);
-    }
+    stopped_and_resumed(&s, whole.path(), &[frame + 1, 2 * frame + 40]);
 }
 
 #[test]
@@ -466,7 +480,7 @@ fn rigid_pieces_land_on_a_mesh_collider_instead_of_falling_through_it() {
         if !keyframes.is_empty() {
             // Stopped while the pieces ride the moving slab (its pose and velocity
             // are set again each step), resumed to the same bytes.
-            stopped_and_resumed(&s, &out, 500);
+            stopped_and_resumed(&s, &out, &[500]);
         }
     }
     // On the still slab the halves stay where they settled; on the moving one they
@@ -617,9 +631,7 @@ fn a_rigid_piece_hit_hard_goes_back_and_breaks_as_peridynamics_does() {
     );
     // Stopped while the piece that went back breaks, and resumed: the same bytes.
     let s = cut_cube_drop(dir.path(), 3.0, back);
-    for after in [back_steps / 20, back_steps / 2] {
-        stopped_and_resumed(&s, &back_out, after);
-    }
+    stopped_and_resumed(&s, &back_out, &[back_steps / 20, back_steps / 2]);
     let (broke, hard_steps, _) = run(6.0, hard);
     println!("6 m/s, reenter = 2: {broke} bonds broken ({hard_steps} steps)");
     assert!(broke > 100, "a hit at 2.3 s_c c_p goes back at 2: {broke}");

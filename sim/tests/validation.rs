@@ -163,7 +163,11 @@ fn energy_and_momentum_are_conserved() {
 }
 
 /// A bar held at x = −L/2 and pulled at x = +L/2 by `stretch`, then released and
-/// left to settle with damping; returns the remaining elongation.
+/// left to settle with damping for 0.25 s; returns the remaining elongation. The
+/// damping takes the ring down as e^{−20 t}: after 0.25 s the elastic bar is back
+/// within 2.5e-5 m (0.3 s: 3.4e-6 m; 0.2 s: 1.1e-5 m near a node of the ring, whose
+/// envelope is still ~1e-4 m there), 8× inside the 2e-4 m it is allowed, while the
+/// plastic bar's set has settled (5.44e-3 m at 0.25 s, 5.42e-3 m at 0.3 s).
 fn permanent_set(plastic: &str, stretch: f64) -> f64 {
     let length = 0.2;
     let pull = 0.05;
@@ -176,7 +180,7 @@ fn permanent_set(plastic: &str, stretch: f64) -> f64 {
          velocity = [{}, 0, 0]\nuntil = {pull}\n",
         stretch * length / pull
     ));
-    while p.world.time < pull + 0.3 {
+    while p.world.time < pull + 0.25 {
         p.world.step().expect("stable");
     }
     mean_dx(&p, 0.085) - mean_dx(&p, -0.2)
