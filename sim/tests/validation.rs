@@ -535,8 +535,11 @@ fn deviations_from_corotated(make: fn(&str) -> String) -> (f64, f64) {
     (pd.max, linear.max)
 }
 
+/// Chen's claim is 10%; measured 0.41% (swing) and 0.28% (twist), so the bound is
+/// 2%: linear FEM, the wrong physics for the twist's quarter turn, measures 3.3% on
+/// the same metric there, and a 10% bound let it pass.
 #[test]
-fn peridynamics_stays_within_ten_percent_of_corotated_fem_on_bar_swing_and_twist() {
+fn peridynamics_stays_within_two_percent_of_corotated_fem_on_bar_swing_and_twist() {
     for (name, make) in [
         ("bar swing", bar_swing as fn(&str) -> String),
         ("bar twist", bar_twist),
@@ -548,7 +551,7 @@ fn peridynamics_stays_within_ten_percent_of_corotated_fem_on_bar_swing_and_twist
             100.0 * pd,
             100.0 * linear
         );
-        assert!(pd < 0.10, "{name}: peridynamics deviates by {pd}");
+        assert!(pd < 0.02, "{name}: peridynamics deviates by {pd}");
     }
 }
 
