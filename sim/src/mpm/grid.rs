@@ -606,7 +606,7 @@ impl SparseGrid {
 /// relative to the collider and Coulomb friction on the tangential part: `friction = 0`
 /// slips, a finite μ rubs, `friction = inf` sticks (the node takes the collider's
 /// velocity, separating or not).
-pub(super) fn collide(c: &Collider, x: [f64; 3], v: &mut [f64; 3]) {
+fn collide(c: &Collider, x: [f64; 3], v: &mut [f64; 3]) {
     let normal = match &c.shape {
         ColliderShape::Ground => (x[1] <= c.center[1]).then_some([0.0, 1.0, 0.0]),
         _ => c.penetration(x).map(|(n, _)| n),

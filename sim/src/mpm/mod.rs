@@ -355,27 +355,8 @@ impl Mpm {
             patches.apply(dt, &mut self.particles);
         }
         let p = &self.particles;
-        // Two-time integration (Lyu §5.4): the integral-based particles on a crack
-        // surface move by their own forces, off the grid (no mass or momentum on it,
-        // so momentum is kept: they act on the rest by their bonds alone).
-        let loose: Vec<(usize, [f64; 3], [f64; 3])> = self
-            .patches
-            .iter()
-            .flat_map(|patches| patches.loose())
-            .map(|&i| (i as usize, p.position[i as usize], p.velocity[i as usize]))
-            .collect();
-        if loose.is_empty() {
-            self.grid
-                .p2g(&p.position, &p.mass, &p.velocity, &self.momentum_affine);
-        } else {
-            let mut mass = p.mass.clone();
-            for &(i, _, _) in &loose {
-                mass[i] = 0.0;
-                self.momentum_affine[i] = [[0.0; 3]; 3];
-            }
-            self.grid
-                .p2g(&p.position, &mass, &p.velocity, &self.momentum_affine);
-        }
+        self.grid
+            .p2g(&p.position, &p.mass, &p.velocity, &self.momentum_affine);
         let t3 = Instant::now();
         self.grid.grid_update(dt, boundary);
         let t4 = Instant::now();
@@ -388,14 +369,6 @@ impl Mpm {
             &mut p.affine,
             &mut p.deformation,
         );
-        for (i, x, v) in loose {
-            let mut v = [0, 1, 2].map(|a| v[a] + dt * boundary.gravity[a]);
-            for c in boundary.colliders {
-                grid::collide(c, x, &mut v);
-            }
-            let x = [0, 1, 2].map(|a| x[a] + dt * v[a]);
-            (p.position[i], p.velocity[i], p.affine[i]) = (x, v, [[0.0; 3]; 3]);
-        }
         let t5 = Instant::now();
         self.plasticity();
         let t6 = Instant::now();

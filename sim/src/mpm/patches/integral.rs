@@ -56,10 +56,9 @@
 //! and the current direction of its most stretched broken bond make a fracture plane,
 //! and every intact bond that crosses the plane inside that cell is cut too.
 //!
-//! **Two-time integration** (§5.4): a particle with a broken bond (on a crack
-//! surface) moves by its own bond forces, gravity and the colliders, not by G2P, so
-//! the two sides of a crack within one kernel's reach do not share the grid's
-//! velocity; the other particles move with the grid as usual.
+//! **Two-time integration** (§5.4) is not used: particles with a broken bond that
+//! move off the grid by their own forces, at the MPM's step, are unstable in an
+//! impact (docs/mpm.md, "Integral-based MPM"); every particle moves with the grid.
 
 use std::collections::{BTreeMap, HashMap};
 
@@ -299,12 +298,6 @@ impl Patches {
         Ok(())
     }
 
-    /// The integral-based members with a broken bond, in increasing order: they move
-    /// by their own forces (the module documentation: two-time integration).
-    pub fn loose(&self) -> &[u32] {
-        &self.loose
-    }
-
     /// e^p of member slot `s`'s bond `k` (0 for elastic bonds).
     pub(super) fn extension(&self, s: usize, k: usize) -> f64 {
         self.extensions[s].get(k).copied().unwrap_or(0.0)
@@ -519,23 +512,6 @@ impl Patches {
             }
         }
         stress
-    }
-
-    /// Lists the integral-based members with a broken bond, which move by their own
-    /// forces this step ([`Patches::loose`]).
-    pub(super) fn loosen(&mut self, p: &MpmParticles) {
-        let mut loose: Vec<u32> = self
-            .members
-            .iter()
-            .zip(&self.families)
-            .filter(|&(&i, family)| {
-                self.bodies[p.body[i as usize] as usize].bonds.is_some()
-                    && family.iter().any(|&nb| nb & BROKEN != 0)
-            })
-            .map(|(&i, _)| i)
-            .collect();
-        loose.sort_unstable();
-        self.loose = loose;
     }
 }
 

@@ -171,9 +171,6 @@ pub struct Patches {
     /// Each integral-based member's bonds' plastic extensions e^p, in family order
     /// (empty for elastic bonds and SPB-MPM members).
     extensions: Vec<Vec<f64>>,
-    /// The integral-based members with a broken bond, which move by their own
-    /// forces (`integral.rs`, two-time integration), in increasing order.
-    loose: Vec<u32>,
     /// Each body's Σ ω V over its fullest family (bodies with bonds; 0 for the
     /// others), the bulk that the bonds' weights are scaled to (`integral.rs`).
     full_weights: Vec<f64>,
@@ -217,7 +214,6 @@ impl Patches {
                 families: Vec::new(),
                 plastic_inverse: Vec::new(),
                 extensions: Vec::new(),
-                loose: Vec::new(),
                 full_weights: Vec::new(),
                 states: Vec::new(),
                 accelerations: Vec::new(),
@@ -390,7 +386,6 @@ impl Patches {
                 family[k] |= BROKEN;
             }
         }
-        self.loosen(p);
         self.forces(p);
         self.times.evolve += started.elapsed().as_secs_f64();
         count
