@@ -240,6 +240,17 @@ fn a_single_layer_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let err = surface(&plane, &bodies, &VdbSpec::default(), dir.path()).unwrap_err();
     assert!(matches!(err, SurfaceError::SingleLayer { .. }), "{err}");
+    // A body that had volume at rest and is a sheet of shreds later is surfaced: the
+    // run that made it is not thrown away at its surface stage.
+    surface_particles(
+        9,
+        &plane,
+        &bodies,
+        &VdbSpec::default(),
+        &dir.path().join("0009.vdb"),
+        &dir.path().join("0009_debris.ply"),
+    )
+    .expect("a later frame is surfaced");
     let text = err.to_string();
     assert!(
         text.contains("membrane") && text.contains("sheet surface method"),

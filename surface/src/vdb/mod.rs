@@ -17,7 +17,8 @@
 //! `surface` grid; the velocity grid `v` holds, over the band the particles were
 //! rasterized into, the velocity of the particle nearest each voxel. Each fragment is
 //! surfaced on its own, so cracks stay open; smaller fragments are written as debris
-//! points. A body whose particles form a single layer is refused.
+//! points. A body whose particles form a single layer at rest (the first frame) is
+//! refused.
 
 mod grid;
 mod stage;
@@ -156,7 +157,11 @@ pub fn surface_particles(
     let t = Instant::now();
     particles::check_finite(frame, particles)?;
     let body = particles::body_indices(frame, particles, bodies)?;
-    particles::check_volumetric(frame, particles, &body, bodies)?;
+    // At rest only: a body torn to dust or shreds later is surfaced as what it is,
+    // not refused after its whole simulation has run.
+    if frame <= 1 {
+        particles::check_volumetric(frame, particles, &body, bodies)?;
+    }
     let spacing: Vec<f64> = bodies.iter().map(particles::body_spacing).collect();
     let finest = body
         .iter()
