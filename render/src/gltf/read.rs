@@ -21,18 +21,10 @@ pub fn read_glb(
     ranges: &Ranges,
     g: &mut FrameGeometry,
 ) -> Result<[f32; 2], RenderError> {
-    let bad = |message: String| RenderError::Input {
-        path: path.to_path_buf(),
-        message,
-    };
-    let bytes = std::fs::read(path).map_err(|e| RenderError::io(path, e))?;
-    let gltf =
-        gltf::Gltf::from_slice(&bytes).map_err(|e| bad(format!("not a glTF binary: {e}")))?;
+    let bad = |message: String| input(path, message);
+    let gltf = open(path)?;
     let blob = gltf.blob.as_deref();
-    let buffer = |b: gltf::Buffer<'_>| match b.source() {
-        gltf::buffer::Source::Bin => blob,
-        gltf::buffer::Source::Uri(_) => None,
-    };
+    let buffer = |b: gltf::Buffer<'_>| embedded(blob, b);
     let damage_semantic = gltf::Semantic::Extras("DAMAGE".into());
     let quantity_semantic = gltf::Semantic::Extras("QUANTITY".into());
     let mut range = NO_RANGE;
@@ -105,18 +97,10 @@ pub fn read_glb(
 /// original surface's; primitives that share their position accessor share vertices;
 /// `_DAMAGE` is read when every primitive carries it. Points and lines are skipped.
 pub fn read_surfaces(path: &Path) -> Result<Vec<SurfaceMesh>, RenderError> {
-    let bad = |message: String| RenderError::Input {
-        path: path.to_path_buf(),
-        message,
-    };
-    let bytes = std::fs::read(path).map_err(|e| RenderError::io(path, e))?;
-    let gltf =
-        gltf::Gltf::from_slice(&bytes).map_err(|e| bad(format!("not a glTF binary: {e}")))?;
+    let bad = |message: String| input(path, message);
+    let gltf = open(path)?;
     let blob = gltf.blob.as_deref();
-    let buffer = |b: gltf::Buffer<'_>| match b.source() {
-        gltf::buffer::Source::Bin => blob,
-        gltf::buffer::Source::Uri(_) => None,
-    };
+    let buffer = |b: gltf::Buffer<'_>| embedded(blob, b);
     let damage_semantic = gltf::Semantic::Extras("DAMAGE".into());
     let mut meshes = Vec::new();
     for mesh in gltf.meshes() {
@@ -188,4 +172,27 @@ pub fn read_surfaces(path: &Path) -> Result<Vec<SurfaceMesh>, RenderError> {
         meshes.push(out);
     }
     Ok(meshes)
+}
+
+/// The error of a .glb file `path` that is not what the cache writes.
+fn input(path: &Path, message: String) -> RenderError {
+    RenderError::Input {
+        path: path.to_path_buf(),
+        message,
+    }
+}
+
+/// The glTF binary at `path`, read whole.
+fn open(path: &Path) -> Result<gltf::Gltf, RenderError> {
+    let bytes = std::fs::read(path).map_err(|e| RenderError::io(path, e))?;
+    gltf::Gltf::from_slice(&bytes).map_err(|e| input(path, format!("not a glTF binary: {e}")))
+}
+
+/// The data of buffer `b` when it is the file's own binary chunk `blob` (the cache
+/// writes no external buffers).
+fn embedded<'a>(blob: Option<&'a [u8]>, b: gltf::Buffer<'_>) -> Option<&'a [u8]> {
+    match b.source() {
+        gltf::buffer::Source::Bin => blob,
+        gltf::buffer::Source::Uri(_) => None,
+    }
 }
