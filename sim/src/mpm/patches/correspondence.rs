@@ -20,9 +20,6 @@ pub(super) struct State {
     /// c_p λ of the integral-based MPM's springs along the bonds (0 for SPB-MPM's
     /// correspondence members).
     pub(super) spring: f64,
-    /// The integral-based MPM's surface correction s_a along the axes
-    /// ([`super::integral::direction_factor`]; 1 for SPB-MPM's members).
-    pub(super) scales: [f64; 3],
 }
 
 /// A plastic member's flow this step.
@@ -50,7 +47,6 @@ pub(super) fn state(
         measure: Measure::Free,
         force: [[0.0; 3]; 3],
         spring: 0.0,
-        scales: [1.0; 3],
     };
     let mut shape = [[0.0; 3]; 3];
     let mut moment = [[0.0; 3]; 3];
@@ -95,7 +91,6 @@ pub(super) fn state(
         measure,
         force: mat_mul(&piola, &shape_inverse),
         spring: 0.0,
-        scales: [1.0; 3],
     };
     (state, flow)
 }

@@ -6,7 +6,8 @@ use rayon::prelude::*;
 
 use super::Patches;
 use super::integral::force_state;
-use crate::family::BROKEN;
+use super::reference::NO_MIRROR;
+use crate::family::{BROKEN, INDEX};
 use crate::mpm::MpmParticles;
 
 impl Patches {
@@ -18,35 +19,52 @@ impl Patches {
     /// the grid (counting it on the bond too pulled the halo away from the MPM region
     /// below it, which opened a gap there: 4.8 mm of a 6 mm stretch in the half
     /// peridynamic bar of the tests).
+    ///
+    /// Each member's T_p⟨q⟩ is worked out once a step, into [`Patches::tractions`];
+    /// a bond then reads T_q⟨p⟩ from the other end's row at its mirror index.
     pub(super) fn forces(&mut self, p: &MpmParticles) {
+        let delta = self.horizon;
+        let mut tractions = std::mem::take(&mut self.tractions);
+        tractions.resize_with(self.members.len(), Vec::new);
         let this = &*self;
+        tractions.par_iter_mut().enumerate().for_each(|(s, row)| {
+            let i = this.members[s] as usize;
+            let state = &this.states[s];
+            row.clear();
+            row.extend(this.families[s].iter().zip(&this.table[s]).enumerate().map(
+                |(k, (&nb, bond))| {
+                    if nb & BROKEN != 0 {
+                        return [0.0; 3];
+                    }
+                    let q = (nb & INDEX) as usize;
+                    let xi = sub(p.reference[q], p.reference[i]);
+                    let y = sub(p.position[q], p.position[i]);
+                    force_state(state, xi, y, bond, this.extension(s, k), delta)
+                },
+            ));
+        });
         // Each member's acceleration and the forces on its halo neighbours.
         type Row = ([f64; 3], Vec<(u32, [f64; 3])>);
-        let rows: Vec<Row> = self
-            .members
-            .par_iter()
-            .zip(&self.families)
-            .map(|(&i, family)| {
-                let i = i as usize;
-                let s = this.slot[i] as usize;
-                let own = &this.states[s];
+        let rows: Vec<Row> = (0..self.members.len())
+            .into_par_iter()
+            .map(|s| {
+                let i = this.members[s] as usize;
                 let mut sum = [0.0; 3];
                 let mut reactions = Vec::new();
-                for (k, &nb) in family
+                for (k, &nb) in this.families[s]
                     .iter()
                     .enumerate()
                     .filter(|&(_, &nb)| nb & BROKEN == 0)
                 {
                     let q = nb as usize;
-                    let xi = sub(p.reference[q], p.reference[i]);
-                    let y = sub(p.position[q], p.position[i]);
-                    let tpq = force_state(own, xi, y, this.extension(s, k), this.horizon);
+                    let tpq = tractions[s][k];
                     let member = this.is_member(q);
-                    let tqp = if member {
-                        let back = (xi.map(|c| -c), y.map(|c| -c));
-                        let state = &this.states[this.slot[q] as usize];
-                        let plastic = this.extension_of(q, i);
-                        force_state(state, back.0, back.1, plastic, this.horizon)
+                    // Families are symmetric to the bit (`family::neighbours_of`), so a
+                    // bond between members has its mirror; a bond broken at the other
+                    // end only is one to a free member, whose T is zero.
+                    let mirror = this.table[s][k].mirror;
+                    let tqp = if member && mirror != NO_MIRROR {
+                        tractions[this.slot[q] as usize][mirror as usize]
                     } else {
                         [0.0; 3]
                     };
@@ -62,6 +80,7 @@ impl Patches {
                 (sum.map(|c| c / p.mass[i]), reactions)
             })
             .collect();
+        self.tractions = tractions;
         let mut reactions: Vec<(u32, [f64; 3])> = Vec::new();
         self.accelerations.clear();
         for (&i, (a, r)) in self.members.iter().zip(rows) {

@@ -65,11 +65,12 @@ use std::collections::{BTreeMap, HashMap};
 use perifrac_math::{add, det3, dot, inverse3, mat_mul, mat_vec, norm, normalize, scale, sub};
 use rayon::prelude::*;
 
+use super::reference::{Bond, NO_MIRROR};
 use super::{MIN_SHAPE, Measure, Patches, State};
 use crate::error::Result;
 use crate::family::{BROKEN, INDEX};
 use crate::mpm::MpmParticles;
-use crate::mpm::constitutive;
+use crate::mpm::constitutive::{self, Mat3};
 
 /// The isotropic mean of n_x⁴ over directions, 1/5: c_p Σ ω V = 1/that.
 const UNIAXIAL_WEIGHT: f64 = 5.0;
@@ -87,65 +88,104 @@ pub struct IntegralBonds {
     pub critical_stretch: Option<f64>,
 }
 
-/// Member `i`'s state at the step's start, after its bonds' plastic flow: P_μ K⁻¹ in
-/// `force` and c_p λ in `spring` (the module documentation). `extensions` are its
-/// bonds' e^p (empty for elastic bonds), updated here.
+/// A member and its bonds: particle `i`, its family and their [`Bond`]s.
+#[derive(Clone, Copy)]
+pub(super) struct Member<'a> {
+    pub(super) i: usize,
+    pub(super) family: &'a [u32],
+    pub(super) table: &'a [Bond],
+}
+
+/// A member's shape tensor K = Σ ω X⊗X V over its intact bonds, as its state reads
+/// it: kept from step to step until one of its bonds breaks.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Shape {
+    /// Not worked out since the member joined or last lost a bond.
+    Stale,
+    /// K⁻¹: the intact bonds span space.
+    Spanning(Mat3),
+    /// The intact bonds no longer span space (K's smallest eigenvalue below
+    /// [`MIN_SHAPE`] of the whole family's mean, or det K ≤ 0): springs only.
+    Flat,
+}
+
+/// The [`Shape`] of a member's intact bonds.
+pub(super) fn shape(member: Member<'_>, p: &MpmParticles, delta: f64) -> Shape {
+    let Member { i, family, table } = member;
+    let mut whole_moment = 0.0;
+    let mut shape = [[0.0; 3]; 3];
+    for (&nb, bond) in family.iter().zip(table) {
+        let q = (nb & INDEX) as usize;
+        let length = bond.length;
+        let w = delta / length * p.volume[q];
+        whole_moment += w * length * length;
+        if nb & BROKEN != 0 {
+            continue;
+        }
+        let xi = sub(p.reference[q], p.reference[i]);
+        for a in 0..3 {
+            for b in 0..3 {
+                shape[a][b] += w * xi[a] * xi[b];
+            }
+        }
+    }
+    let (eigenvalues, _) = constitutive::symmetric_eigen(&shape);
+    let smallest = eigenvalues.iter().copied().fold(f64::INFINITY, f64::min);
+    let det = det3(&shape);
+    if smallest.is_nan() || smallest < MIN_SHAPE * whole_moment / 3.0 || det <= 0.0 {
+        Shape::Flat
+    } else {
+        Shape::Spanning(inverse3(&shape, det))
+    }
+}
+
+/// The member's state at the step's start, after its bonds' plastic flow: P_μ K⁻¹ in
+/// `force` and c_p λ in `spring` (the module documentation), with its K's `shape`.
+/// `extensions` are its bonds' e^p (empty for elastic bonds), updated here.
 pub(super) fn state(
-    i: usize,
-    family: &[u32],
+    member: Member<'_>,
+    shape: Shape,
     extensions: &mut [f64],
     p: &MpmParticles,
     bonds: &IntegralBonds,
     full_weight: f64,
     delta: f64,
 ) -> State {
+    let Member { i, family, table } = member;
     let (x0, x, volume) = (&p.reference, &p.position, &p.volume);
-    let mut whole_moment = 0.0;
-    let mut quartic = [0.0; 3];
-    let mut shape = [[0.0; 3]; 3];
     let mut moment = [[0.0; 3]; 3];
     let (mut dilatation, mut weights) = (0.0, 0.0);
-    for &nb in family {
-        let q = (nb & INDEX) as usize;
-        let xi = sub(x0[q], x0[i]);
-        let length = norm(xi);
-        let w = delta / length * volume[q];
-        whole_moment += w * length * length;
-        for (m, c) in quartic.iter_mut().zip(xi) {
-            *m += w * (c / length).powi(4);
-        }
+    for (&nb, bond) in family.iter().zip(table) {
         if nb & BROKEN != 0 {
             continue;
         }
+        let q = (nb & INDEX) as usize;
+        let length = bond.length;
+        let w = delta / length * volume[q];
+        let xi = sub(x0[q], x0[i]);
         let y = sub(x[q], x[i]);
         for a in 0..3 {
             for b in 0..3 {
-                shape[a][b] += w * xi[a] * xi[b];
                 moment[a][b] += w * y[a] * xi[b];
             }
         }
-        dilatation += w * length * length * (norm(y) / length - 1.0);
-        weights += w * length * length;
+        if bonds.yield_stress.is_some() {
+            dilatation += w * length * length * (norm(y) / length - 1.0);
+            weights += w * length * length;
+        }
     }
     let c = UNIAXIAL_WEIGHT / full_weight;
-    let scales = quartic.map(|m| {
-        if m > 0.0 {
-            full_weight / (UNIAXIAL_WEIGHT * m)
-        } else {
-            1.0
-        }
-    });
     if let Some(sigma_y) = bonds.yield_stress
         && weights > 0.0
     {
         let modulus = 2.0 * bonds.mu + bonds.lambda;
         let theta = 3.0 * dilatation / weights;
-        for (k, &nb) in family.iter().enumerate() {
+        for (k, (&nb, bond)) in family.iter().zip(table).enumerate() {
             if nb & BROKEN != 0 {
                 continue;
             }
             let q = (nb & INDEX) as usize;
-            let e = norm(sub(x[q], x[i])) / norm(sub(x0[q], x0[i])) - 1.0;
+            let e = norm(sub(x[q], x[i])) / bond.length - 1.0;
             let stress = modulus * (e - theta / 3.0 - extensions[k]);
             if stress.abs() > sigma_y {
                 extensions[k] += (stress - sigma_y.copysign(stress)) / modulus;
@@ -153,35 +193,30 @@ pub(super) fn state(
         }
     }
     let spring = c * bonds.lambda;
-    let (eigenvalues, _) = constitutive::symmetric_eigen(&shape);
-    let smallest = eigenvalues.iter().copied().fold(f64::INFINITY, f64::min);
-    let det = det3(&shape);
     let springs_only = State {
         measure: Measure::Bonds(p.deformation[i]),
         force: [[0.0; 3]; 3],
         spring,
-        scales,
     };
-    if smallest.is_nan() || smallest < MIN_SHAPE * whole_moment / 3.0 || det <= 0.0 {
+    let Shape::Spanning(shape_inverse) = shape else {
         return springs_only;
-    }
-    let shape_inverse = inverse3(&shape, det);
+    };
     let f = mat_mul(&moment, &shape_inverse);
     if constitutive::determinant(&f) <= 0.0 {
         return springs_only;
     }
     let mut piola = [[0.0; 3]; 3];
-    for (k, &nb) in family.iter().enumerate() {
+    for (k, (&nb, bond)) in family.iter().zip(table).enumerate() {
         if nb & BROKEN != 0 {
             continue;
         }
         let q = (nb & INDEX) as usize;
         let xi = sub(x0[q], x0[i]);
-        let length = norm(xi);
+        let length = bond.length;
         let average = mat_vec(f, xi);
         let average_length = norm(average);
         let plastic = extensions.get(k).copied().unwrap_or(0.0);
-        let magnitude = 2.0 * bonds.mu * c * direction_factor(scales, xi) * delta / length
+        let magnitude = 2.0 * bonds.mu * c * bond.correction * delta / length
             * volume[q]
             * (average_length / length - 1.0 - plastic)
             / (length * average_length);
@@ -195,47 +230,78 @@ pub(super) fn state(
         measure: Measure::Bonds(f),
         force: mat_mul(&piola, &shape_inverse),
         spring,
-        scales,
     }
 }
 
-/// The surface correction G(n) = (Σ_a n_a²/s_a²)^(−1/2) of a bond along `xi` for a
-/// particle whose uniaxial stiffnesses along the axes fall short by `scales` s_a
-/// (the module documentation).
-pub(super) fn direction_factor(scales: [f64; 3], xi: [f64; 3]) -> f64 {
-    let length2 = dot(xi, xi);
-    let sum: f64 = (0..3)
-        .map(|a| xi[a] * xi[a] / (scales[a] * scales[a]))
-        .sum();
-    (length2 / sum).sqrt()
+/// The surface correction G_p(n) of each bond of particle `i`'s `family`, for a
+/// body whose fullest family has Σ ω V = `full_weight` (the module documentation):
+/// the family's uniaxial stiffnesses along the axes fall short by s_a = (full_weight
+/// / 5) / Σ ω V n_a⁴, and a bond along n gets G(n) = (Σ_a n_a²/s_a²)^(−1/2).
+pub(super) fn surface_corrections(
+    i: usize,
+    family: &[u32],
+    p: &MpmParticles,
+    full_weight: f64,
+    delta: f64,
+) -> Vec<f64> {
+    let (x0, volume) = (&p.reference, &p.volume);
+    let mut quartic = [0.0; 3];
+    for &nb in family {
+        let q = (nb & INDEX) as usize;
+        let xi = sub(x0[q], x0[i]);
+        let length = norm(xi);
+        let w = delta / length * volume[q];
+        for (m, c) in quartic.iter_mut().zip(xi) {
+            *m += w * (c / length).powi(4);
+        }
+    }
+    let scales = quartic.map(|m| {
+        if m > 0.0 {
+            full_weight / (UNIAXIAL_WEIGHT * m)
+        } else {
+            1.0
+        }
+    });
+    family
+        .iter()
+        .map(|&nb| {
+            let xi = sub(x0[(nb & INDEX) as usize], x0[i]);
+            let length2 = dot(xi, xi);
+            let sum: f64 = (0..3)
+                .map(|a| xi[a] * xi[a] / (scales[a] * scales[a]))
+                .sum();
+            (length2 / sum).sqrt()
+        })
+        .collect()
 }
 
-/// T_p⟨q⟩ of the bond X = `xi` now `y` of a member in `state` with plastic extension
-/// `plastic` (the module documentation), for a horizon `delta`.
+/// T_p⟨q⟩ of the bond X = `xi` now `y` of a member in `state`, with the bond's
+/// reference constants `bond` and plastic extension `plastic` (the module
+/// documentation), for a horizon `delta`.
 pub(super) fn force_state(
     state: &State,
     xi: [f64; 3],
     y: [f64; 3],
+    bond: &Bond,
     plastic: f64,
     delta: f64,
 ) -> [f64; 3] {
-    let length = norm(xi);
+    let length = bond.length;
     let omega = delta / length;
     let mut t = mat_vec(state.force, xi);
     if state.spring != 0.0 {
         let current = norm(y);
-        let pull =
-            state.spring * direction_factor(state.scales, xi) * (current / length - 1.0 - plastic)
-                / (length * current);
+        let pull = state.spring * bond.correction * (current / length - 1.0 - plastic)
+            / (length * current);
         t = [0, 1, 2].map(|a| t[a] + pull * y[a]);
     }
     scale(t, omega)
 }
 
-/// l of Eq. 5.21 for a bond X = `xi` now `y` with plastic extension `plastic`, in a
-/// cell whose share of broken bonds is `inactive`.
-pub(super) fn failure_measure(xi: [f64; 3], y: [f64; 3], plastic: f64, inactive: f64) -> f64 {
-    (norm(y) / norm(xi) - 1.0 - plastic) / (1.0 + inactive)
+/// l of Eq. 5.21 for a bond of reference length `length` now `y` with plastic
+/// extension `plastic`, in a cell whose share of broken bonds is `inactive`.
+pub(super) fn failure_measure(length: f64, y: [f64; 3], plastic: f64, inactive: f64) -> f64 {
+    (norm(y) / length - 1.0 - plastic) / (1.0 + inactive)
 }
 
 /// A fracture plane of §5.4 in the grid cell `cell`.
@@ -281,21 +347,7 @@ impl Patches {
         if bonded.is_empty() {
             return Ok(());
         }
-        self.join(&bonded, p)?;
-        self.full_weights = vec![0.0; self.bodies.len()];
-        for (&i, family) in self.members.iter().zip(&self.families) {
-            let i = i as usize;
-            let weight: f64 = family
-                .iter()
-                .map(|&q| {
-                    self.horizon / norm(sub(p.reference[q as usize], p.reference[i]))
-                        * p.volume[q as usize]
-                })
-                .sum();
-            let full = &mut self.full_weights[p.body[i] as usize];
-            *full = full.max(weight);
-        }
-        Ok(())
+        self.join(&bonded, p)
     }
 
     /// e^p of member slot `s`'s bond `k` (0 for elastic bonds).
@@ -303,20 +355,13 @@ impl Patches {
         self.extensions[s].get(k).copied().unwrap_or(0.0)
     }
 
-    /// e^p of particle `q`'s bond to particle `i` (0 for elastic bonds and outside
-    /// Ω^PD).
-    pub(super) fn extension_of(&self, q: usize, i: usize) -> f64 {
-        let s = self.slot[q];
-        let Some(row) = self
-            .extensions
-            .get(s as usize)
-            .filter(|row| !row.is_empty())
-        else {
-            return 0.0;
-        };
-        self.families[s as usize]
-            .binary_search_by_key(&(i as u32), |&nb| nb & INDEX)
-            .map_or(0.0, |k| row[k])
+    /// e^p of member slot `s`'s bond `k` seen from its other end `q` (0 for elastic
+    /// bonds and outside Ω^PD).
+    pub(super) fn extension_back(&self, s: usize, k: usize, q: usize) -> f64 {
+        match self.table[s][k].mirror {
+            NO_MIRROR => 0.0,
+            back => self.extension(self.slot[q] as usize, back as usize),
+        }
     }
 
     /// Whether particle `i` belongs to a body with bonds that can break.
@@ -384,10 +429,11 @@ impl Patches {
             .filter(|&(_, &nb)| nb & BROKEN == 0)
             .filter(|&(k, &nb)| {
                 let q = (nb & INDEX) as usize;
-                let xi = sub(p.reference[q], p.reference[i]);
+                let length = self.table[s][k].length;
                 let y = sub(p.position[q], p.position[i]);
-                let own = failure_measure(xi, y, self.extension(s, k), inactive[i]);
-                let theirs = failure_measure(xi, y, self.extension_of(q, i), inactive[q]);
+                let own = failure_measure(length, y, self.extension(s, k), inactive[i]);
+                let back = self.extension_back(s, k, q);
+                let theirs = failure_measure(length, y, back, inactive[q]);
                 own.max(theirs) > threshold
             })
             .map(|(k, _)| k)
@@ -422,9 +468,13 @@ impl Patches {
             group.1 += 1.0;
             for &k in ks {
                 let q = (self.families[s][k] & INDEX) as usize;
-                let xi = sub(p.reference[q], p.reference[i]);
                 let y = sub(x[q], x[i]);
-                let l = failure_measure(xi, y, self.extension(s, k), inactive[i]);
+                let l = failure_measure(
+                    self.table[s][k].length,
+                    y,
+                    self.extension(s, k),
+                    inactive[i],
+                );
                 if l > group.2 {
                     group.2 = l;
                     group.3 = normalize(y);
@@ -504,7 +554,15 @@ impl Patches {
             let q = nb as usize;
             let xi = sub(p.reference[q], p.reference[i]);
             let y = sub(p.position[q], p.position[i]);
-            let t = force_state(&self.states[s], xi, y, self.extension(s, k), self.horizon);
+            let bond = &self.table[s][k];
+            let t = force_state(
+                &self.states[s],
+                xi,
+                y,
+                bond,
+                self.extension(s, k),
+                self.horizon,
+            );
             for a in 0..3 {
                 for b in 0..3 {
                     stress[a][b] += t[a] * xi[b] * p.volume[q];

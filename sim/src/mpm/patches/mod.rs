@@ -76,16 +76,19 @@ mod correspondence;
 mod forces;
 mod integral;
 mod pieces;
+mod reference;
 
 use correspondence::{Flow, State, state};
 pub use integral::IntegralBonds;
+use integral::Shape;
+use reference::{Bond, Reference};
 
 use super::MpmMaterial;
 use super::MpmParticles;
 use super::constitutive::{self, Mat3};
 use super::grid::SparseGrid;
 use crate::error::Result;
-use crate::family::{BROKEN, INDEX, Search, Solid};
+use crate::family::{BROKEN, INDEX};
 use crate::geometry::Sdf;
 
 /// The horizon δ in grid spacings: 3 particle spacings at 8 particles a cell, about
@@ -125,7 +128,7 @@ pub struct PatchBody {
     pub bonds: Option<IntegralBonds>,
     /// Its shape when it is not convex: bonds stay inside it.
     pub shape: Option<Box<dyn Sdf>>,
-    /// Its resolution λ (the shape's sampling step, [`Solid::of`]).
+    /// Its resolution λ (the shape's sampling step, [`crate::family::Solid::of`]).
     pub resolution: f64,
 }
 
@@ -171,11 +174,20 @@ pub struct Patches {
     /// Each integral-based member's bonds' plastic extensions e^p, in family order
     /// (empty for elastic bonds and SPB-MPM members).
     extensions: Vec<Vec<f64>>,
+    /// Each member's bonds as the reference configuration fixes them, in family
+    /// order (`reference.rs`).
+    table: Vec<Vec<Bond>>,
+    /// Each member's K over its intact bonds, kept until one of them breaks (the
+    /// integral-based MPM's members; `integral.rs`).
+    shapes: Vec<Shape>,
     /// Each body's Σ ω V over its fullest family (bodies with bonds; 0 for the
     /// others), the bulk that the bonds' weights are scaled to (`integral.rs`).
     full_weights: Vec<f64>,
     /// Scratch: each member's state this step.
     states: Vec<State>,
+    /// Scratch: each member's T_p⟨q⟩ of this step, in family order (zero on broken
+    /// bonds).
+    tractions: Vec<Vec<[f64; 3]>>,
     /// Scratch: this step's bond accelerations of the members and their halo.
     accelerations: Vec<(u32, [f64; 3])>,
     /// Scratch: EE_p as the velocity a P2G carries, and no affine momentum.
@@ -205,6 +217,7 @@ impl Patches {
             .iter()
             .any(|b| b.fracture.is_some() || b.bonds.is_some())
             .then(|| Patches {
+                full_weights: vec![0.0; bodies.len()],
                 bodies,
                 horizon: HORIZON_CELLS * dx,
                 dx,
@@ -214,8 +227,10 @@ impl Patches {
                 families: Vec::new(),
                 plastic_inverse: Vec::new(),
                 extensions: Vec::new(),
-                full_weights: Vec::new(),
+                table: Vec::new(),
+                shapes: Vec::new(),
                 states: Vec::new(),
+                tractions: Vec::new(),
                 accelerations: Vec::new(),
                 carried: Vec::new(),
                 still: Vec::new(),
@@ -303,14 +318,21 @@ impl Patches {
             .members
             .par_iter()
             .zip(&self.families)
+            .zip(&self.table)
             .zip(&self.plastic_inverse)
             .zip(self.extensions.par_iter_mut())
-            .map(|(((&i, family), inverse), extensions)| {
+            .zip(self.shapes.par_iter_mut())
+            .map(|(((((&i, family), table), inverse), extensions), shape)| {
                 let i = i as usize;
                 match &bodies[p.body[i] as usize].bonds {
                     Some(bonds) => {
                         let full = full_weights[p.body[i] as usize];
-                        let state = integral::state(i, family, extensions, p, bonds, full, delta);
+                        let member = integral::Member { i, family, table };
+                        if *shape == Shape::Stale {
+                            *shape = integral::shape(member, p, delta);
+                        }
+                        let state =
+                            integral::state(member, *shape, extensions, p, bonds, full, delta);
                         (state, None)
                     }
                     None => state(i, family, inverse.as_ref(), p, materials, delta),
@@ -380,8 +402,12 @@ impl Patches {
             .collect();
         self.cut(&mut broken, &inactive, p);
         let mut count = 0;
-        for (family, broken) in self.families.iter_mut().zip(broken) {
+        for ((family, shape), broken) in self.families.iter_mut().zip(&mut self.shapes).zip(broken)
+        {
             count += broken.len();
+            if !broken.is_empty() {
+                *shape = Shape::Stale;
+            }
             for k in broken {
                 family[k] |= BROKEN;
             }
@@ -464,7 +490,7 @@ impl Patches {
     }
 
     /// Adds `joining` (increasing particle indices, none a member yet) to Ω^PD with
-    /// their families.
+    /// their families, and [`Patches::settle`]s their bonds.
     ///
     /// # Errors
     /// [`crate::error::SimError::Refused`] if the neighbour search cannot be built.
@@ -473,6 +499,7 @@ impl Patches {
             self.reference = Some(Reference::new(&self.bodies, p)?);
         }
         let families: Vec<Vec<u32>> = joining.par_iter().map(|&i| self.family(i, p)).collect();
+        let from = self.members.len();
         for (&i, family) in joining.iter().zip(families) {
             let plastic = self.bodies[p.body[i] as usize]
                 .bonds
@@ -487,6 +514,7 @@ impl Patches {
             self.families.push(family);
             self.plastic_inverse.push(None);
         }
+        self.settle(from, p);
         Ok(())
     }
 
@@ -496,59 +524,5 @@ impl Patches {
             .as_ref()
             .map(|r| r.family(&self.bodies, self.horizon, i, p))
             .unwrap_or_default()
-    }
-}
-
-/// The reference configuration's neighbour search, and each particle's signed
-/// distance at its reference position to its body's shape (0 for a body without one),
-/// which every family's bonds through the shape read: computed once, where a mesh's
-/// distance costs a tree search (twice a bond, every frame, in the fragments before).
-pub(super) struct Reference {
-    search: Search,
-    depths: Vec<f64>,
-}
-
-impl Reference {
-    /// The search over `p`'s reference positions.
-    ///
-    /// # Errors
-    /// [`crate::error::SimError::Refused`] if the tree cannot be built.
-    pub(super) fn new(bodies: &[PatchBody], p: &MpmParticles) -> Result<Reference> {
-        let depths = (0..p.len())
-            .into_par_iter()
-            .with_min_len(256)
-            .map(|i| {
-                let shape = bodies[p.body[i] as usize].shape.as_deref();
-                shape.map_or(0.0, |sdf| sdf.distance(p.reference[i]))
-            })
-            .collect();
-        Ok(Reference {
-            search: Search::new(&p.reference)?,
-            depths,
-        })
-    }
-
-    /// The reference neighbours of particle `i` within `horizon` in its body, through
-    /// the body's shape when it has one.
-    pub(super) fn family(
-        &self,
-        bodies: &[PatchBody],
-        horizon: f64,
-        i: usize,
-        p: &MpmParticles,
-    ) -> Vec<u32> {
-        let body = &bodies[p.body[i] as usize];
-        let solid = body
-            .shape
-            .as_deref()
-            .map(|sdf| Solid::of(sdf, body.resolution));
-        self.search.family(
-            &p.reference,
-            &p.body,
-            i,
-            horizon,
-            solid.as_ref(),
-            &self.depths,
-        )
     }
 }

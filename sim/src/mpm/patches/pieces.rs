@@ -205,6 +205,8 @@ impl Patches {
         }
         self.extensions = extensions;
         self.families = families;
+        self.full_weights.fill(0.0);
+        self.settle(0, particles);
         Ok(())
     }
 }

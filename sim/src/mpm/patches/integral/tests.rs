@@ -44,6 +44,32 @@ fn family() -> (MpmParticles, Vec<u32>) {
     (p, (1..n as u32).collect())
 }
 
+/// The bonds of particle 0's `family` as [`Patches::settle`] fixes them, in a body
+/// whose fullest family has Σ ω V = `whole` (one member: no mirrors).
+fn table(p: &MpmParticles, family: &[u32], whole: f64) -> Vec<Bond> {
+    let corrections = surface_corrections(0, family, p, whole, DELTA);
+    family
+        .iter()
+        .zip(corrections)
+        .map(|(&q, correction)| Bond {
+            length: norm(sub(p.reference[q as usize], p.reference[0])),
+            correction,
+            mirror: NO_MIRROR,
+        })
+        .collect()
+}
+
+/// Particle 0's state, its bonds elastic.
+fn state_of(p: &MpmParticles, family: &[u32], table: &[Bond], whole: f64) -> State {
+    let member = Member {
+        i: 0,
+        family,
+        table,
+    };
+    let shape = shape(member, p, DELTA);
+    state(member, shape, &mut [], p, &BONDS, whole, DELTA)
+}
+
 /// ψ_p of the module documentation at the particles' positions.
 fn energy(p: &MpmParticles, family: &[u32]) -> f64 {
     let (x0, x, v) = (&p.reference, &p.position, &p.volume);
@@ -63,15 +89,16 @@ fn energy(p: &MpmParticles, family: &[u32]) -> f64 {
     let f = mat_mul(&moment, &inverse3(&shape, det3(&shape)));
     let c = UNIAXIAL_WEIGHT / whole;
     // A full lattice family: its surface correction is that of the cubic lattice.
-    let state = state(0, family, &mut [], p, &BONDS, whole, DELTA);
+    let table = table(p, family, whole);
     family
         .iter()
-        .map(|&q| {
+        .zip(&table)
+        .map(|(&q, bond)| {
             let q = q as usize;
             let (xi, y) = (sub(x0[q], x0[0]), sub(x[q], x[0]));
             let l = norm(xi);
             let (average, stretch) = (norm(mat_vec(f, xi)) / l - 1.0, norm(y) / l - 1.0);
-            c * direction_factor(state.scales, xi) * DELTA / l
+            c * bond.correction * DELTA / l
                 * v[q]
                 * (BONDS.mu * average * average + BONDS.lambda / 2.0 * stretch * stretch)
         })
@@ -87,9 +114,14 @@ fn the_force_state_is_the_gradient_of_the_bond_energy_and_keeps_angular_momentum
         .iter()
         .map(|&q| DELTA / norm(sub(p.reference[q as usize], p.reference[0])) * p.volume[q as usize])
         .sum();
-    let state = state(0, &family, &mut [], &p, &BONDS, whole, DELTA);
+    let table = table(&p, &family, whole);
+    let state = state_of(&p, &family, &table, whole);
     let (x0, x) = (&p.reference, &p.position);
-    let t = |q: usize| force_state(&state, sub(x0[q], x0[0]), sub(x[q], x[0]), 0.0, DELTA);
+    // Particle q is the family's bond q − 1.
+    let t = |q: usize| {
+        let bond = &table[q - 1];
+        force_state(&state, sub(x0[q], x0[0]), sub(x[q], x[0]), bond, 0.0, DELTA)
+    };
     let h = 1e-7;
     let mut worst: f64 = 0.0;
     for q in [1, 7, 40, family.len() / 2, family.len()] {
@@ -124,7 +156,7 @@ fn the_force_state_is_the_gradient_of_the_bond_energy_and_keeps_angular_momentum
     let printed = |q: usize| {
         let (xi, y) = (sub(x0[q], x0[0]), sub(x[q], x[0]));
         let (l, average) = (norm(xi), mat_vec(f, xi));
-        let w = c * direction_factor(state.scales, xi) * DELTA / l;
+        let w = c * table[q - 1].correction * DELTA / l;
         let shear = scale(
             normalize(average),
             2.0 * BONDS.mu * w / l * (norm(average) / l - 1.0),
@@ -136,4 +168,54 @@ fn the_force_state_is_the_gradient_of_the_bond_energy_and_keeps_angular_momentum
     eprintln!("net torque over Σ|T||Y|: {ours:.1e} (through F), {eq_5_6:.1e} (Eq. 5.6 as printed)");
     assert!(ours < 1e-12, "{ours:.2e}");
     assert!(eq_5_6 > 1e-3, "{eq_5_6:.2e}");
+}
+
+/// What the patches keep from step to step is what a fresh computation gives: after
+/// two balls of breakable bonds collide and bonds break, every intact bond between
+/// members has its mirror (the same bond in the other end's family) and every kept
+/// [`Shape`] is that of the member's intact bonds now. A shape kept past a break, or
+/// a mirror to the wrong bond, would fail here.
+#[test]
+fn the_kept_shapes_and_mirrors_match_a_fresh_computation_after_bonds_break() {
+    use crate::mpm::patch_tests::{mpm, prepared};
+    let text = "[scene]\nduration = 1\nfps = 100\ngravity = [0, 0, 0]\n\
+         [materials.jelly]\ndensity = 1000\nyoungs_modulus = 1e5\npoisson_ratio = 0.25\n\
+         [materials.jelly.mpm]\nbonds = { critical_stretch = 0.03 }\n\
+         [[body]]\nmodel = \"mpm\"\nmaterial = \"jelly\"\nresolution = 0.02\nvelocity = [4, 0, 0]\n\
+         shape = { type = \"sphere\", center = [-0.06, 0.0, 0.0], radius = 0.05 }\n\
+         [[body]]\nmodel = \"mpm\"\nmaterial = \"jelly\"\nresolution = 0.02\nvelocity = [-2, 0.5, 0]\n\
+         shape = { type = \"sphere\", center = [0.06, 0.01, 0.0], radius = 0.05 }\n\
+         [output]\ntets = false\nsurface = \"none\"\npreview = false\n";
+    let mut prepared = prepared(text);
+    let mut broken = 0;
+    for _ in 0..(0.02 / prepared.world.dt) as usize {
+        broken += prepared.world.step().expect("steps");
+    }
+    assert!(broken > 100, "{broken} bonds broke");
+    let m = mpm(&prepared);
+    let patches = m.patches.as_ref().expect("patches");
+    let (mut kept, mut stale) = (0, 0);
+    for (s, (&i, family)) in patches.members.iter().zip(&patches.families).enumerate() {
+        let table = &patches.table[s];
+        for (bond, &nb) in table.iter().zip(family) {
+            let t = patches.slot[(nb & INDEX) as usize] as usize;
+            let back = patches.families[t][bond.mirror as usize];
+            assert_eq!(back & INDEX, i, "member {i}'s mirror");
+            assert_eq!(back & BROKEN, nb & BROKEN, "member {i}'s pair");
+        }
+        let member = Member {
+            i: i as usize,
+            family,
+            table,
+        };
+        match patches.shapes[s] {
+            Shape::Stale => stale += 1,
+            shape => {
+                assert_eq!(shape, super::shape(member, &m.particles, patches.horizon));
+                kept += 1;
+            }
+        }
+    }
+    eprintln!("{broken} directed bonds broke; {kept} shapes kept, {stale} stale");
+    assert!(kept > 0, "{kept} kept, {stale} stale");
 }
