@@ -2,6 +2,7 @@
 
 use super::Mpm;
 use super::patch_tests::{mpm, notched_bar, prepared, pull, pulled_bar};
+use super::tests::{same_bytes_on_one_and_two_threads, state_bytes};
 use crate::run::Prepared;
 
 /// A bar of Poisson's ratio 1/4 (where the bonds' moduli are the material's),
@@ -152,25 +153,18 @@ fn bonds_breaking_in_a_collision_keep_momentum_and_bytes() {
          [[body]]\nmodel = \"mpm\"\nmaterial = \"jelly\"\nresolution = 0.02\nvelocity = [-2, 0.5, 0]\n\
          shape = { type = \"sphere\", center = [0.06, 0.01, 0.0], radius = 0.05 }\n\
          [output]\ntets = false\nsurface = \"none\"\npreview = false\n";
-    let run = |threads: usize| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .expect("pool")
-            .install(|| {
-                let mut p = prepared(text);
-                let before = mpm(&p).momentum();
-                let mut broken = 0;
-                for _ in 0..(0.03 / p.world.dt) as usize {
-                    broken += p.world.step().expect("steps");
-                }
-                let m = mpm(&p);
-                let error = perifrac_math::dist(m.momentum(), before) / perifrac_math::norm(before);
-                eprintln!("{broken} bonds broke; momentum change {error:.2e}");
-                assert!(broken > 100, "{broken} broke");
-                assert!(error < 1e-12, "{error}");
-                super::tests::state_bytes(&p.world)
-            })
-    };
-    assert!(run(1) == run(2), "the thread count changed the state");
+    same_bytes_on_one_and_two_threads(|| {
+        let mut p = prepared(text);
+        let before = mpm(&p).momentum();
+        let mut broken = 0;
+        for _ in 0..(0.03 / p.world.dt) as usize {
+            broken += p.world.step().expect("steps");
+        }
+        let m = mpm(&p);
+        let error = perifrac_math::dist(m.momentum(), before) / perifrac_math::norm(before);
+        eprintln!("{broken} bonds broke; momentum change {error:.2e}");
+        assert!(broken > 100, "{broken} broke");
+        assert!(error < 1e-12, "{error}");
+        state_bytes(&p.world)
+    });
 }

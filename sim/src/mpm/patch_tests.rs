@@ -4,6 +4,7 @@ use std::path::Path;
 
 use super::Mpm;
 use super::patches::Measure;
+use super::tests::{same_bytes_on_one_and_two_threads, state_bytes};
 use crate::run::{Prepared, prepare};
 use crate::scene::Scene;
 
@@ -352,20 +353,13 @@ fn bonds_breaking_in_a_collision_keep_momentum() {
 #[test]
 fn spb_mpm_gives_the_same_bytes_with_one_and_two_threads() {
     let text = notched_bar(0.01, 0.05, "energy_release_rate = 0.5");
-    let run = |threads: usize| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .expect("pool")
-            .install(|| {
-                let mut p = prepared(&text);
-                let mut broken = 0;
-                for _ in 0..(0.09 / p.world.dt) as usize {
-                    broken += p.world.step().expect("steps");
-                }
-                assert!(broken > 0);
-                super::tests::state_bytes(&p.world)
-            })
-    };
-    assert!(run(1) == run(2), "the thread count changed the state");
+    same_bytes_on_one_and_two_threads(|| {
+        let mut p = prepared(&text);
+        let mut broken = 0;
+        for _ in 0..(0.09 / p.world.dt) as usize {
+            broken += p.world.step().expect("steps");
+        }
+        assert!(broken > 0);
+        state_bytes(&p.world)
+    });
 }
