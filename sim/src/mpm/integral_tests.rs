@@ -1,25 +1,15 @@
 //! The integral-based MPM (Lyu ch. 5): bonds between all material points.
 
 use super::Mpm;
-use super::patch_tests::{mpm, notched_bar, prepared, pull};
+use super::patch_tests::{mpm, notched_bar, prepared, pull, pulled_bar};
+use super::tests::{same_bytes_on_one_and_two_threads, state_bytes};
 use crate::run::Prepared;
 
 /// A bar of Poisson's ratio 1/4 (where the bonds' moduli are the material's),
 /// 6 × 20 × 4 cm, its ends held, the top pulled at 2 cm/s, of `[materials.m.mpm]`
 /// lines `keys`; `each` sees it after every step.
 fn pull_bar(keys: &str, seconds: f64, mut each: impl FnMut(&Mpm)) -> Prepared {
-    let text = format!(
-        "[scene]\nduration = 1\nfps = 100\ngravity = [0, 0, 0]\n\
-         [materials.m]\ndensity = 1000\nyoungs_modulus = 1e5\npoisson_ratio = 0.25\n\
-         [materials.m.mpm]\n{keys}\
-         [[body]]\nmodel = \"mpm\"\nmaterial = \"m\"\nresolution = 0.01\n\
-         shape = {{ type = \"box\", center = [0, 0.1, 0], size = [0.06, 0.2, 0.04] }}\n\
-         [[body.anchor]]\nregion = {{ type = \"box\", center = [0, 0.01, 0], size = [0.1, 0.02, 0.1] }}\n\
-         [[body.anchor]]\nregion = {{ type = \"box\", center = [0, 0.19, 0], size = [0.1, 0.02, 0.1] }}\n\
-         velocity = [0, 0.02, 0]\n\
-         [output]\ntets = false\nsurface = \"none\"\npreview = false\n"
-    );
-    let mut p = prepared(&text);
+    let mut p = prepared(&pulled_bar("m", 0.25, keys));
     for _ in 0..(seconds / p.world.dt) as usize {
         p.world.step().expect("steps");
         each(mpm(&p));
@@ -163,25 +153,18 @@ fn bonds_breaking_in_a_collision_keep_momentum_and_bytes() {
          [[body]]\nmodel = \"mpm\"\nmaterial = \"jelly\"\nresolution = 0.02\nvelocity = [-2, 0.5, 0]\n\
          shape = { type = \"sphere\", center = [0.06, 0.01, 0.0], radius = 0.05 }\n\
          [output]\ntets = false\nsurface = \"none\"\npreview = false\n";
-    let run = |threads: usize| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .expect("pool")
-            .install(|| {
-                let mut p = prepared(text);
-                let before = mpm(&p).momentum();
-                let mut broken = 0;
-                for _ in 0..(0.03 / p.world.dt) as usize {
-                    broken += p.world.step().expect("steps");
-                }
-                let m = mpm(&p);
-                let error = perifrac_math::dist(m.momentum(), before) / perifrac_math::norm(before);
-                eprintln!("{broken} bonds broke; momentum change {error:.2e}");
-                assert!(broken > 100, "{broken} broke");
-                assert!(error < 1e-12, "{error}");
-                super::tests::state_bytes(&p.world)
-            })
-    };
-    assert!(run(1) == run(2), "the thread count changed the state");
+    same_bytes_on_one_and_two_threads(|| {
+        let mut p = prepared(text);
+        let before = mpm(&p).momentum();
+        let mut broken = 0;
+        for _ in 0..(0.03 / p.world.dt) as usize {
+            broken += p.world.step().expect("steps");
+        }
+        let m = mpm(&p);
+        let error = perifrac_math::dist(m.momentum(), before) / perifrac_math::norm(before);
+        eprintln!("{broken} bonds broke; momentum change {error:.2e}");
+        assert!(broken > 100, "{broken} broke");
+        assert!(error < 1e-12, "{error}");
+        state_bytes(&p.world)
+    });
 }

@@ -4,6 +4,7 @@ use std::path::Path;
 
 use super::Mpm;
 use super::patches::Measure;
+use super::tests::{same_bytes_on_one_and_two_threads, state_bytes};
 use crate::run::{Prepared, prepare};
 use crate::scene::Scene;
 
@@ -218,22 +219,33 @@ fn a_plastic_bar_half_peridynamic_flows_as_its_mpm_half() {
     );
 }
 
-/// Pulls a bar 6 mm on 16 cm in 0.3 s with its upper half made peridynamic at the
-/// start, of `plasticity` (a line of `[materials.bonded.mpm]`), and returns σ_yy of
-/// the MPM and peridynamic halves (averaged over the last 0.1 s, away from the
-/// anchors and the interface) and their mean ε^p at the end.
-fn half_peridynamic_bar(plasticity: &str) -> (f64, f64, [f64; 2]) {
-    let text = format!(
+/// A 6 × 20 × 4 cm bar of material `material` (density 1000 kg/m³, E = 100 kPa,
+/// Poisson's ratio `poisson_ratio`) on a 1 cm grid, its bottom and top 2 cm held and
+/// the top pulled at 2 cm/s, without gravity; `mpm_keys` (whole lines) go into its
+/// `[materials.<material>.mpm]`.
+pub(super) fn pulled_bar(material: &str, poisson_ratio: f64, mpm_keys: &str) -> String {
+    format!(
         "[scene]\nduration = 1\nfps = 100\ngravity = [0, 0, 0]\n\
-         [materials.bonded]\ndensity = 1000\nyoungs_modulus = 1e5\npoisson_ratio = 0.2\n\
-         [materials.bonded.mpm]\nenergy_release_rate = 1e30\nerosion_release_rate = 1e30\n\
-         {plasticity}\
-         [[body]]\nmodel = \"mpm\"\nmaterial = \"bonded\"\nresolution = 0.01\n\
+         [materials.{material}]\ndensity = 1000\nyoungs_modulus = 1e5\npoisson_ratio = {poisson_ratio}\n\
+         [materials.{material}.mpm]\n{mpm_keys}\
+         [[body]]\nmodel = \"mpm\"\nmaterial = \"{material}\"\nresolution = 0.01\n\
          shape = {{ type = \"box\", center = [0, 0.1, 0], size = [0.06, 0.2, 0.04] }}\n\
          [[body.anchor]]\nregion = {{ type = \"box\", center = [0, 0.01, 0], size = [0.1, 0.02, 0.1] }}\n\
          [[body.anchor]]\nregion = {{ type = \"box\", center = [0, 0.19, 0], size = [0.1, 0.02, 0.1] }}\n\
          velocity = [0, 0.02, 0]\n\
          [output]\ntets = false\nsurface = \"none\"\npreview = false\n"
+    )
+}
+
+/// Pulls a bar 6 mm on 16 cm in 0.3 s with its upper half made peridynamic at the
+/// start, of `plasticity` (a line of `[materials.bonded.mpm]`), and returns σ_yy of
+/// the MPM and peridynamic halves (averaged over the last 0.1 s, away from the
+/// anchors and the interface) and their mean ε^p at the end.
+fn half_peridynamic_bar(plasticity: &str) -> (f64, f64, [f64; 2]) {
+    let text = pulled_bar(
+        "bonded",
+        0.2,
+        &format!("energy_release_rate = 1e30\nerosion_release_rate = 1e30\n{plasticity}"),
     );
     let mut p = prepared(&text);
     let model = p.world.model_mut::<Mpm>().expect("an MPM model");
@@ -341,20 +353,13 @@ fn bonds_breaking_in_a_collision_keep_momentum() {
 #[test]
 fn spb_mpm_gives_the_same_bytes_with_one_and_two_threads() {
     let text = notched_bar(0.01, 0.05, "energy_release_rate = 0.5");
-    let run = |threads: usize| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .expect("pool")
-            .install(|| {
-                let mut p = prepared(&text);
-                let mut broken = 0;
-                for _ in 0..(0.09 / p.world.dt) as usize {
-                    broken += p.world.step().expect("steps");
-                }
-                assert!(broken > 0);
-                super::tests::state_bytes(&p.world)
-            })
-    };
-    assert!(run(1) == run(2), "the thread count changed the state");
+    same_bytes_on_one_and_two_threads(|| {
+        let mut p = prepared(&text);
+        let mut broken = 0;
+        for _ in 0..(0.09 / p.world.dt) as usize {
+            broken += p.world.step().expect("steps");
+        }
+        assert!(broken > 0);
+        state_bytes(&p.world)
+    });
 }

@@ -330,6 +330,19 @@ pub(super) fn state_bytes(world: &World) -> Vec<u8> {
     out.finish()
 }
 
+/// Runs `run` in a pool of one thread, then in a pool of two, and asserts that both
+/// runs give the same bytes.
+pub(super) fn same_bytes_on_one_and_two_threads(run: impl Fn() -> Vec<u8> + Sync) {
+    let on = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("pool")
+            .install(&run)
+    };
+    assert!(on(1) == on(2), "the thread count changed the state");
+}
+
 #[test]
 fn one_and_two_threads_give_the_same_bytes() {
     let text = scene(
@@ -338,20 +351,13 @@ fn one_and_two_threads_give_the_same_bytes() {
          shape = { type = \"sphere\", center = [0, 0.08, 0], radius = 0.06 }\n\
          [[collider]]\ntype = \"ground\"\n",
     );
-    let run = |threads: usize| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .expect("pool")
-            .install(|| {
-                let mut p = prepared(&text);
-                for _ in 0..100 {
-                    p.world.step().expect("steps");
-                }
-                state_bytes(&p.world)
-            })
-    };
-    assert!(run(1) == run(2), "the thread count changed the state");
+    same_bytes_on_one_and_two_threads(|| {
+        let mut p = prepared(&text);
+        for _ in 0..100 {
+            p.world.step().expect("steps");
+        }
+        state_bytes(&p.world)
+    });
 }
 
 fn hardening(n: f64) -> plasticity::JohnsonCook {
