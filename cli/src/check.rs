@@ -188,8 +188,15 @@ fn check_mpm(scene: &Scene, disc: Discretization, before: &MemoryEstimate) -> Re
     let estimate = MemoryEstimate::new(scene, particles as f64, bonds as f64, 0.0);
     crate::memory::check_memory(&estimate)?;
     println!("  particles: {particles}");
+    // SPB-MPM's bonds come as particles join, the integral-based MPM's at the start.
+    let with_bonds = if bonds > 0 {
+        format!(" and their {bonds} bonds")
+    } else {
+        String::new()
+    };
     println!(
-        "  memory:    {:.1} MiB for the particles ({} bytes each; the MPM grid not counted)",
+        "  memory:    {:.1} MiB for the particles ({} bytes each){with_bonds} (the MPM grid \
+         not counted)",
         estimate.bytes / (1 << 20) as f64,
         BYTES_PER_PARTICLE
     );

@@ -2,9 +2,10 @@
 //! bonds, its elastic part after its plastic flow, and the bond force state's P K⁻¹
 //! (the module documentation of [`super`] has the equations and choices).
 
-use perifrac_math::{det3, dot, inverse3, mat_mul, norm, sub};
+use perifrac_math::{inverse3, mat_mul, sub};
 
-use super::{MIN_SHAPE, Measure};
+use super::Measure;
+use super::reference::{Member, Shape};
 use crate::family::{BROKEN, INDEX};
 use crate::mpm::constitutive::{self, Mat3};
 use crate::mpm::plasticity::Plasticity;
@@ -32,48 +33,41 @@ pub(super) struct Flow {
     pub(super) heating: f64,
 }
 
-/// Member `i`'s state: K and F^PD over its intact bonds (Eq. 6.7), its elastic part
-/// F_E after the plastic flow (the module documentation; F_E = F^PD for an elastic
-/// material) from its F_P⁻¹ `plastic_inverse`, P and P K⁻¹.
+/// The member's state: F^PD over its intact bonds with its K's `shape` (Eq. 6.7),
+/// its elastic part F_E after the plastic flow (the module documentation; F_E = F^PD
+/// for an elastic material) from its F_P⁻¹ `plastic_inverse`, P and P K⁻¹.
 pub(super) fn state(
-    i: usize,
-    family: &[u32],
+    member: Member<'_>,
+    shape: Shape,
     plastic_inverse: Option<&Mat3>,
     p: &MpmParticles,
     materials: &[MpmMaterial],
     delta: f64,
 ) -> (State, Option<Flow>) {
+    let Member { i, family, table } = member;
     let free = State {
         measure: Measure::Free,
         force: [[0.0; 3]; 3],
         spring: 0.0,
     };
-    let mut shape = [[0.0; 3]; 3];
+    let Shape::Spanning(shape_inverse) = shape else {
+        return (free, None);
+    };
     let mut moment = [[0.0; 3]; 3];
-    let mut whole = 0.0;
-    for &nb in family {
-        let q = (nb & INDEX) as usize;
-        let xi = sub(p.reference[q], p.reference[i]);
-        let w = delta / norm(xi) * p.volume[q];
-        whole += w * dot(xi, xi);
+    for (&nb, bond) in family.iter().zip(table) {
         if nb & BROKEN != 0 {
             continue;
         }
+        let q = (nb & INDEX) as usize;
+        let xi = sub(p.reference[q], p.reference[i]);
+        let w = delta / bond.length * p.volume[q];
         let y = sub(p.position[q], p.position[i]);
         for a in 0..3 {
             for b in 0..3 {
-                shape[a][b] += w * xi[a] * xi[b];
                 moment[a][b] += w * y[a] * xi[b];
             }
         }
     }
-    let (eigenvalues, _) = constitutive::symmetric_eigen(&shape);
-    let smallest = eigenvalues.iter().copied().fold(f64::INFINITY, f64::min);
-    let det = det3(&shape);
-    if smallest.is_nan() || smallest < MIN_SHAPE * whole / 3.0 || det <= 0.0 {
-        return (free, None);
-    }
-    let shape_inverse = inverse3(&shape, det);
     let bonds = mat_mul(&moment, &shape_inverse);
     let material = &materials[p.body[i] as usize];
     let (measure, elastic, total, flow) = if constitutive::determinant(&bonds) > 0.0 {

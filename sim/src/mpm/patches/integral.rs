@@ -62,15 +62,15 @@
 
 use std::collections::{BTreeMap, HashMap};
 
-use perifrac_math::{add, det3, dot, inverse3, mat_mul, mat_vec, norm, normalize, scale, sub};
+use perifrac_math::{add, dot, mat_mul, mat_vec, norm, normalize, scale, sub};
 use rayon::prelude::*;
 
-use super::reference::{Bond, NO_MIRROR};
-use super::{MIN_SHAPE, Measure, Patches, State};
+use super::reference::{Bond, Member, NO_MIRROR, Shape};
+use super::{Measure, Patches, State};
 use crate::error::Result;
 use crate::family::{BROKEN, INDEX};
 use crate::mpm::MpmParticles;
-use crate::mpm::constitutive::{self, Mat3};
+use crate::mpm::constitutive;
 
 /// The isotropic mean of n_x⁴ over directions, 1/5: c_p Σ ω V = 1/that.
 const UNIAXIAL_WEIGHT: f64 = 5.0;
@@ -86,57 +86,6 @@ pub struct IntegralBonds {
     pub yield_stress: Option<f64>,
     /// l_threshold of Eq. 5.21, or `None`: the bonds never break.
     pub critical_stretch: Option<f64>,
-}
-
-/// A member and its bonds: particle `i`, its family and their [`Bond`]s.
-#[derive(Clone, Copy)]
-pub(super) struct Member<'a> {
-    pub(super) i: usize,
-    pub(super) family: &'a [u32],
-    pub(super) table: &'a [Bond],
-}
-
-/// A member's shape tensor K = Σ ω X⊗X V over its intact bonds, as its state reads
-/// it: kept from step to step until one of its bonds breaks.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) enum Shape {
-    /// Not worked out since the member joined or last lost a bond.
-    Stale,
-    /// K⁻¹: the intact bonds span space.
-    Spanning(Mat3),
-    /// The intact bonds no longer span space (K's smallest eigenvalue below
-    /// [`MIN_SHAPE`] of the whole family's mean, or det K ≤ 0): springs only.
-    Flat,
-}
-
-/// The [`Shape`] of a member's intact bonds.
-pub(super) fn shape(member: Member<'_>, p: &MpmParticles, delta: f64) -> Shape {
-    let Member { i, family, table } = member;
-    let mut whole_moment = 0.0;
-    let mut shape = [[0.0; 3]; 3];
-    for (&nb, bond) in family.iter().zip(table) {
-        let q = (nb & INDEX) as usize;
-        let length = bond.length;
-        let w = delta / length * p.volume[q];
-        whole_moment += w * length * length;
-        if nb & BROKEN != 0 {
-            continue;
-        }
-        let xi = sub(p.reference[q], p.reference[i]);
-        for a in 0..3 {
-            for b in 0..3 {
-                shape[a][b] += w * xi[a] * xi[b];
-            }
-        }
-    }
-    let (eigenvalues, _) = constitutive::symmetric_eigen(&shape);
-    let smallest = eigenvalues.iter().copied().fold(f64::INFINITY, f64::min);
-    let det = det3(&shape);
-    if smallest.is_nan() || smallest < MIN_SHAPE * whole_moment / 3.0 || det <= 0.0 {
-        Shape::Flat
-    } else {
-        Shape::Spanning(inverse3(&shape, det))
-    }
 }
 
 /// The member's state at the step's start, after its bonds' plastic flow: P_μ K⁻¹ in

@@ -69,7 +69,7 @@
 //! follows from the checkpointed positions, histories and bonds, so a resumed run
 //! gives the same bytes.
 
-use perifrac_math::{dot, mat_vec, norm, sub};
+use perifrac_math::{dot, mat_vec, sub};
 use rayon::prelude::*;
 
 mod correspondence;
@@ -80,8 +80,7 @@ mod reference;
 
 use correspondence::{Flow, State, state};
 pub use integral::IntegralBonds;
-use integral::Shape;
-use reference::{Bond, Reference};
+use reference::{Bond, Member, Reference, Shape};
 
 use super::MpmMaterial;
 use super::MpmParticles;
@@ -177,8 +176,8 @@ pub struct Patches {
     /// Each member's bonds as the reference configuration fixes them, in family
     /// order (`reference.rs`).
     table: Vec<Vec<Bond>>,
-    /// Each member's K over its intact bonds, kept until one of them breaks (the
-    /// integral-based MPM's members; `integral.rs`).
+    /// Each member's K over its intact bonds, kept until one of them breaks
+    /// (`reference.rs`).
     shapes: Vec<Shape>,
     /// Each body's Σ ω V over its fullest family (bodies with bonds; 0 for the
     /// others), the bulk that the bonds' weights are scaled to (`integral.rs`).
@@ -293,10 +292,11 @@ impl Patches {
         })
     }
 
-    /// T_pq − T_qp of the bond from `p` to `q` (Eq. 6.8), with the states of this step.
-    fn bond_force(&self, p: usize, q: usize, x0: &[[f64; 3]]) -> [f64; 3] {
+    /// T_pq − T_qp of the bond of reference length `length` from `p` to `q` (Eq.
+    /// 6.8), with the states of this step.
+    fn bond_force(&self, p: usize, q: usize, length: f64, x0: &[[f64; 3]]) -> [f64; 3] {
         let xi = sub(x0[q], x0[p]);
-        let omega = self.horizon / norm(xi);
+        let omega = self.horizon / length;
         let fp = self.states[self.slot[p] as usize].force;
         let fq = self.states[self.slot[q] as usize].force;
         let tpq = mat_vec(fp, xi);
@@ -324,18 +324,18 @@ impl Patches {
             .zip(self.shapes.par_iter_mut())
             .map(|(((((&i, family), table), inverse), extensions), shape)| {
                 let i = i as usize;
+                let member = Member { i, family, table };
+                if *shape == Shape::Stale {
+                    *shape = reference::shape(member, p, delta);
+                }
                 match &bodies[p.body[i] as usize].bonds {
                     Some(bonds) => {
                         let full = full_weights[p.body[i] as usize];
-                        let member = integral::Member { i, family, table };
-                        if *shape == Shape::Stale {
-                            *shape = integral::shape(member, p, delta);
-                        }
                         let state =
                             integral::state(member, *shape, extensions, p, bonds, full, delta);
                         (state, None)
                     }
-                    None => state(i, family, inverse.as_ref(), p, materials, delta),
+                    None => state(member, *shape, inverse.as_ref(), p, materials, delta),
                 }
             })
             .collect();
@@ -378,7 +378,7 @@ impl Patches {
                     .iter()
                     .enumerate()
                     .filter(|&(_, &nb)| nb & BROKEN == 0)
-                    .filter(|&(_, &nb)| {
+                    .filter(|&(k, &nb)| {
                         let q = (nb & INDEX) as usize;
                         if free {
                             // A member that measures no F has lost its bonds.
@@ -394,7 +394,8 @@ impl Patches {
                             sub(p.position[q], p.position[i]),
                             sub(p.reference[q], p.reference[i]),
                         );
-                        dot(this.bond_force(i, q, &p.reference), u) > w_c
+                        let length = this.table[s][k].length;
+                        dot(this.bond_force(i, q, length, &p.reference), u) > w_c
                     })
                     .map(|(k, _)| k)
                     .collect()

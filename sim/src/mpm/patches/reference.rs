@@ -1,17 +1,18 @@
 //! The reference configuration of Ω^PD: the neighbour search that builds a joining
-//! particle's family, and what each member's bonds keep from it for good (their
-//! lengths |X|, the integral-based MPM's surface corrections G_p(n), and the other
-//! end's index of each bond), computed once when the member joins instead of every
-//! step.
+//! particle's family, what each member's bonds keep from it for good (their lengths
+//! |X|, the integral-based MPM's surface corrections G_p(n), and the other end's index
+//! of each bond), computed once when the member joins instead of every step, and each
+//! member's shape tensor K, kept until one of its bonds breaks.
 
-use perifrac_math::{norm, sub};
+use perifrac_math::{det3, inverse3, norm, sub};
 use rayon::prelude::*;
 
-use super::integral::{self, Shape};
-use super::{OUTSIDE, PatchBody, Patches};
+use super::integral;
+use super::{MIN_SHAPE, OUTSIDE, PatchBody, Patches};
 use crate::error::Result;
-use crate::family::{INDEX, Search, Solid};
+use crate::family::{BROKEN, INDEX, Search, Solid};
 use crate::mpm::MpmParticles;
+use crate::mpm::constitutive::{self, Mat3};
 
 /// [`Bond::mirror`] of a bond whose other end is not a member (or does not have the
 /// bond back).
@@ -27,6 +28,58 @@ pub(super) struct Bond {
     pub(super) correction: f64,
     /// The index of the same bond in the other end's family, or [`NO_MIRROR`].
     pub(super) mirror: u32,
+}
+
+/// A member and its bonds: particle `i`, its family and their [`Bond`]s.
+#[derive(Clone, Copy)]
+pub(super) struct Member<'a> {
+    pub(super) i: usize,
+    pub(super) family: &'a [u32],
+    pub(super) table: &'a [Bond],
+}
+
+/// A member's shape tensor K = Σ ω X⊗X V over its intact bonds (Eq. 6.7), as its
+/// state reads it: kept from step to step until one of its bonds breaks.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Shape {
+    /// Not worked out since the member joined or last lost a bond.
+    Stale,
+    /// K⁻¹: the intact bonds span space.
+    Spanning(Mat3),
+    /// The intact bonds no longer span space (K's smallest eigenvalue below
+    /// [`MIN_SHAPE`] of the whole family's mean, or det K ≤ 0): an SPB-MPM member is
+    /// free, an integral-based one keeps its springs only.
+    Flat,
+}
+
+/// The [`Shape`] of a member's intact bonds.
+pub(super) fn shape(member: Member<'_>, p: &MpmParticles, delta: f64) -> Shape {
+    let Member { i, family, table } = member;
+    let mut whole_moment = 0.0;
+    let mut shape = [[0.0; 3]; 3];
+    for (&nb, bond) in family.iter().zip(table) {
+        let q = (nb & INDEX) as usize;
+        let length = bond.length;
+        let w = delta / length * p.volume[q];
+        whole_moment += w * length * length;
+        if nb & BROKEN != 0 {
+            continue;
+        }
+        let xi = sub(p.reference[q], p.reference[i]);
+        for a in 0..3 {
+            for b in 0..3 {
+                shape[a][b] += w * xi[a] * xi[b];
+            }
+        }
+    }
+    let (eigenvalues, _) = constitutive::symmetric_eigen(&shape);
+    let smallest = eigenvalues.iter().copied().fold(f64::INFINITY, f64::min);
+    let det = det3(&shape);
+    if smallest.is_nan() || smallest < MIN_SHAPE * whole_moment / 3.0 || det <= 0.0 {
+        Shape::Flat
+    } else {
+        Shape::Spanning(inverse3(&shape, det))
+    }
 }
 
 impl Patches {
@@ -157,3 +210,6 @@ impl Reference {
         )
     }
 }
+
+#[cfg(test)]
+mod tests;
