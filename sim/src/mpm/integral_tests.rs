@@ -1,7 +1,7 @@
 //! The integral-based MPM (Lyu ch. 5): bonds between all material points.
 
 use super::Mpm;
-use super::patch_tests::{mpm, notched_bar, prepared, pull, pulled_bar};
+use super::patch_tests::{colliding_balls, mpm, notched_bar, prepared, pull, pulled_bar};
 use super::tests::{same_bytes_on_one_and_two_threads, state_bytes};
 use crate::run::Prepared;
 
@@ -145,16 +145,12 @@ fn a_notched_bar_of_bonds_breaks_in_two_past_its_critical_stretch() {
 /// bytes.
 #[test]
 fn bonds_breaking_in_a_collision_keep_momentum_and_bytes() {
-    let text = "[scene]\nduration = 1\nfps = 100\ngravity = [0, 0, 0]\n\
-         [materials.jelly]\ndensity = 1000\nyoungs_modulus = 1e5\npoisson_ratio = 0.25\n\
-         [materials.jelly.mpm]\nbonds = { yield_stress = 5e3, critical_stretch = 0.03 }\n\
-         [[body]]\nmodel = \"mpm\"\nmaterial = \"jelly\"\nresolution = 0.02\nvelocity = [4, 0, 0]\n\
-         shape = { type = \"sphere\", center = [-0.06, 0.0, 0.0], radius = 0.05 }\n\
-         [[body]]\nmodel = \"mpm\"\nmaterial = \"jelly\"\nresolution = 0.02\nvelocity = [-2, 0.5, 0]\n\
-         shape = { type = \"sphere\", center = [0.06, 0.01, 0.0], radius = 0.05 }\n\
-         [output]\ntets = false\nsurface = \"none\"\npreview = false\n";
+    let text = colliding_balls(
+        0.25,
+        "bonds = { yield_stress = 5e3, critical_stretch = 0.03 }\n",
+    );
     same_bytes_on_one_and_two_threads(|| {
-        let mut p = prepared(text);
+        let mut p = prepared(&text);
         let before = mpm(&p).momentum();
         let mut broken = 0;
         for _ in 0..(0.03 / p.world.dt) as usize {

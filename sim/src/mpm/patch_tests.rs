@@ -219,6 +219,22 @@ fn a_plastic_bar_half_peridynamic_flows_as_its_mpm_half() {
     );
 }
 
+/// Two jelly balls (density 1000 kg/m³, E = 100 kPa, Poisson's ratio
+/// `poisson_ratio`, 5 cm across on a 2 cm grid) meeting head-on at 6 m/s without
+/// gravity; `mpm_keys` (whole lines) go into `[materials.jelly.mpm]`.
+pub(super) fn colliding_balls(poisson_ratio: f64, mpm_keys: &str) -> String {
+    format!(
+        "[scene]\nduration = 1\nfps = 100\ngravity = [0, 0, 0]\n\
+         [materials.jelly]\ndensity = 1000\nyoungs_modulus = 1e5\npoisson_ratio = {poisson_ratio}\n\
+         [materials.jelly.mpm]\n{mpm_keys}\
+         [[body]]\nmodel = \"mpm\"\nmaterial = \"jelly\"\nresolution = 0.02\nvelocity = [4, 0, 0]\n\
+         shape = {{ type = \"sphere\", center = [-0.06, 0.0, 0.0], radius = 0.05 }}\n\
+         [[body]]\nmodel = \"mpm\"\nmaterial = \"jelly\"\nresolution = 0.02\nvelocity = [-2, 0.5, 0]\n\
+         shape = {{ type = \"sphere\", center = [0.06, 0.01, 0.0], radius = 0.05 }}\n\
+         [output]\ntets = false\nsurface = \"none\"\npreview = false\n"
+    )
+}
+
 /// A 6 × 20 × 4 cm bar of material `material` (density 1000 kg/m³, E = 100 kPa,
 /// Poisson's ratio `poisson_ratio`) on a 1 cm grid, its bottom and top 2 cm held and
 /// the top pulled at 2 cm/s, without gravity; `mpm_keys` (whole lines) go into its
@@ -323,15 +339,8 @@ fn half_peridynamic_bar(plasticity: &str) -> (f64, f64, [f64; 2]) {
 /// halo reactions and pairwise bond forces keep the momentum.
 #[test]
 fn bonds_breaking_in_a_collision_keep_momentum() {
-    let text = "[scene]\nduration = 1\nfps = 100\ngravity = [0, 0, 0]\n\
-         [materials.jelly]\ndensity = 1000\nyoungs_modulus = 1e5\npoisson_ratio = 0.3\n\
-         [materials.jelly.mpm]\nenergy_release_rate = 0.05\n\
-         [[body]]\nmodel = \"mpm\"\nmaterial = \"jelly\"\nresolution = 0.02\nvelocity = [4, 0, 0]\n\
-         shape = { type = \"sphere\", center = [-0.06, 0.0, 0.0], radius = 0.05 }\n\
-         [[body]]\nmodel = \"mpm\"\nmaterial = \"jelly\"\nresolution = 0.02\nvelocity = [-2, 0.5, 0]\n\
-         shape = { type = \"sphere\", center = [0.06, 0.01, 0.0], radius = 0.05 }\n\
-         [output]\ntets = false\nsurface = \"none\"\npreview = false\n";
-    let mut p = prepared(text);
+    let text = colliding_balls(0.3, "energy_release_rate = 0.05\n");
+    let mut p = prepared(&text);
     let before = mpm(&p).momentum();
     let mut broken = 0;
     for _ in 0..(0.04 / p.world.dt) as usize {

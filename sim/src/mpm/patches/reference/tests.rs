@@ -1,7 +1,7 @@
 //! What the patches keep from the reference configuration against a fresh computation.
 
 use super::*;
-use crate::mpm::patch_tests::{mpm, prepared};
+use crate::mpm::patch_tests::{colliding_balls, mpm, prepared};
 
 /// Two balls of `[materials.jelly.mpm]` line `keys` (Poisson's ratio 1/4) collide
 /// head-on without gravity for `seconds`; then every bond of a member to a member
@@ -9,16 +9,7 @@ use crate::mpm::patch_tests::{mpm, prepared};
 /// `pairs` (the integral-based MPM breaks pairs together), and every kept [`Shape`]
 /// is that of the member's intact bonds now. Returns the directed bonds that broke.
 fn check_kept(keys: &str, seconds: f64, pairs: bool) -> usize {
-    let text = format!(
-        "[scene]\nduration = 1\nfps = 100\ngravity = [0, 0, 0]\n\
-         [materials.jelly]\ndensity = 1000\nyoungs_modulus = 1e5\npoisson_ratio = 0.25\n\
-         [materials.jelly.mpm]\n{keys}\n\
-         [[body]]\nmodel = \"mpm\"\nmaterial = \"jelly\"\nresolution = 0.02\nvelocity = [4, 0, 0]\n\
-         shape = {{ type = \"sphere\", center = [-0.06, 0.0, 0.0], radius = 0.05 }}\n\
-         [[body]]\nmodel = \"mpm\"\nmaterial = \"jelly\"\nresolution = 0.02\nvelocity = [-2, 0.5, 0]\n\
-         shape = {{ type = \"sphere\", center = [0.06, 0.01, 0.0], radius = 0.05 }}\n\
-         [output]\ntets = false\nsurface = \"none\"\npreview = false\n"
-    );
+    let text = colliding_balls(0.25, &format!("{keys}\n"));
     let mut prepared = prepared(&text);
     let mut broken = 0;
     for _ in 0..(seconds / prepared.world.dt) as usize {
