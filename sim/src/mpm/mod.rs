@@ -50,6 +50,7 @@ mod tests;
 
 use std::time::Instant;
 
+use rayon::iter::Either;
 use rayon::prelude::*;
 
 use crate::error::{Result, SimError};
@@ -256,6 +257,9 @@ pub struct Mpm {
     momentum_affine: Vec<Mat3>,
     /// Scratch: the anchored particles of this step and their anchors' velocities.
     held: Vec<(u32, [f64; 3])>,
+    /// Scratch: each particle's eigenerosion history as the stress stage raised it
+    /// (empty unless a body erodes).
+    raised: Vec<f64>,
     times: StageTimes,
 }
 
@@ -272,6 +276,7 @@ impl Mpm {
             patches: None,
             momentum_affine: vec![[[0.0; 3]; 3]; n],
             held: Vec::new(),
+            raised: Vec::new(),
             times: StageTimes::default(),
         }
     }
@@ -333,9 +338,9 @@ impl Mpm {
         let t1 = Instant::now();
         self.stress(dt);
         let t2 = Instant::now();
-        if let Some(patches) = &mut self.patches {
+        if let Some(patches) = self.patches.as_mut().filter(|p| p.erodes()) {
             // Timed by the patches ("spb erosion"), not as a stage of the MPM's own.
-            patches.erode(&self.particles, &self.materials, &mut self.grid)?;
+            patches.erode(&self.particles, &mut self.grid, &mut self.raised)?;
         }
         let eroded = Instant::now();
         let p = &self.particles;
@@ -386,6 +391,7 @@ impl Mpm {
     /// model's internal energy advances by Eq. 7.3 with the same stress.
     fn stress(&mut self, dt: f64) {
         let p = &mut self.particles;
+        let n = p.len();
         let d_inv = D_INVERSE_FACTOR / (self.grid.dx * self.grid.dx);
         let materials = &self.materials;
         let affine_share = match self.transfer {
@@ -395,8 +401,10 @@ impl Mpm {
         let (deformation, volume, mass, affine, body) =
             (&p.deformation, &p.volume, &p.mass, &p.affine, &p.body);
         let patches = self.patches.as_ref();
-        let kernel = |i: usize, a: &mut Mat3, e: Option<&mut f64>| {
-            let material = &materials[body[i] as usize];
+        let eroding = patches.filter(|patches| patches.erodes());
+        let kernel = |i: usize, a: &mut Mat3, e: Option<&mut f64>, raised: Option<&mut f64>| {
+            let b = body[i] as usize;
+            let material = &materials[b];
             // A peridynamic particle's forces come from its bonds, not the grid; its
             // stress (for the shock model's Eq. 7.3) is σ(F^PD).
             let (f, member) = match patches.and_then(|patches| patches.measure(i)) {
@@ -406,11 +414,14 @@ impl Mpm {
                 None => (Some(deformation[i]), false),
             };
             let energy = e.as_deref().copied().unwrap_or(0.0);
-            // A member's stress is needed only for its internal energy.
-            let wanted = !member || e.is_some();
+            // A member's stress is needed only for its internal energy and erosion.
+            let wanted = !member || e.is_some() || raised.is_some();
             let stress = f
                 .filter(|_| wanted)
                 .map(|f| (material.kirchhoff(&f, energy), f));
+            if let (Some(raised), Some(patches)) = (raised, eroding) {
+                *raised = patches.raised_history(i, b, stress.as_ref().map(|(t, f)| (t, f)));
+            }
             if let (Some(e), Some((tau, f))) = (e, &stress) {
                 let j = constitutive::determinant(f);
                 let sigma = tau.map(|row| row.map(|x| x / j));
@@ -428,20 +439,27 @@ impl Mpm {
                 }
             }
         };
-        if p.internal_energy.is_empty() {
-            self.momentum_affine
-                .par_iter_mut()
-                .enumerate()
-                .with_min_len(256)
-                .for_each(|(i, a)| kernel(i, a, None));
+        // The internal energies (shock materials) and the raised histories (eroding
+        // bodies) where the scene has them, `None` a particle where not.
+        let energies = if p.internal_energy.is_empty() {
+            Either::Right((0..n).into_par_iter().map(|_| None))
         } else {
-            self.momentum_affine
-                .par_iter_mut()
-                .zip(p.internal_energy.par_iter_mut())
-                .enumerate()
-                .with_min_len(256)
-                .for_each(|(i, (a, e))| kernel(i, a, Some(e)));
-        }
+            Either::Left(p.internal_energy.par_iter_mut().map(Some))
+        };
+        self.raised
+            .resize(if eroding.is_some() { n } else { 0 }, 0.0);
+        let raised = if self.raised.is_empty() {
+            Either::Right((0..n).into_par_iter().map(|_| None))
+        } else {
+            Either::Left(self.raised.par_iter_mut().map(Some))
+        };
+        self.momentum_affine
+            .par_iter_mut()
+            .zip(energies)
+            .zip(raised)
+            .enumerate()
+            .with_min_len(256)
+            .for_each(|(i, ((a, e), h))| kernel(i, a, e, h));
     }
 
     /// Projects each plastic particle's grown deformation gradient onto its material's

@@ -26,8 +26,76 @@ impl SparseGrid {
         velocity: &[[f64; 3]],
         affine: &[Mat3],
     ) {
-        let inv_dx = 1.0 / self.dx;
         let dx = self.dx;
+        self.scatter_each(position, |p, s, local, buffer| {
+            let (m, c) = (mass[p], &affine[p]);
+            // The momentum a node receives, m v + A (x_i − x_p) with
+            // x_i − x_p = ((i, j, k) − fx) Δx, is q + Δx (i A₀ + j A₁ + k A₂)
+            // with q = m v − Δx A fx and A_e the columns of A: sums of
+            // per-axis terms hoisted out of the loops.
+            let q = [0, 1, 2].map(|a| {
+                m * velocity[p][a]
+                    - dx * (c[a][0] * s.fx[0] + c[a][1] * s.fx[1] + c[a][2] * s.fx[2])
+            });
+            // column[e][n] = n Δx A_e, for the node offset n = 0, 1, 2 along e.
+            let mut column = [[[0.0; 3]; 3]; 3];
+            for (e, per_axis) in column.iter_mut().enumerate() {
+                for (n, term) in per_axis.iter_mut().enumerate() {
+                    for (a, x) in term.iter_mut().enumerate() {
+                        *x = dx * n as f64 * c[a][e];
+                    }
+                }
+            }
+            for k in 0..3 {
+                let (wk, ck) = (s.w[2][k], column[2][k]);
+                for j in 0..3 {
+                    let (wjk, cj) = (s.w[1][j] * wk, column[1][j]);
+                    let row = cube_index(local[0], local[1] + j, local[2] + k, SPAN);
+                    for i in 0..3 {
+                        let w = s.w[0][i] * wjk;
+                        let ci = column[0][i];
+                        let node = &mut buffer[row + i];
+                        node[0] += w * m;
+                        for a in 0..3 {
+                            node[1 + a] += w * (q[a] + ck[a] + cj[a] + ci[a]);
+                        }
+                    }
+                }
+            }
+        });
+    }
+
+    /// A P2G of a scalar s_p alone: each node receives Σ_p w_ip m_p and Σ_p w_ip m_p s_p
+    /// as its mass and first momentum component (the other two zero), the nodes
+    /// [`SparseGrid::p2g`] gives for the velocity (s_p, 0, 0) and no affine momentum,
+    /// to the bit, at half its work. [`SparseGrid::centre_ratio`] reads them.
+    pub fn p2g_scalar(&mut self, position: &[[f64; 3]], mass: &[f64], value: &[f64]) {
+        self.scatter_each(position, |p, s, local, buffer| {
+            let (m, q) = (mass[p], mass[p] * value[p]);
+            for k in 0..3 {
+                for j in 0..3 {
+                    let wjk = s.w[1][j] * s.w[2][k];
+                    let row = cube_index(local[0], local[1] + j, local[2] + k, SPAN);
+                    for i in 0..3 {
+                        let w = s.w[0][i] * wjk;
+                        let node = &mut buffer[row + i];
+                        node[0] += w * m;
+                        node[1] += w * q;
+                    }
+                }
+            }
+        });
+    }
+
+    /// The scatter and gather of a P2G: each bin's particles, in their sorted order,
+    /// `deposit` into the bin's private buffer (`local`: the stencil's base node in
+    /// it), then [`SparseGrid::gather`].
+    fn scatter_each(
+        &mut self,
+        position: &[[f64; 3]],
+        deposit: impl Fn(usize, &Stencil, [usize; 3], &mut [[f64; 4]]) + Sync,
+    ) {
+        let inv_dx = 1.0 / self.dx;
         self.scatter.clear();
         self.scatter.resize(self.bins.len() * SPAN_NODES, [0.0; 4]);
         let order = &self.order;
@@ -40,40 +108,7 @@ impl SparseGrid {
                     let p = p as usize;
                     let s = Stencil::new(position[p], inv_dx);
                     let local = [0, 1, 2].map(|a| (s.base[a] - origin[a]) as usize);
-                    let (m, c) = (mass[p], &affine[p]);
-                    // The momentum a node receives, m v + A (x_i − x_p) with
-                    // x_i − x_p = ((i, j, k) − fx) Δx, is q + Δx (i A₀ + j A₁ + k A₂)
-                    // with q = m v − Δx A fx and A_e the columns of A: sums of
-                    // per-axis terms hoisted out of the loops.
-                    let q = [0, 1, 2].map(|a| {
-                        m * velocity[p][a]
-                            - dx * (c[a][0] * s.fx[0] + c[a][1] * s.fx[1] + c[a][2] * s.fx[2])
-                    });
-                    // column[e][n] = n Δx A_e, for the node offset n = 0, 1, 2 along e.
-                    let mut column = [[[0.0; 3]; 3]; 3];
-                    for (e, per_axis) in column.iter_mut().enumerate() {
-                        for (n, term) in per_axis.iter_mut().enumerate() {
-                            for (a, x) in term.iter_mut().enumerate() {
-                                *x = dx * n as f64 * c[a][e];
-                            }
-                        }
-                    }
-                    for k in 0..3 {
-                        let (wk, ck) = (s.w[2][k], column[2][k]);
-                        for j in 0..3 {
-                            let (wjk, cj) = (s.w[1][j] * wk, column[1][j]);
-                            let row = cube_index(local[0], local[1] + j, local[2] + k, SPAN);
-                            for i in 0..3 {
-                                let w = s.w[0][i] * wjk;
-                                let ci = column[0][i];
-                                let node = &mut buffer[row + i];
-                                node[0] += w * m;
-                                for a in 0..3 {
-                                    node[1 + a] += w * (q[a] + ck[a] + cj[a] + ci[a]);
-                                }
-                            }
-                        }
-                    }
+                    deposit(p, &s, local, buffer);
                 }
             });
         self.gather();

@@ -189,9 +189,6 @@ pub struct Patches {
     tractions: Vec<Vec<[f64; 3]>>,
     /// Scratch: this step's bond accelerations of the members and their halo.
     accelerations: Vec<(u32, [f64; 3])>,
-    /// Scratch: EE_p as the velocity a P2G carries, and no affine momentum.
-    carried: Vec<[f64; 3]>,
-    still: Vec<Mat3>,
     /// The reference neighbour search, built when the first particle joins.
     reference: Option<Reference>,
     /// Stage timers.
@@ -231,8 +228,6 @@ impl Patches {
                 states: Vec::new(),
                 tractions: Vec::new(),
                 accelerations: Vec::new(),
-                carried: Vec::new(),
-                still: Vec::new(),
                 reference: None,
                 times: PatchTimes::default(),
             })
@@ -418,61 +413,51 @@ impl Patches {
         count
     }
 
-    /// Eigenerosion (Eq. 6.9–6.10): updates each fracturing particle's history EE_p
-    /// from its stress this step, carries it to the grid (a P2G that leaves the nodes
-    /// to the real one after it) and adds the particles of eroded cells to Ω^PD, each
-    /// with its family. Returns how many joined.
+    /// Whether any body erodes: the stress stage then raises each particle's history
+    /// ([`Patches::raised_history`]) for [`Patches::erode`].
+    pub fn erodes(&self) -> bool {
+        self.bodies.iter().any(|b| b.fracture.is_some())
+    }
+
+    /// Eigenerosion's history (Eq. 6.9): particle `i`'s EE_p raised to Φ(σ⁺) =
+    /// Σ max(σ_k, 0)² / (2E) under its stress this step, given as the Kirchhoff stress
+    /// τ = J σ of the stress stage with its F (`None` for a free member, whose history
+    /// stays), so that σ is not evaluated twice.
+    pub fn raised_history(&self, i: usize, body: usize, stress: Option<(&Mat3, &Mat3)>) -> f64 {
+        let history = self.history[i];
+        let (Some(fracture), Some((tau, f))) = (self.bodies[body].fracture, stress) else {
+            return history;
+        };
+        let j = constitutive::determinant(f);
+        let scale = 1.0 / (2.0 * fracture.young * j * j);
+        // Φ(σ⁺) ≤ σ:σ / (2E): no eigen-solve when that cannot raise EE_p.
+        let whole: f64 = tau.iter().flatten().map(|t| t * t).sum::<f64>() * scale;
+        if whole <= history {
+            return history;
+        }
+        let (values, _) = constitutive::symmetric_eigen(tau);
+        let tension: f64 = values.iter().map(|&s| s.max(0.0).powi(2)).sum();
+        history.max(tension * scale)
+    }
+
+    /// Eigenerosion (Eq. 6.9–6.10): takes each particle's history EE_p as the stress
+    /// stage raised it ([`Patches::raised_history`], one entry a particle), carries it
+    /// to the grid (a P2G that leaves the nodes to the real one after it) and adds the
+    /// particles of eroded cells to Ω^PD, each with its family. Hands back the old
+    /// histories' buffer for the next step's. Returns how many joined.
     ///
     /// # Errors
     /// [`crate::error::SimError::Refused`] if the neighbour search cannot be built.
     pub fn erode(
         &mut self,
         particles: &MpmParticles,
-        materials: &[MpmMaterial],
         grid: &mut SparseGrid,
+        raised: &mut Vec<f64>,
     ) -> Result<usize> {
-        if self.bodies.iter().all(|b| b.fracture.is_none()) {
-            return Ok(0);
-        }
         let started = std::time::Instant::now();
         let p = particles;
-        let this = &*self;
-        let history = &self.history;
-        let raised: Vec<f64> = (0..p.len())
-            .into_par_iter()
-            .with_min_len(256)
-            .map(|i| {
-                let b = p.body[i] as usize;
-                let Some(fracture) = this.bodies[b].fracture else {
-                    return history[i];
-                };
-                let f = match this.measure(i) {
-                    Some(Measure::Bonds(f)) => f,
-                    Some(Measure::Material) | None => p.deformation[i],
-                    Some(Measure::Free) => return history[i],
-                };
-                let energy = p.internal_energy.get(i).copied().unwrap_or(0.0);
-                let tau = materials[b].kirchhoff(&f, energy);
-                let j = constitutive::determinant(&f);
-                let scale = 1.0 / (2.0 * fracture.young * j * j);
-                // Φ(σ⁺) ≤ σ:σ / (2E): no eigen-solve when that cannot raise EE_p.
-                let whole: f64 = tau.iter().flatten().map(|t| t * t).sum::<f64>() * scale;
-                if whole <= history[i] {
-                    return history[i];
-                }
-                let (values, _) = constitutive::symmetric_eigen(&tau);
-                let tension: f64 = values.iter().map(|&s| s.max(0.0).powi(2)).sum();
-                history[i].max(tension * scale)
-            })
-            .collect();
-        self.history = raised;
-        if self.still.len() != p.len() {
-            self.still = vec![[[0.0; 3]; 3]; p.len()];
-        }
-        self.carried.clear();
-        self.carried
-            .extend(self.history.iter().map(|&h| [h, 0.0, 0.0]));
-        grid.p2g(&p.position, &p.mass, &self.carried, &self.still);
+        std::mem::swap(&mut self.history, raised);
+        grid.p2g_scalar(&p.position, &p.mass, &self.history);
         let length = RELEASE_LENGTH_HORIZONS * self.horizon;
         let released = grid.centre_ratio(&p.position);
         let joining: Vec<usize> = (0..p.len())
