@@ -96,8 +96,22 @@ pub const JACOBI_SWEEPS: usize = 16;
 /// (10⁻¹⁵)² of the diagonal's, so the eigenvalues carry an error of about 10⁻¹⁵ ‖A‖;
 /// the order of the eigenvalues is not sorted.
 pub fn symmetric_eigen(a: &Mat3) -> ([f64; 3], Mat3) {
-    let mut a = *a;
     let mut v = IDENTITY;
+    let values = jacobi(a, Some(&mut v));
+    (values, v)
+}
+
+/// The eigenvalues of [`symmetric_eigen`], to the bit, without the work on the
+/// eigenvectors.
+pub fn symmetric_eigenvalues(a: &Mat3) -> [f64; 3] {
+    jacobi(a, None)
+}
+
+/// The cyclic Jacobi sweeps of [`symmetric_eigen`], accumulating the rotations in `v`
+/// when given; inlined so that each caller gets the loop without the test.
+#[inline(always)]
+fn jacobi(a: &Mat3, mut v: Option<&mut Mat3>) -> [f64; 3] {
+    let mut a = *a;
     for _ in 0..JACOBI_SWEEPS {
         let off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
         let diagonal = a[0][0] * a[0][0] + a[1][1] * a[1][1] + a[2][2] * a[2][2];
@@ -127,14 +141,16 @@ pub fn symmetric_eigen(a: &Mat3) -> ([f64; 3], Mat3) {
             a[p][r] = a[r][p];
             a[r][q] = s * arp + c * arq;
             a[q][r] = a[r][q];
-            for row in v.iter_mut() {
-                let (vp, vq) = (row[p], row[q]);
-                row[p] = c * vp - s * vq;
-                row[q] = s * vp + c * vq;
+            if let Some(v) = v.as_deref_mut() {
+                for row in v.iter_mut() {
+                    let (vp, vq) = (row[p], row[q]);
+                    row[p] = c * vp - s * vq;
+                    row[q] = s * vp + c * vq;
+                }
             }
         }
     }
-    ([a[0][0], a[1][1], a[2][2]], v)
+    [a[0][0], a[1][1], a[2][2]]
 }
 
 /// FᵀF, the right Cauchy–Green tensor C.

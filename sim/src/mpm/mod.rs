@@ -331,8 +331,7 @@ impl Mpm {
                 mass[i as usize] = p.mass[i as usize];
                 velocity[i as usize] = v;
             }
-            let zero = vec![[[0.0; 3]; 3]; p.len()];
-            self.grid.p2g(&p.position, &mass, &velocity, &zero);
+            self.grid.p2g_momentum(&p.position, &mass, &velocity);
             self.grid.keep_held();
         }
         let t1 = Instant::now();
@@ -348,8 +347,7 @@ impl Mpm {
             Transfer::Apic => None,
             Transfer::PicFlip { flip_ratio } => {
                 // The grid velocity before forces, v̄_i, from a P2G of momentum alone.
-                let zero = vec![[[0.0; 3]; 3]; p.len()];
-                self.grid.p2g(&p.position, &p.mass, &p.velocity, &zero);
+                self.grid.p2g_momentum(&p.position, &p.mass, &p.velocity);
                 self.grid.keep_velocity();
                 Some(flip_ratio)
             }

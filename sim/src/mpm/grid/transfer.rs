@@ -65,6 +65,33 @@ impl SparseGrid {
         });
     }
 
+    /// A P2G of momentum alone: each node receives Σ_p w_ip m_p and Σ_p w_ip m_p v_p,
+    /// the nodes [`SparseGrid::p2g`] gives with no affine momentum, to the bit, without
+    /// its work on A_p; particles of zero mass (those a held P2G leaves out) are skipped.
+    pub fn p2g_momentum(&mut self, position: &[[f64; 3]], mass: &[f64], velocity: &[[f64; 3]]) {
+        self.scatter_each(position, |p, s, local, buffer| {
+            let m = mass[p];
+            if m == 0.0 {
+                return;
+            }
+            let q = velocity[p].map(|v| m * v);
+            for k in 0..3 {
+                for j in 0..3 {
+                    let wjk = s.w[1][j] * s.w[2][k];
+                    let row = cube_index(local[0], local[1] + j, local[2] + k, SPAN);
+                    for i in 0..3 {
+                        let w = s.w[0][i] * wjk;
+                        let node = &mut buffer[row + i];
+                        node[0] += w * m;
+                        for a in 0..3 {
+                            node[1 + a] += w * q[a];
+                        }
+                    }
+                }
+            }
+        });
+    }
+
     /// A P2G of a scalar s_p alone: each node receives Σ_p w_ip m_p and Σ_p w_ip m_p s_p
     /// as its mass and first momentum component (the other two zero), the nodes
     /// [`SparseGrid::p2g`] gives for the velocity (s_p, 0, 0) and no affine momentum,

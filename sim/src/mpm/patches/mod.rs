@@ -435,7 +435,7 @@ impl Patches {
         if whole <= history {
             return history;
         }
-        let (values, _) = constitutive::symmetric_eigen(tau);
+        let values = constitutive::symmetric_eigenvalues(tau);
         let tension: f64 = values.iter().map(|&s| s.max(0.0).powi(2)).sum();
         history.max(tension * scale)
     }

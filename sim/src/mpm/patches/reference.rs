@@ -72,7 +72,7 @@ pub(super) fn shape(member: Member<'_>, p: &MpmParticles, delta: f64) -> Shape {
             }
         }
     }
-    let (eigenvalues, _) = constitutive::symmetric_eigen(&shape);
+    let eigenvalues = constitutive::symmetric_eigenvalues(&shape);
     let smallest = eigenvalues.iter().copied().fold(f64::INFINITY, f64::min);
     let det = det3(&shape);
     if smallest.is_nan() || smallest < MIN_SHAPE * whole_moment / 3.0 || det <= 0.0 {
