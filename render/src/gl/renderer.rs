@@ -15,7 +15,9 @@ use glow::HasContext;
 use image::RgbImage;
 
 use super::context::{Backend, Context};
+use super::occlusion::visible_points;
 use super::shaders;
+use super::targets::{Targets, check_size};
 use crate::RenderError;
 use crate::camera::{Bounds, Camera, Mat4, shadow_view_projection};
 use crate::geometry::{FrameGeometry, MESH_STRIDE, POINT_STRIDE, srgb_to_linear};
@@ -79,16 +81,6 @@ struct Programs {
     shadow_points: glow::Program,
 }
 
-struct Targets {
-    width: i32,
-    height: i32,
-    msaa: glow::Framebuffer,
-    msaa_color: glow::Renderbuffer,
-    msaa_depth: glow::Renderbuffer,
-    resolve: glow::Framebuffer,
-    resolve_color: glow::Renderbuffer,
-}
-
 /// A GL context with everything a frame needs, for one thread.
 pub struct Renderer {
     programs: Programs,
@@ -111,7 +103,7 @@ fn background() -> [f32; 3] {
     [0.70, 0.72, 0.75].map(srgb_to_linear)
 }
 
-fn gl_error(what: &str, message: impl std::fmt::Display) -> RenderError {
+pub(super) fn gl_error(what: &str, message: impl std::fmt::Display) -> RenderError {
     RenderError::Gl(format!("{what}: {message}"))
 }
 
@@ -149,76 +141,6 @@ unsafe fn compile(
             gl.delete_shader(shader);
         }
         Ok(program)
-    }
-}
-
-unsafe fn make_targets(
-    gl: &glow::Context,
-    width: i32,
-    height: i32,
-) -> Result<Targets, RenderError> {
-    // SAFETY (whole body): framebuffer objects on the current context.
-    unsafe {
-        let renderbuffer = |samples: i32, format: u32| -> Result<glow::Renderbuffer, RenderError> {
-            let rb = gl
-                .create_renderbuffer()
-                .map_err(|e| gl_error("renderbuffer", e))?;
-            gl.bind_renderbuffer(glow::RENDERBUFFER, Some(rb));
-            gl.renderbuffer_storage_multisample(glow::RENDERBUFFER, samples, format, width, height);
-            Ok(rb)
-        };
-        let msaa_color = renderbuffer(SAMPLES, glow::SRGB8_ALPHA8)?;
-        let msaa_depth = renderbuffer(SAMPLES, glow::DEPTH_COMPONENT24)?;
-        let resolve_color = renderbuffer(0, glow::SRGB8_ALPHA8)?;
-        let msaa = gl
-            .create_framebuffer()
-            .map_err(|e| gl_error("framebuffer", e))?;
-        gl.bind_framebuffer(glow::FRAMEBUFFER, Some(msaa));
-        gl.framebuffer_renderbuffer(
-            glow::FRAMEBUFFER,
-            glow::COLOR_ATTACHMENT0,
-            glow::RENDERBUFFER,
-            Some(msaa_color),
-        );
-        gl.framebuffer_renderbuffer(
-            glow::FRAMEBUFFER,
-            glow::DEPTH_ATTACHMENT,
-            glow::RENDERBUFFER,
-            Some(msaa_depth),
-        );
-        let status = gl.check_framebuffer_status(glow::FRAMEBUFFER);
-        if status != glow::FRAMEBUFFER_COMPLETE {
-            return Err(gl_error(
-                "MSAA framebuffer",
-                format!("incomplete ({status:#x}) at {width}×{height}"),
-            ));
-        }
-        let resolve = gl
-            .create_framebuffer()
-            .map_err(|e| gl_error("framebuffer", e))?;
-        gl.bind_framebuffer(glow::FRAMEBUFFER, Some(resolve));
-        gl.framebuffer_renderbuffer(
-            glow::FRAMEBUFFER,
-            glow::COLOR_ATTACHMENT0,
-            glow::RENDERBUFFER,
-            Some(resolve_color),
-        );
-        let status = gl.check_framebuffer_status(glow::FRAMEBUFFER);
-        if status != glow::FRAMEBUFFER_COMPLETE {
-            return Err(gl_error(
-                "resolve framebuffer",
-                format!("incomplete ({status:#x})"),
-            ));
-        }
-        Ok(Targets {
-            width,
-            height,
-            msaa,
-            msaa_color,
-            msaa_depth,
-            resolve,
-            resolve_color,
-        })
     }
 }
 
@@ -267,7 +189,7 @@ impl Renderer {
                 )?,
                 shadow_points: compile(gl, shaders::POINT_VERTEX, shaders::SHADOW_POINT_FRAGMENT)?,
             };
-            let targets = make_targets(gl, w, h)?;
+            let targets = Targets::new(gl, w, h)?;
             let shadow_map = gl.create_texture().map_err(|e| gl_error("texture", e))?;
             gl.bind_texture(glow::TEXTURE_2D, Some(shadow_map));
             gl.tex_image_2d(
@@ -384,13 +306,8 @@ impl Renderer {
         let gl = &self.context.gl;
         // SAFETY: deleting objects this renderer owns, then making new ones.
         unsafe {
-            let t = &self.targets;
-            gl.delete_framebuffer(t.msaa);
-            gl.delete_framebuffer(t.resolve);
-            for rb in [t.msaa_color, t.msaa_depth, t.resolve_color] {
-                gl.delete_renderbuffer(rb);
-            }
-            self.targets = make_targets(gl, w, h)?;
+            self.targets.delete(gl);
+            self.targets = Targets::new(gl, w, h)?;
         }
         Ok(())
     }
@@ -591,106 +508,6 @@ impl Renderer {
     }
 }
 
-/// Cell size (pixels) of the occlusion grid of [`visible_points`].
-const CELL: f32 = 1.0;
-
-/// The points that can be seen through `view_proj` on a `width`×`height` target, nearest
-/// first, appended to `out` (interleaved, [`POINT_STRIDE`] floats each).
-///
-/// Impostors are flat discs at their centre's depth (no `gl_FragDepth`), so a disc is
-/// hidden exactly where a disc with a nearer centre covers it. Going front to back over a
-/// grid of `CELL`-pixel cells, a disc is kept unless every cell it overlaps is already
-/// covered; a kept disc covers the cells that lie wholly inside it. This is
-/// conservative (only wholly hidden discs are dropped), so the image is the same as
-/// drawing all of them, while a dense block of particles shades only its outer layer
-/// (llvmpipe cannot reject fragments early in a shader that discards). Ties keep the
-/// input order, so the result is the same on every run.
-fn visible_points(
-    points: &[f32],
-    view_proj: &Mat4,
-    pixels_per_unit: f32,
-    perspective: bool,
-    (width, height): (i32, i32),
-    out: &mut Vec<f32>,
-) {
-    let (gw, gh) = (
-        (width as f32 / CELL).ceil() as usize,
-        (height as f32 / CELL).ceil() as usize,
-    );
-    // (depth key, index, centre x, centre y in cells, radius in cells)
-    let mut order: Vec<(u32, u32, f32, f32, f32)> = points
-        .chunks_exact(POINT_STRIDE)
-        .enumerate()
-        .filter_map(|(i, p)| {
-            let c = crate::camera::transform(view_proj, [p[0], p[1], p[2]]);
-            let w = if perspective { c[3] } else { 1.0 };
-            if w.is_nan() || w <= 0.0 || !c.iter().all(|v| v.is_finite()) {
-                return None;
-            }
-            let (x, y, z) = (c[0] / c[3], c[1] / c[3], c[2] / c[3]);
-            let r = p[3] * pixels_per_unit / w / CELL;
-            let (cx, cy) = (
-                (x * 0.5 + 0.5) * width as f32 / CELL,
-                (y * 0.5 + 0.5) * height as f32 / CELL,
-            );
-            let margin = r + 1.0;
-            if !(-1.0..=1.0).contains(&z)
-                || cx < -margin
-                || cy < -margin
-                || cx > gw as f32 + margin
-                || cy > gh as f32 + margin
-            {
-                return None;
-            }
-            // Depth in [0, 2]: non-negative floats order like their bit patterns.
-            Some(((z + 1.0).to_bits(), i as u32, cx, cy, r))
-        })
-        .collect();
-    order.sort_unstable_by_key(|o| (o.0, o.1));
-    let mut covered = vec![false; gw * gh];
-    for (_, i, cx, cy, r) in order {
-        let x0 = ((cx - r).floor().max(0.0) as usize).min(gw);
-        let x1 = ((cx + r).ceil().max(0.0) as usize).min(gw);
-        let y0 = ((cy - r).floor().max(0.0) as usize).min(gh);
-        let y1 = ((cy + r).ceil().max(0.0) as usize).min(gh);
-        // Hidden if every cell the disc overlaps (nearest point within r) is covered.
-        let hidden = x0 < x1
-            && y0 < y1
-            && (y0..y1).all(|y| {
-                let dy = (cy - cy.clamp(y as f32, y as f32 + 1.0)).abs();
-                (x0..x1).all(|x| {
-                    let dx = (cx - cx.clamp(x as f32, x as f32 + 1.0)).abs();
-                    covered[y * gw + x] || dx * dx + dy * dy > r * r
-                })
-            });
-        if hidden {
-            continue;
-        }
-        let i = i as usize * POINT_STRIDE;
-        out.extend_from_slice(&points[i..i + POINT_STRIDE]);
-        // Cells wholly inside the disc: their farthest corner is within r.
-        for y in y0..y1 {
-            let dy = (y as f32 - cy).abs().max((y as f32 + 1.0 - cy).abs());
-            for x in x0..x1 {
-                let dx = (x as f32 - cx).abs().max((x as f32 + 1.0 - cx).abs());
-                if dx * dx + dy * dy <= r * r {
-                    covered[y * gw + x] = true;
-                }
-            }
-        }
-    }
-}
-
-fn check_size(width: u32, height: u32) -> Result<(i32, i32), RenderError> {
-    const MAX: u32 = 8192;
-    if width == 0 || height == 0 || width > MAX || height > MAX {
-        return Err(RenderError::Size(format!(
-            "{width}×{height} is not a valid image size; each side must be 1–{MAX} pixels"
-        )));
-    }
-    Ok((width as i32, height as i32))
-}
-
 unsafe fn set_mat4(gl: &glow::Context, p: glow::Program, name: &str, m: &Mat4) {
     // SAFETY: `p` is in use on the current context.
     unsafe {
@@ -732,13 +549,8 @@ impl Drop for Renderer {
             for program in [p.mesh, p.points, p.ground, p.shadow_mesh, p.shadow_points] {
                 gl.delete_program(program);
             }
-            let t = &self.targets;
-            for fb in [t.msaa, t.resolve, self.shadow_fbo] {
-                gl.delete_framebuffer(fb);
-            }
-            for rb in [t.msaa_color, t.msaa_depth, t.resolve_color] {
-                gl.delete_renderbuffer(rb);
-            }
+            self.targets.delete(gl);
+            gl.delete_framebuffer(self.shadow_fbo);
             gl.delete_texture(self.shadow_map);
             for b in [self.mesh_vbo, self.mesh_ibo, self.point_vbo] {
                 gl.delete_buffer(b);

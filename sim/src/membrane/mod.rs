@@ -63,6 +63,8 @@
 mod diffusion;
 mod forces;
 pub mod law;
+#[cfg(test)]
+mod mesh_tests;
 pub mod sheet;
 mod solver;
 pub mod source;

@@ -1,7 +1,8 @@
 //! The integral-based MPM (Lyu ch. 5): bonds between all material points.
 
 use super::Mpm;
-use super::patch_tests::{colliding_balls, mpm, notched_bar, prepared, pull, pulled_bar};
+use super::patch_tests::{colliding_balls, mpm, notched_bar, pull, pulled_bar};
+use super::tests::prepared;
 use super::tests::{same_bytes_on_one_and_two_threads, state_bytes};
 use crate::run::Prepared;
 

@@ -39,6 +39,8 @@ pub mod johnson_cook;
 mod patch_tests;
 pub mod patches;
 pub mod plasticity;
+#[cfg(test)]
+mod plasticity_tests;
 mod seed;
 mod setup;
 mod solver;

@@ -1,17 +1,9 @@
 //! SPB-MPM (Lyu ch. 6): eigenerosion, bond failure and the peridynamic region.
 
-use std::path::Path;
-
 use super::Mpm;
 use super::patches::Measure;
-use super::tests::{same_bytes_on_one_and_two_threads, state_bytes};
-use crate::run::{Prepared, prepare};
-use crate::scene::Scene;
-
-pub(super) fn prepared(text: &str) -> Prepared {
-    let scene = Scene::parse(text, Path::new("spb.toml"), Path::new(".")).expect("scene");
-    prepare(&scene).expect("prepares")
-}
+use super::tests::{prepared, same_bytes_on_one_and_two_threads, state_bytes};
+use crate::run::Prepared;
 
 pub(super) fn mpm(p: &Prepared) -> &Mpm {
     p.world.model::<Mpm>().expect("an MPM model")

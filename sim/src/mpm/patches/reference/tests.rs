@@ -1,7 +1,8 @@
 //! What the patches keep from the reference configuration against a fresh computation.
 
 use super::*;
-use crate::mpm::patch_tests::{colliding_balls, mpm, prepared};
+use crate::mpm::patch_tests::{colliding_balls, mpm};
+use crate::mpm::tests::prepared;
 
 /// Two balls of `[materials.jelly.mpm]` line `keys` (Poisson's ratio 1/4) collide
 /// head-on without gravity for `seconds`; then every bond of a member to a member
