@@ -81,24 +81,32 @@ impl Patches {
             })
             .collect();
         self.tractions = tractions;
-        let mut reactions: Vec<(u32, [f64; 3])> = Vec::new();
+        // Each halo particle's reactions summed in member order (and each member's in
+        // its family's), into a total a particle, then taken in particle order.
         self.accelerations.clear();
-        for (&i, (a, r)) in self.members.iter().zip(rows) {
+        self.halo_totals.resize(p.len(), [0.0; 3]);
+        self.halo_seen.resize(p.len(), false);
+        let mut halo = Vec::new();
+        for (&i, (a, reactions)) in self.members.iter().zip(rows) {
             self.accelerations.push((i, a));
-            reactions.extend(r);
-        }
-        // A stable sort keeps each halo particle's reactions in member order.
-        reactions.sort_by_key(|&(q, _)| q);
-        for chunk in reactions.chunk_by(|a, b| a.0 == b.0) {
-            let q = chunk[0].0;
-            let mut total = [0.0; 3];
-            for (_, f) in chunk {
+            for (q, f) in reactions {
+                let q = q as usize;
+                if !self.halo_seen[q] {
+                    self.halo_seen[q] = true;
+                    halo.push(q);
+                }
+                let total = &mut self.halo_totals[q];
                 for a in 0..3 {
                     total[a] += f[a];
                 }
             }
-            let m = p.mass[q as usize];
-            self.accelerations.push((q, total.map(|c| c / m)));
+        }
+        halo.sort_unstable();
+        for q in halo {
+            self.halo_seen[q] = false;
+            let total = std::mem::take(&mut self.halo_totals[q]);
+            let m = p.mass[q];
+            self.accelerations.push((q as u32, total.map(|c| c / m)));
         }
     }
 

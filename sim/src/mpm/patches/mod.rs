@@ -189,6 +189,10 @@ pub struct Patches {
     tractions: Vec<Vec<[f64; 3]>>,
     /// Scratch: this step's bond accelerations of the members and their halo.
     accelerations: Vec<(u32, [f64; 3])>,
+    /// Scratch: each halo particle's sum of its bonds' reactions this step, zero
+    /// between steps (one entry a particle), and whether it has one.
+    halo_totals: Vec<[f64; 3]>,
+    halo_seen: Vec<bool>,
     /// The reference neighbour search, built when the first particle joins.
     reference: Option<Reference>,
     /// Stage timers.
@@ -228,6 +232,8 @@ impl Patches {
                 states: Vec::new(),
                 tractions: Vec::new(),
                 accelerations: Vec::new(),
+                halo_totals: Vec::new(),
+                halo_seen: Vec::new(),
                 reference: None,
                 times: PatchTimes::default(),
             })
