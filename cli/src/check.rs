@@ -9,10 +9,9 @@ use perifrac_cache::scene::{ModelKind, Scene};
 use perifrac_sim::family;
 use perifrac_sim::geometry::discretize::{Discretization, discretize};
 use perifrac_sim::memory::{
-    BYTES_PER_PARTICLE, MemoryEstimate, SETUP_BYTES_PER_BOND, estimate_before_meshing,
-    estimate_memory,
+    MemoryEstimate, SETUP_BYTES_PER_BOND, estimate_before_meshing, estimate_memory,
 };
-use perifrac_sim::mpm::PARTICLES_PER_CELL_AXIS;
+use perifrac_sim::mpm::{self, PARTICLES_PER_CELL_AXIS};
 use perifrac_sim::run;
 
 use crate::commands::Failure;
@@ -190,7 +189,10 @@ fn check_mpm(scene: &Scene, disc: Discretization, before: &MemoryEstimate) -> Re
     println!("  particles: {particles}");
     // SPB-MPM's bonds come as particles join, the integral-based MPM's at the start.
     let with_bonds = if bonds > 0 {
-        format!(" and their {bonds} bonds")
+        format!(
+            " and their {bonds} bonds ({} bytes each)",
+            estimate.bytes_per_bond
+        )
     } else {
         String::new()
     };
@@ -198,7 +200,7 @@ fn check_mpm(scene: &Scene, disc: Discretization, before: &MemoryEstimate) -> Re
         "  memory:    {:.1} MiB for the particles ({} bytes each){with_bonds} (the MPM grid \
          not counted)",
         estimate.bytes / (1 << 20) as f64,
-        BYTES_PER_PARTICLE
+        mpm::BYTES_PER_PARTICLE
     );
     println!(
         "             {:.1} MiB as estimated before seeding ({:.0} particles)",

@@ -14,7 +14,8 @@ use crate::geometry::stuffing::lattice_size;
 use crate::scene::{ModelKind, Scene, ShapeSpec};
 
 /// Bytes per particle of state and scratch (positions, velocities, reference data,
-/// θ, forces, accelerations, masses, flags).
+/// θ, forces, accelerations, masses, flags); an MPM particle's are
+/// [`crate::mpm::BYTES_PER_PARTICLE`].
 pub const BYTES_PER_PARTICLE: usize = 8 * 3 * 5 + 8 * 5 + 4 * 3 + 2;
 
 /// What a scene will cost in memory.
@@ -169,9 +170,31 @@ impl MemoryEstimate {
             .any(|m| m.critical_compression.is_some());
         let bytes_per_bond =
             family::BYTES_PER_BOND + if plastic { 12 } else { 0 } + if crushing { 4 } else { 0 };
-        let peak_per_bond = (bytes_per_bond + SETUP_BYTES_PER_BOND) as f64;
-        let run = bonds * peak_per_bond + particles * BYTES_PER_PARTICLE as f64;
-        let mesh = lattice * BYTES_PER_LATTICE_POINT + particles * BYTES_PER_PARTICLE as f64;
+        let mut peak_per_bond = (bytes_per_bond + SETUP_BYTES_PER_BOND) as f64;
+        let mut per_particle = BYTES_PER_PARTICLE as f64;
+        // Every body of an MPM scene is MPM: its particles and Ω^PD's bonds instead.
+        let mpm = scene.bodies.iter().any(|b| b.model == ModelKind::Mpm);
+        let bytes_per_bond = if mpm {
+            let plastic_bonds = scene.materials.values().any(|m| {
+                m.mpm
+                    .as_ref()
+                    .and_then(|m| m.bonds.as_ref())
+                    .is_some_and(|b| b.yield_stress.is_some())
+            });
+            per_particle = crate::mpm::BYTES_PER_PARTICLE as f64;
+            let bytes = crate::mpm::patches::BYTES_PER_BOND
+                + if plastic_bonds {
+                    crate::mpm::patches::PLASTIC_BYTES_PER_BOND
+                } else {
+                    0
+                };
+            peak_per_bond = bytes as f64;
+            bytes
+        } else {
+            bytes_per_bond
+        };
+        let run = bonds * peak_per_bond + particles * per_particle;
+        let mesh = lattice * BYTES_PER_LATTICE_POINT + particles * per_particle;
         MemoryEstimate {
             particles: particles.round() as usize,
             bonds,

@@ -242,6 +242,12 @@ struct StageTimes {
     plasticity: f64,
 }
 
+/// Bytes an MPM particle takes while the run steps: x, v and X (72), m and V (16), its
+/// body (4), F and C (144), ε^p (8), the stress stage's A_p (72) and the grid's sort
+/// key, index and bin of it (16); the grid's nodes are not counted. Read by
+/// `perifrac check`'s memory estimate.
+pub const BYTES_PER_PARTICLE: usize = 3 * 24 + 2 * 8 + 4 + 2 * 72 + 8 + 72 + 16;
+
 /// The MLS-MPM model of a scene's bodies on one sparse grid.
 #[derive(Debug)]
 pub struct Mpm {
