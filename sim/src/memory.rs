@@ -168,31 +168,30 @@ impl MemoryEstimate {
             .materials
             .values()
             .any(|m| m.critical_compression.is_some());
-        let bytes_per_bond =
-            family::BYTES_PER_BOND + if plastic { 12 } else { 0 } + if crushing { 4 } else { 0 };
-        let mut peak_per_bond = (bytes_per_bond + SETUP_BYTES_PER_BOND) as f64;
-        let mut per_particle = BYTES_PER_PARTICLE as f64;
-        // Every body of an MPM scene is MPM: its particles and Ω^PD's bonds instead.
+        // Every body of an MPM scene is MPM: its particles' and Ω^PD's bonds' bytes
+        // instead (what building the bonds holds for a moment is not counted).
         let mpm = scene.bodies.iter().any(|b| b.model == ModelKind::Mpm);
-        let bytes_per_bond = if mpm {
+        let (per_particle, bytes_per_bond, peak_per_bond) = if mpm {
             let plastic_bonds = scene.materials.values().any(|m| {
                 m.mpm
                     .as_ref()
                     .and_then(|m| m.bonds.as_ref())
                     .is_some_and(|b| b.yield_stress.is_some())
             });
-            per_particle = crate::mpm::BYTES_PER_PARTICLE as f64;
-            let bytes = crate::mpm::patches::BYTES_PER_BOND
-                + if plastic_bonds {
-                    crate::mpm::patches::PLASTIC_BYTES_PER_BOND
-                } else {
-                    0
-                };
-            peak_per_bond = bytes as f64;
-            bytes
+            let extension = if plastic_bonds {
+                crate::mpm::patches::PLASTIC_BYTES_PER_BOND
+            } else {
+                0
+            };
+            let bytes = crate::mpm::patches::BYTES_PER_BOND + extension;
+            (crate::mpm::BYTES_PER_PARTICLE, bytes, bytes)
         } else {
-            bytes_per_bond
+            let bytes = family::BYTES_PER_BOND
+                + if plastic { 12 } else { 0 }
+                + if crushing { 4 } else { 0 };
+            (BYTES_PER_PARTICLE, bytes, bytes + SETUP_BYTES_PER_BOND)
         };
+        let (per_particle, peak_per_bond) = (per_particle as f64, peak_per_bond as f64);
         let run = bonds * peak_per_bond + particles * per_particle;
         let mesh = lattice * BYTES_PER_LATTICE_POINT + particles * per_particle;
         MemoryEstimate {
