@@ -105,7 +105,7 @@ pub const RELEASE_LENGTH_HORIZONS: f64 = 2.0;
 /// into loose particles; at 0.1 it splits within 1 cm of the notch.
 pub const MIN_SHAPE: f64 = 0.1;
 /// Bytes a directed bond of Ω^PD takes while the run steps: its family entry (u32),
-/// its [`Bond`] (the reference length, correction and mirror) and its T_p⟨q⟩ in the
+/// its `Bond` (the reference length, correction and mirror) and its T_p⟨q⟩ in the
 /// step's scratch forces. Checked against the peak memory of the integral-based boards
 /// (docs/memory.md).
 pub const BYTES_PER_BOND: usize = size_of::<u32>() + size_of::<Bond>() + size_of::<[f64; 3]>();
