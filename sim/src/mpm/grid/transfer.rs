@@ -75,20 +75,12 @@ impl SparseGrid {
                 return;
             }
             let q = velocity[p].map(|v| m * v);
-            for k in 0..3 {
-                for j in 0..3 {
-                    let wjk = s.w[1][j] * s.w[2][k];
-                    let row = cube_index(local[0], local[1] + j, local[2] + k, SPAN);
-                    for i in 0..3 {
-                        let w = s.w[0][i] * wjk;
-                        let node = &mut buffer[row + i];
-                        node[0] += w * m;
-                        for a in 0..3 {
-                            node[1 + a] += w * q[a];
-                        }
-                    }
+            each_node(s, local, buffer, |node, w| {
+                node[0] += w * m;
+                for a in 0..3 {
+                    node[1 + a] += w * q[a];
                 }
-            }
+            });
         });
     }
 
@@ -99,18 +91,10 @@ impl SparseGrid {
     pub fn p2g_scalar(&mut self, position: &[[f64; 3]], mass: &[f64], value: &[f64]) {
         self.scatter_each(position, |p, s, local, buffer| {
             let (m, q) = (mass[p], mass[p] * value[p]);
-            for k in 0..3 {
-                for j in 0..3 {
-                    let wjk = s.w[1][j] * s.w[2][k];
-                    let row = cube_index(local[0], local[1] + j, local[2] + k, SPAN);
-                    for i in 0..3 {
-                        let w = s.w[0][i] * wjk;
-                        let node = &mut buffer[row + i];
-                        node[0] += w * m;
-                        node[1] += w * q;
-                    }
-                }
-            }
+            each_node(s, local, buffer, |node, w| {
+                node[0] += w * m;
+                node[1] += w * q;
+            });
         });
     }
 
@@ -393,4 +377,24 @@ fn collide(c: &Collider, x: [f64; 3], v: &mut [f64; 3]) {
         0.0
     };
     *v = [0, 1, 2].map(|a| cv[a] + keep * t[a]);
+}
+
+/// Hands `add` each of the 3³ nodes of stencil `s` in a bin's scatter `buffer` (its
+/// base node at `local`) with its weight w_ip, in the order of [`SparseGrid::p2g`].
+#[inline(always)]
+fn each_node(
+    s: &Stencil,
+    local: [usize; 3],
+    buffer: &mut [[f64; 4]],
+    mut add: impl FnMut(&mut [f64; 4], f64),
+) {
+    for k in 0..3 {
+        for j in 0..3 {
+            let wjk = s.w[1][j] * s.w[2][k];
+            let row = cube_index(local[0], local[1] + j, local[2] + k, SPAN);
+            for i in 0..3 {
+                add(&mut buffer[row + i], s.w[0][i] * wjk);
+            }
+        }
+    }
 }
