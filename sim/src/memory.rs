@@ -172,17 +172,20 @@ impl MemoryEstimate {
         // instead (what building the bonds holds for a moment is not counted).
         let mpm = scene.bodies.iter().any(|b| b.model == ModelKind::Mpm);
         let (per_particle, bytes_per_bond, peak_per_bond) = if mpm {
-            let plastic_bonds = scene.materials.values().any(|m| {
-                m.mpm
-                    .as_ref()
-                    .and_then(|m| m.bonds.as_ref())
-                    .is_some_and(|b| b.yield_stress.is_some())
-            });
-            let extension = if plastic_bonds {
-                crate::mpm::patches::PLASTIC_BYTES_PER_BOND
-            } else {
-                0
-            };
+            // The plastic extensions a bond keeps: two for viscous bonds, one for
+            // plastic ones.
+            let flows = scene
+                .materials
+                .values()
+                .filter_map(|m| m.mpm.as_ref().and_then(|m| m.bonds.as_ref()))
+                .map(|b| match (b.viscosity, b.yield_stress) {
+                    (Some(_), _) => 2,
+                    (None, Some(_)) => 1,
+                    (None, None) => 0,
+                })
+                .max()
+                .unwrap_or(0);
+            let extension = flows * crate::mpm::patches::PLASTIC_BYTES_PER_BOND;
             let bytes = crate::mpm::patches::BYTES_PER_BOND + extension;
             (crate::mpm::BYTES_PER_PARTICLE, bytes, bytes)
         } else {

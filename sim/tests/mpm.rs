@@ -114,6 +114,20 @@ fn an_integral_based_mpm_run_resumes_to_the_same_bytes() {
     );
 }
 
+/// Viscous bonds keep two flows a bond (the springs' and the μ term's), and both go
+/// through the checkpoint: the ball flows on the box and resumes to the same bytes.
+#[test]
+fn a_viscous_integral_based_mpm_run_resumes_to_the_same_bytes() {
+    let text = SCENE.replace(
+        "elasticity = \"neo-hookean\"",
+        "bonds = { viscosity = 20, yield_stress = 500 }",
+    );
+    resumed_run_matches(&text);
+    let frame = last_frame(&text);
+    let flowing = frame.plastic.iter().filter(|&&e| e > 0.0).count();
+    assert!(flowing > 0, "{flowing} flowing");
+}
+
 /// The last particle frame of a whole run of the scene `text`.
 fn last_frame(text: &str) -> ParticleFrame {
     let scene = Scene::parse(text, Path::new("mpm.toml"), Path::new(".")).expect("scene");
@@ -236,6 +250,11 @@ fn bad_mpm_scene_input_names_the_key() {
         (
             "bonds = { critical_stretch = -0.1 }",
             "materials.m.mpm.bonds.critical_stretch",
+            "positive finite",
+        ),
+        (
+            "bonds = { viscosity = 0 }",
+            "materials.m.mpm.bonds.viscosity",
             "positive finite",
         ),
         (

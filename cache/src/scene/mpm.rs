@@ -61,6 +61,12 @@ pub struct MpmBonds {
     /// never break).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub critical_stretch: Option<f64>,
+    /// The bonds' shear viscosity η (Pa·s): a viscoelastic (Maxwell) material whose
+    /// bonds' stress beyond `yield_stress` (beyond 0 without one) relaxes with the
+    /// time τ = η/G, G = (λ + 2μ)/3, while a volume term keeps its volume: honey, or
+    /// with a yield stress whipped cream (Lyu §5.3.3, Fig. 5.10–5.11). Default none
+    /// (no viscous flow).
+    pub viscosity: Option<f64>,
 }
 
 impl Default for MpmSpec {

@@ -127,14 +127,24 @@ pub struct MpmMaterial {
     pub eos: Option<plasticity::MieGruneisen>,
     /// Plastic flow.
     pub plasticity: Plasticity,
+    /// The bulk modulus K = λ + 2μ/3 of the volume term of viscous bonds (the
+    /// integral-based MPM's, `patches::integral`), 0 without: it adds to the
+    /// P-wave modulus where the bonds have not relaxed.
+    pub volume_modulus: f64,
 }
 
 impl MpmMaterial {
     /// The fastest signal: the P-wave speed √((λ + 2μ)/ρ), or with a Mie–Grüneisen
     /// pressure √(c₀² + 4μ/(3ρ)) if faster (bulk modulus ρ₀c₀² at rest; a strongly
-    /// compressed shock material is stiffer still, which `dt_safety` covers).
+    /// compressed shock material is stiffer still, which `dt_safety` covers); with
+    /// viscous bonds' volume term √((λ + 2μ + K)/ρ).
     pub fn wave_speed(&self) -> f64 {
-        let elastic = self.elastic.p_wave_speed(self.density);
+        let elastic = if self.volume_modulus > 0.0 {
+            let e = &self.elastic;
+            ((e.lambda + 2.0 * e.mu + self.volume_modulus) / self.density).sqrt()
+        } else {
+            self.elastic.p_wave_speed(self.density)
+        };
         match &self.eos {
             Some(eos) => elastic.max(
                 (eos.sound_speed * eos.sound_speed + 4.0 * self.elastic.mu / (3.0 * self.density))
@@ -323,7 +333,7 @@ impl Mpm {
     /// [`SimError::Refused`] if the patches' neighbour search cannot be built.
     pub fn step(&mut self, dt: f64, boundary: &Boundary<'_>) -> Result<usize> {
         let broken = match &mut self.patches {
-            Some(patches) => patches.prepare(&mut self.particles, &self.materials),
+            Some(patches) => patches.prepare(&mut self.particles, &self.materials, dt),
             None => 0,
         };
         let t0 = Instant::now();

@@ -181,6 +181,7 @@ fn the_shock_model_replaces_the_pressure_by_mie_gruneisen() {
             gamma: 1.6,
         }),
         plasticity: Plasticity::None,
+        volume_modulus: 0.0,
     };
     // Uniform compression J = 0.8: no shear, σ = −p I with p = 2 761 341.223 + 1.6 e.
     let s = 0.8f64.cbrt();
@@ -475,6 +476,7 @@ fn adiabatic_heating_of_a_uniaxial_compression_is_beta_times_the_plastic_work_ov
         elastic: Elastic::from_young(MpmElasticity::FixedCorotated, 70e9, 0.33),
         eos: None,
         plasticity: Plasticity::JohnsonCook(jc),
+        volume_modulus: 0.0,
     };
     let mu = material.elastic.mu;
     let mut particles = at_rest(vec![[0.0; 3]], vec![1.0], vec![density], vec![0]);

@@ -23,13 +23,11 @@ impl Mpm {
                 let spec = &scene.materials[&b.material];
                 let m = crate::material::Material::from_spec(spec);
                 let mpm = spec.mpm.clone().unwrap_or_default();
+                let elastic =
+                    Elastic::from_young(mpm.elasticity, m.youngs_modulus(), m.poisson_ratio());
                 MpmMaterial {
                     density: spec.density,
-                    elastic: Elastic::from_young(
-                        mpm.elasticity,
-                        m.youngs_modulus(),
-                        m.poisson_ratio(),
-                    ),
+                    elastic,
                     eos: mpm.bulk_sound_speed.map(|c| plasticity::MieGruneisen {
                         density: spec.density,
                         sound_speed: c,
@@ -86,6 +84,10 @@ impl Mpm {
                             Plasticity::drucker_prager(friction_angle)
                         }
                     },
+                    volume_modulus: match mpm.bonds.and_then(|b| b.viscosity) {
+                        Some(_) => elastic.lambda + 2.0 * elastic.mu / 3.0,
+                        None => 0.0,
+                    },
                 }
             })
             .collect();
@@ -130,6 +132,7 @@ impl Mpm {
                         mu: material.elastic.mu,
                         yield_stress: bonds.yield_stress,
                         critical_stretch: bonds.critical_stretch,
+                        viscosity: bonds.viscosity,
                     }),
                     shape,
                     resolution: b.resolution,

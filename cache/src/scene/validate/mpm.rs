@@ -309,5 +309,12 @@ fn bonds(name: &str, spec: &MpmSpec) -> Check {
             "the critical elastic stretch of a bond",
         )?;
     }
+    if let Some(viscosity) = bonds.viscosity {
+        positive(
+            &keys("viscosity"),
+            viscosity,
+            "the bonds' shear viscosity η (Pa·s)",
+        )?;
+    }
     Ok(())
 }

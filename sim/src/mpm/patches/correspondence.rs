@@ -5,6 +5,7 @@
 use perifrac_math::{inverse3, mat_mul, sub};
 
 use super::Measure;
+use super::integral::Strain;
 use super::reference::{Member, Shape};
 use crate::family::{BROKEN, INDEX};
 use crate::mpm::constitutive::{self, Mat3};
@@ -21,6 +22,8 @@ pub(super) struct State {
     /// c_p λ of the integral-based MPM's springs along the bonds (0 for SPB-MPM's
     /// correspondence members).
     pub(super) spring: f64,
+    /// How the springs and the μ term take e^p off a bond's extension.
+    pub(super) strain: Strain,
 }
 
 /// A plastic member's flow this step.
@@ -49,6 +52,7 @@ pub(super) fn state(
         measure: Measure::Free,
         force: [[0.0; 3]; 3],
         spring: 0.0,
+        strain: Strain::Additive,
     };
     let Shape::Spanning(shape_inverse) = shape else {
         return (free, None);
@@ -85,6 +89,7 @@ pub(super) fn state(
         measure,
         force: mat_mul(&piola, &shape_inverse),
         spring: 0.0,
+        strain: Strain::Additive,
     };
     (state, flow)
 }

@@ -48,6 +48,43 @@
 //! then about the uniaxial yield stress: a bar of Poisson's ratio 1/4 under σ has
 //! E_dev = σ on its bonds along the load.
 //!
+//! **Viscoelasticity** (§5.3.3). Eq. 5.12–5.20 linearize about the last step's
+//! configuration, taken as equilibrated: each step's force is the modulus state times
+//! the bond displacement over that step, M·U. That relaxes every bond fully each
+//! step, a viscosity of the order of the bonds' modulus times Δt, which the grid and
+//! the step set instead of the material. Here the reference configuration still
+//! follows the deformed one, at the material's own pace: a bond's natural length
+//! |X| exp(e^p) flows toward its current length with the relaxation time τ = η/G, η
+//! the `viscosity` and G = (λ + 2μ)/3 the bonds' shear modulus (above), as a Maxwell
+//! element. In the bond's logarithmic extension ε = ln(|Y|/|X|), the elastic part s =
+//! ε − e^p follows ds/dt = ε̇ − (s ∓ s_Y)/τ while |s| passes s_Y = σ_Y/(2μ + λ) (0
+//! without a yield stress); it is integrated exactly over the last step with ε̇ =
+//! Y·(v_q − v_p)/|Y|² held constant,
+//!
+//! s ← ±s_Y + e^(−Δt/τ) (s − Δt ε̇ ∓ s_Y) + ε̇ τ (1 − e^(−Δt/τ)),
+//!
+//! clamped between the yield surface and the unrelaxed s where σ_Y > 0. The result
+//! does not depend on the step: a strain held still relaxes as e^(−t/τ), and where τ
+//! ≪ Δt the stress left, G τ ε̇ = ηε̇, is a Newtonian fluid's (relaxing the whole s
+//! each step, it would be inviscid). A steady pull carries 3ηε̇ (Trouton; tested). The
+//! springs flow toward their own length, the μ term toward F X's, each with its own
+//! e^p, so that every flow only lowers its term's energy; the springs and the μ term
+//! take the elastic extension as |Y|/|X| − exp(e^p), whose stiffness stays that of
+//! the reference length, so the MPM's step holds as the bonds flow.
+//!
+//! The bonds relax whole, volume included, so a viscous body keeps its volume by a
+//! term of its own, Eq. 5.15's λϑ²/2 taken on F: ψ_vol = K (ln J)²/2, K = λ + 2μ/3, J
+//! = det F over the intact bonds, P += K ln J F⁻ᵀ (none where F is not measured); the
+//! MPM's step counts K in the wave speed. Where the bonds have not relaxed (t ≪ τ) the
+//! body is K stiffer in bulk than the elastic one. Two other choices were tried and
+//! taken out. With the bonds' ϑ of Eq. 5.16 as the volume, a ball of honey flattened
+//! to a single layer of particles on landing (a family flattened to a sheet has ϑ = 0
+//! at J = 0). With only the deviatoric part ε − ln(J)/3 relaxing, the flow depends on
+//! J and can raise the energy: the ball spread across the ground at up to 17 m/s and
+//! blew up, with the step quartered too. η alone makes a Maxwell fluid (honey, Fig.
+//! 5.10); with σ_Y the flow beyond the yield stress is viscous (Duvaut–Lions), as
+//! whipped cream (Fig. 5.11).
+//!
 //! **Failure** (Eq. 5.21): a bond breaks when l = (e − e^p)/(1 + p_inactive) passes
 //! l_threshold, p_inactive the share of broken bonds among the bonds of the particles
 //! in the grid cell of the bond's particle; a pair breaks when either end's l passes,
@@ -62,7 +99,7 @@
 
 use std::collections::{BTreeMap, HashMap};
 
-use perifrac_math::{add, dot, mat_mul, mat_vec, norm, normalize, scale, sub};
+use perifrac_math::{add, dot, inverse3, mat_mul, mat_vec, norm, normalize, scale, sub};
 use rayon::prelude::*;
 
 use super::reference::{Bond, Member, NO_MIRROR, Shape};
@@ -86,6 +123,104 @@ pub struct IntegralBonds {
     pub yield_stress: Option<f64>,
     /// l_threshold of Eq. 5.21, or `None`: the bonds never break.
     pub critical_stretch: Option<f64>,
+    /// The shear viscosity η (Pa·s) of viscoelastic bonds, or `None`.
+    pub viscosity: Option<f64>,
+}
+
+impl IntegralBonds {
+    /// How many plastic extensions each bond keeps: none for elastic bonds, e^p for
+    /// plastic ones, and for viscous ones the springs' and the μ term's apart (the
+    /// module documentation).
+    pub(super) fn flows_per_bond(&self) -> usize {
+        match (self.viscosity, self.yield_stress) {
+            (Some(_), _) => 2,
+            (None, Some(_)) => 1,
+            (None, None) => 0,
+        }
+    }
+
+    /// How the bonds take e^p off: multiplicatively where they are viscous.
+    pub(super) fn strain(&self) -> Strain {
+        if self.viscosity.is_some() {
+            Strain::Multiplicative
+        } else {
+            Strain::Additive
+        }
+    }
+
+    /// The bonds' [`Law`] in a body whose fullest family has Σ ω V = `full_weight`,
+    /// for a step `dt`.
+    pub(super) fn law(&self, full_weight: f64, dt: f64) -> Law {
+        // The bonds' shear modulus, (λ + 2μ)/3 (the module documentation).
+        let shear = (self.lambda + 2.0 * self.mu) / 3.0;
+        let flow = match (self.viscosity, self.yield_stress) {
+            (Some(eta), _) => {
+                let tau = eta / shear;
+                Flow::Maxwell {
+                    decay: (-dt / tau).exp(),
+                    tau,
+                    dt,
+                }
+            }
+            (None, Some(_)) => Flow::Return,
+            (None, None) => Flow::Elastic,
+        };
+        Law {
+            bonds: *self,
+            c: UNIAXIAL_WEIGHT / full_weight,
+            flow,
+        }
+    }
+}
+
+/// How a body's bonds act this step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Law {
+    pub(super) bonds: IntegralBonds,
+    /// c_p = 5 / Σ ω V of the body's fullest family.
+    pub(super) c: f64,
+    pub(super) flow: Flow,
+}
+
+/// How a bond's deviatoric extension flows into its e^p.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Flow {
+    /// Elastic bonds: no flow.
+    Elastic,
+    /// Plastic bonds: the stress beyond ±σ_Y returns to the yield surface.
+    Return,
+    /// Viscous bonds: the stress (beyond ±σ_Y, if any) relaxes with the time τ, its
+    /// step's `decay` exp(−Δt/τ), for a step `dt` (the module documentation).
+    Maxwell { decay: f64, tau: f64, dt: f64 },
+}
+
+/// How a body's bonds take their plastic extension e^p off a bond's (the module
+/// documentation).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Strain {
+    /// e − e^p with e = |Y|/|X| − 1: elastic and plastic bonds (and SPB-MPM's
+    /// members, whose springs are zero).
+    Additive,
+    /// |Y|/L − 1 with L = |X| exp(e^p), e^p a logarithmic flow: viscous bonds, which
+    /// flow far.
+    Multiplicative,
+}
+
+impl Strain {
+    /// A bond's elastic extension: `length` long in the reference, `current` long
+    /// now, with plastic extension `plastic`.
+    pub(super) fn elastic(self, current: f64, length: f64, plastic: f64) -> f64 {
+        self.pull(current, length, plastic).0
+    }
+
+    /// The elastic extension, and what divides it to give the pull along the bond
+    /// per unit of its current vector, ∂(extension)/∂|Y| / |Y|: |X| |Y| or L |Y|.
+    fn pull(self, current: f64, length: f64, plastic: f64) -> (f64, f64) {
+        match self {
+            Strain::Additive => (current / length - 1.0 - plastic, length * current),
+            Strain::Multiplicative => (current / length - plastic.exp(), length * current),
+        }
+    }
 }
 
 /// The member's state at the step's start, after its bonds' plastic flow: P_μ K⁻¹ in
@@ -96,14 +231,18 @@ pub(super) fn state(
     shape: Shape,
     extensions: &mut [f64],
     p: &MpmParticles,
-    bonds: &IntegralBonds,
-    full_weight: f64,
+    law: &Law,
     delta: f64,
 ) -> State {
     let Member { i, family, table } = member;
-    let (x0, x, volume) = (&p.reference, &p.position, &p.volume);
+    let bonds = &law.bonds;
+    let (x0, x, v, volume) = (&p.reference, &p.position, &p.velocity, &p.volume);
     let mut moment = [[0.0; 3]; 3];
+    // Σ ω (v_q − v_p) ⊗ X V, for viscous bonds' rates.
+    let mut rate_moment = [[0.0; 3]; 3];
+    let viscous = bonds.viscosity.is_some();
     let (mut dilatation, mut weights) = (0.0, 0.0);
+    let plastic_dilatation = bonds.viscosity.is_none() && bonds.yield_stress.is_some();
     for (&nb, bond) in family.iter().zip(table) {
         if nb & BROKEN != 0 {
             continue;
@@ -118,42 +257,111 @@ pub(super) fn state(
                 moment[a][b] += w * y[a] * xi[b];
             }
         }
-        if bonds.yield_stress.is_some() {
+        if viscous {
+            let dv = sub(v[q], v[i]);
+            for a in 0..3 {
+                for b in 0..3 {
+                    rate_moment[a][b] += w * dv[a] * xi[b];
+                }
+            }
+        }
+        if plastic_dilatation {
             dilatation += w * length * length * (norm(y) / length - 1.0);
             weights += w * length * length;
         }
     }
-    let c = UNIAXIAL_WEIGHT / full_weight;
-    if let Some(sigma_y) = bonds.yield_stress
-        && weights > 0.0
-    {
-        let modulus = 2.0 * bonds.mu + bonds.lambda;
-        let theta = 3.0 * dilatation / weights;
-        for (k, (&nb, bond)) in family.iter().zip(table).enumerate() {
-            if nb & BROKEN != 0 {
-                continue;
+    let c = law.c;
+    let spring = c * bonds.lambda;
+    // F over the intact bonds (Eq. 4.4), where they span space and keep its sign.
+    let measured = match shape {
+        Shape::Spanning(shape_inverse) => {
+            let f = mat_mul(&moment, &shape_inverse);
+            (constitutive::determinant(&f) > 0.0).then_some((f, shape_inverse))
+        }
+        Shape::Stale | Shape::Flat => None,
+    };
+    // Each intact bond's deviatoric extension flows (the module documentation).
+    let sigma_y = bonds.yield_stress.unwrap_or(0.0);
+    let modulus = 2.0 * bonds.mu + bonds.lambda;
+    // A bond's e^p given its deviatoric extension now and its rate (the module
+    // documentation).
+    let mut flow = |k: usize, deviatoric: f64, rate: f64| {
+        let elastic = deviatoric - extensions[k];
+        match law.flow {
+            Flow::Elastic => {}
+            Flow::Return => {
+                let stress = modulus * elastic;
+                if stress.abs() > sigma_y {
+                    extensions[k] += (stress - sigma_y.copysign(stress)) / modulus;
+                }
             }
-            let q = (nb & INDEX) as usize;
-            let e = norm(sub(x[q], x[i])) / bond.length - 1.0;
-            let stress = modulus * (e - theta / 3.0 - extensions[k]);
-            if stress.abs() > sigma_y {
-                extensions[k] += (stress - sigma_y.copysign(stress)) / modulus;
+            Flow::Maxwell { decay, tau, dt } => {
+                let limit = sigma_y / modulus;
+                if elastic.abs() <= limit {
+                    return;
+                }
+                // ds/dt = ė − (s ∓ s_Y)/τ over the last step, ė constant.
+                let over = limit.copysign(elastic);
+                let mut relaxed =
+                    over + decay * (elastic - dt * rate - over) + rate * tau * (1.0 - decay);
+                if limit > 0.0 {
+                    // It relaxes down to the yield surface, never past the trial.
+                    relaxed = over
+                        + (relaxed - over)
+                            .clamp(0.0_f64.min(elastic - over), 0.0_f64.max(elastic - over));
+                }
+                extensions[k] = deviatoric - relaxed;
             }
         }
-    }
-    let spring = c * bonds.lambda;
-    let springs_only = State {
-        measure: Measure::Bonds(p.deformation[i]),
-        force: [[0.0; 3]; 3],
-        spring,
     };
-    let Shape::Spanning(shape_inverse) = shape else {
-        return springs_only;
+    let intact = || {
+        family
+            .iter()
+            .zip(table)
+            .enumerate()
+            .filter(|(_, (nb, _))| *nb & BROKEN == 0)
     };
-    let f = mat_mul(&moment, &shape_inverse);
-    if constitutive::determinant(&f) <= 0.0 {
-        return springs_only;
+    let n = family.len();
+    match (bonds.viscosity, measured) {
+        // Viscous bonds: a spring's own ln(|Y|/|X|), and the μ term's ln(|F X|/|X|)
+        // (kept after the springs'), less ln(J)/3, with their rates from the
+        // particles' velocities (Ḟ = Σ ω (v_q − v_p) ⊗ X V K⁻¹); none where F is not
+        // measured.
+        (Some(_), measured) => {
+            for (k, (&nb, bond)) in intact() {
+                let q = (nb & INDEX) as usize;
+                let (y, dv) = (sub(x[q], x[i]), sub(v[q], v[i]));
+                flow(k, (norm(y) / bond.length).ln(), dot(y, dv) / dot(y, y));
+                if let Some((f, shape_inverse)) = measured {
+                    let xi = sub(x0[q], x0[i]);
+                    let f_dot = mat_mul(&rate_moment, &shape_inverse);
+                    let (average, rate) = (mat_vec(f, xi), mat_vec(f_dot, xi));
+                    let shear = (norm(average) / bond.length).ln();
+                    flow(n + k, shear, dot(average, rate) / dot(average, average));
+                }
+            }
+        }
+        // Plastic bonds: e − ϑ/3.
+        (None, _) if plastic_dilatation && weights > 0.0 => {
+            let theta = 3.0 * dilatation / weights;
+            for (k, (&nb, bond)) in intact() {
+                let e = norm(sub(x[(nb & INDEX) as usize], x[i])) / bond.length - 1.0;
+                flow(k, e - theta / 3.0, 0.0);
+            }
+        }
+        (None, _) => {}
     }
+    // The μ term's e^p: after the springs' for viscous bonds, the same for plastic.
+    let shear_flow = if viscous { n } else { 0 };
+    let strain = bonds.strain();
+    let Some((f, shape_inverse)) = measured else {
+        return State {
+            measure: Measure::Bonds(p.deformation[i]),
+            force: [[0.0; 3]; 3],
+            spring,
+            strain,
+        };
+    };
     let mut piola = [[0.0; 3]; 3];
     for (k, (&nb, bond)) in family.iter().zip(table).enumerate() {
         if nb & BROKEN != 0 {
@@ -164,14 +372,25 @@ pub(super) fn state(
         let length = bond.length;
         let average = mat_vec(f, xi);
         let average_length = norm(average);
-        let plastic = extensions.get(k).copied().unwrap_or(0.0);
-        let magnitude = 2.0 * bonds.mu * c * bond.correction * delta / length
-            * volume[q]
-            * (average_length / length - 1.0 - plastic)
-            / (length * average_length);
+        let plastic = extensions.get(shear_flow + k).copied().unwrap_or(0.0);
+        let (stretch, per) = strain.pull(average_length, length, plastic);
+        let magnitude =
+            2.0 * bonds.mu * c * bond.correction * delta / length * volume[q] * stretch / per;
         for a in 0..3 {
             for b in 0..3 {
                 piola[a][b] += magnitude * average[a] * xi[b];
+            }
+        }
+    }
+    if viscous {
+        // The volume's K ln(J) F⁻ᵀ (the module documentation).
+        let bulk = bonds.lambda + 2.0 * bonds.mu / 3.0;
+        let determinant = constitutive::determinant(&f);
+        let inverse = inverse3(&f, determinant);
+        let pressure = bulk * determinant.ln();
+        for a in 0..3 {
+            for b in 0..3 {
+                piola[a][b] += pressure * inverse[b][a];
             }
         }
     }
@@ -179,6 +398,7 @@ pub(super) fn state(
         measure: Measure::Bonds(f),
         force: mat_mul(&piola, &shape_inverse),
         spring,
+        strain,
     }
 }
 
@@ -239,18 +459,24 @@ pub(super) fn force_state(
     let omega = delta / length;
     let mut t = mat_vec(state.force, xi);
     if state.spring != 0.0 {
-        let current = norm(y);
-        let pull = state.spring * bond.correction * (current / length - 1.0 - plastic)
-            / (length * current);
+        let (stretch, per) = state.strain.pull(norm(y), length, plastic);
+        let pull = state.spring * bond.correction * stretch / per;
         t = [0, 1, 2].map(|a| t[a] + pull * y[a]);
     }
     scale(t, omega)
 }
 
 /// l of Eq. 5.21 for a bond of reference length `length` now `y` with plastic
-/// extension `plastic`, in a cell whose share of broken bonds is `inactive`.
-pub(super) fn failure_measure(length: f64, y: [f64; 3], plastic: f64, inactive: f64) -> f64 {
-    (norm(y) / length - 1.0 - plastic) / (1.0 + inactive)
+/// extension `plastic`, measured as `strain`, in a cell whose share of broken bonds
+/// is `inactive`.
+pub(super) fn failure_measure(
+    strain: Strain,
+    length: f64,
+    y: [f64; 3],
+    plastic: f64,
+    inactive: f64,
+) -> f64 {
+    strain.elastic(norm(y), length, plastic) / (1.0 + inactive)
 }
 
 /// A fracture plane of §5.4 in the grid cell `cell`.
@@ -380,9 +606,10 @@ impl Patches {
                 let q = (nb & INDEX) as usize;
                 let length = self.table[s][k].length;
                 let y = sub(p.position[q], p.position[i]);
-                let own = failure_measure(length, y, self.extension(s, k), inactive[i]);
+                let strain = bonds.strain();
+                let own = failure_measure(strain, length, y, self.extension(s, k), inactive[i]);
                 let back = self.extension_back(s, k, q);
-                let theirs = failure_measure(length, y, back, inactive[q]);
+                let theirs = failure_measure(strain, length, y, back, inactive[q]);
                 own.max(theirs) > threshold
             })
             .map(|(k, _)| k)
@@ -415,10 +642,12 @@ impl Patches {
             ));
             group.0 = add(group.0, x[i]);
             group.1 += 1.0;
+            let strain = self.states[s].strain;
             for &k in ks {
                 let q = (self.families[s][k] & INDEX) as usize;
                 let y = sub(x[q], x[i]);
                 let l = failure_measure(
+                    strain,
                     self.table[s][k].length,
                     y,
                     self.extension(s, k),

@@ -109,8 +109,8 @@ pub const MIN_SHAPE: f64 = 0.1;
 /// step's scratch forces. Checked against the peak memory of the integral-based boards
 /// (docs/memory.md).
 pub const BYTES_PER_BOND: usize = size_of::<u32>() + size_of::<Bond>() + size_of::<[f64; 3]>();
-/// Bytes more a bond with a plastic extension e^p (the integral-based MPM's
-/// `yield_stress`).
+/// Bytes more a bond takes for each plastic extension e^p it keeps (the
+/// integral-based MPM's: one with a `yield_stress`, two with a `viscosity`).
 pub const PLASTIC_BYTES_PER_BOND: usize = size_of::<f64>();
 /// The slot of a particle outside Ω^PD.
 const OUTSIDE: u32 = u32::MAX;
@@ -317,7 +317,12 @@ impl Patches {
     /// positions x^n (Eq. 6.7–6.8); bonds whose energy W exceeds W_c break (Eq.
     /// 6.11–6.13); each member's and halo particle's acceleration by the bonds (see
     /// the module documentation). Returns how many directed bonds broke.
-    pub fn prepare(&mut self, particles: &mut MpmParticles, materials: &[MpmMaterial]) -> usize {
+    pub fn prepare(
+        &mut self,
+        particles: &mut MpmParticles,
+        materials: &[MpmMaterial],
+        dt: f64,
+    ) -> usize {
         let started = std::time::Instant::now();
         let delta = self.horizon;
         let p = &*particles;
@@ -339,9 +344,8 @@ impl Patches {
                 }
                 match &bodies[p.body[i] as usize].bonds {
                     Some(bonds) => {
-                        let full = full_weights[p.body[i] as usize];
-                        let state =
-                            integral::state(member, *shape, extensions, p, bonds, full, delta);
+                        let law = bonds.law(full_weights[p.body[i] as usize], dt);
+                        let state = integral::state(member, *shape, extensions, p, &law, delta);
                         (state, None)
                     }
                     None => state(member, *shape, inverse.as_ref(), p, materials, delta),
@@ -501,16 +505,12 @@ impl Patches {
         let families: Vec<Vec<u32>> = joining.par_iter().map(|&i| self.family(i, p)).collect();
         let from = self.members.len();
         for (&i, family) in joining.iter().zip(families) {
-            let plastic = self.bodies[p.body[i] as usize]
+            let flows = self.bodies[p.body[i] as usize]
                 .bonds
-                .is_some_and(|b| b.yield_stress.is_some());
+                .map_or(0, |b| b.flows_per_bond());
             self.slot[i] = self.members.len() as u32;
             self.members.push(i as u32);
-            self.extensions.push(if plastic {
-                vec![0.0; family.len()]
-            } else {
-                Vec::new()
-            });
+            self.extensions.push(vec![0.0; flows * family.len()]);
             self.families.push(family);
             self.plastic_inverse.push(None);
         }

@@ -103,7 +103,7 @@ impl Patches {
     fn plastic_bonds(&self) -> bool {
         self.bodies
             .iter()
-            .any(|b| b.bonds.is_some_and(|b| b.yield_stress.is_some()))
+            .any(|b| b.bonds.is_some_and(|b| b.flows_per_bond() > 0))
     }
 
     /// Reads what [`Patches::save`] wrote, refusing members or bonds that are not
@@ -175,32 +175,25 @@ impl Patches {
             }
             families.push(family);
         }
-        let plastic: Vec<bool> = self
+        let flows: Vec<usize> = self
             .members
             .iter()
             .map(|&i| {
                 self.bodies[particles.body[i as usize] as usize]
                     .bonds
-                    .is_some_and(|b| b.yield_stress.is_some())
+                    .map_or(0, |b| b.flows_per_bond())
             })
             .collect();
         let mut extensions = vec![Vec::new(); self.members.len()];
         if self.plastic_bonds() {
-            let total = families
-                .iter()
-                .zip(&plastic)
-                .filter(|&(_, &plastic)| plastic)
-                .map(|(f, _)| f.len())
-                .sum();
+            let total = families.iter().zip(&flows).map(|(f, n)| n * f.len()).sum();
             let values =
                 input.take_finite_f64_slice("integral-based MPM plastic extensions", total)?;
             let mut rest = &values[..];
-            for ((row, family), &plastic) in extensions.iter_mut().zip(&families).zip(&plastic) {
-                if plastic {
-                    let (own, next) = rest.split_at(family.len());
-                    *row = own.to_vec();
-                    rest = next;
-                }
+            for ((row, family), n) in extensions.iter_mut().zip(&families).zip(&flows) {
+                let (own, next) = rest.split_at(n * family.len());
+                *row = own.to_vec();
+                rest = next;
             }
         }
         self.extensions = extensions;
