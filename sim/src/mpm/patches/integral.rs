@@ -201,24 +201,19 @@ pub(super) enum Strain {
     /// e − e^p with e = |Y|/|X| − 1: elastic and plastic bonds (and SPB-MPM's
     /// members, whose springs are zero).
     Additive,
-    /// |Y|/L − 1 with L = |X| exp(e^p), e^p a logarithmic flow: viscous bonds, which
-    /// flow far.
+    /// |Y|/|X| − exp(e^p): e^p a logarithmic flow, the natural length |X| exp(e^p),
+    /// and the stiffness that of |X| (viscous bonds, which flow far).
     Multiplicative,
 }
 
 impl Strain {
     /// A bond's elastic extension: `length` long in the reference, `current` long
-    /// now, with plastic extension `plastic`.
+    /// now, with plastic extension `plastic`. Its derivative by |Y| is 1/|X| either
+    /// way.
     pub(super) fn elastic(self, current: f64, length: f64, plastic: f64) -> f64 {
-        self.pull(current, length, plastic).0
-    }
-
-    /// The elastic extension, and what divides it to give the pull along the bond
-    /// per unit of its current vector, ∂(extension)/∂|Y| / |Y|: |X| |Y| or L |Y|.
-    fn pull(self, current: f64, length: f64, plastic: f64) -> (f64, f64) {
         match self {
-            Strain::Additive => (current / length - 1.0 - plastic, length * current),
-            Strain::Multiplicative => (current / length - plastic.exp(), length * current),
+            Strain::Additive => current / length - 1.0 - plastic,
+            Strain::Multiplicative => current / length - plastic.exp(),
         }
     }
 }
@@ -285,8 +280,8 @@ pub(super) fn state(
     let modulus = 2.0 * bonds.mu + bonds.lambda;
     // A bond's e^p given its deviatoric extension now and its rate (the module
     // documentation).
-    let mut flow = |k: usize, deviatoric: f64, rate: f64| {
-        let elastic = deviatoric - extensions[k];
+    let mut flow = |k: usize, extension: f64, rate: f64| {
+        let elastic = extension - extensions[k];
         match law.flow {
             Flow::Elastic => {}
             Flow::Return => {
@@ -300,7 +295,7 @@ pub(super) fn state(
                 if elastic.abs() <= limit {
                     return;
                 }
-                // ds/dt = ė − (s ∓ s_Y)/τ over the last step, ė constant.
+                // ds/dt = ε̇ − (s ∓ s_Y)/τ over the last step, ε̇ constant.
                 let over = limit.copysign(elastic);
                 let mut relaxed =
                     over + decay * (elastic - dt * rate - over) + rate * tau * (1.0 - decay);
@@ -310,7 +305,7 @@ pub(super) fn state(
                         + (relaxed - over)
                             .clamp(0.0_f64.min(elastic - over), 0.0_f64.max(elastic - over));
                 }
-                extensions[k] = deviatoric - relaxed;
+                extensions[k] = extension - relaxed;
             }
         }
     };
@@ -324,17 +319,17 @@ pub(super) fn state(
     let n = family.len();
     match (bonds.viscosity, measured) {
         // Viscous bonds: a spring's own ln(|Y|/|X|), and the μ term's ln(|F X|/|X|)
-        // (kept after the springs'), less ln(J)/3, with their rates from the
-        // particles' velocities (Ḟ = Σ ω (v_q − v_p) ⊗ X V K⁻¹); none where F is not
-        // measured.
+        // (kept after the springs') where F is measured, with their rates from the
+        // particles' velocities (Ḟ = Σ ω (v_q − v_p) ⊗ X V K⁻¹).
         (Some(_), measured) => {
+            let rates =
+                measured.map(|(f, shape_inverse)| (f, mat_mul(&rate_moment, &shape_inverse)));
             for (k, (&nb, bond)) in intact() {
                 let q = (nb & INDEX) as usize;
                 let (y, dv) = (sub(x[q], x[i]), sub(v[q], v[i]));
                 flow(k, (norm(y) / bond.length).ln(), dot(y, dv) / dot(y, y));
-                if let Some((f, shape_inverse)) = measured {
+                if let Some((f, f_dot)) = rates {
                     let xi = sub(x0[q], x0[i]);
-                    let f_dot = mat_mul(&rate_moment, &shape_inverse);
                     let (average, rate) = (mat_vec(f, xi), mat_vec(f_dot, xi));
                     let shear = (norm(average) / bond.length).ln();
                     flow(n + k, shear, dot(average, rate) / dot(average, average));
@@ -373,9 +368,10 @@ pub(super) fn state(
         let average = mat_vec(f, xi);
         let average_length = norm(average);
         let plastic = extensions.get(shear_flow + k).copied().unwrap_or(0.0);
-        let (stretch, per) = strain.pull(average_length, length, plastic);
-        let magnitude =
-            2.0 * bonds.mu * c * bond.correction * delta / length * volume[q] * stretch / per;
+        let magnitude = 2.0 * bonds.mu * c * bond.correction * delta / length
+            * volume[q]
+            * strain.elastic(average_length, length, plastic)
+            / (length * average_length);
         for a in 0..3 {
             for b in 0..3 {
                 piola[a][b] += magnitude * average[a] * xi[b];
@@ -459,8 +455,9 @@ pub(super) fn force_state(
     let omega = delta / length;
     let mut t = mat_vec(state.force, xi);
     if state.spring != 0.0 {
-        let (stretch, per) = state.strain.pull(norm(y), length, plastic);
-        let pull = state.spring * bond.correction * stretch / per;
+        let current = norm(y);
+        let pull = state.spring * bond.correction * state.strain.elastic(current, length, plastic)
+            / (length * current);
         t = [0, 1, 2].map(|a| t[a] + pull * y[a]);
     }
     scale(t, omega)
