@@ -172,17 +172,12 @@ impl MemoryEstimate {
         // instead (what building the bonds holds for a moment is not counted).
         let mpm = scene.bodies.iter().any(|b| b.model == ModelKind::Mpm);
         let (per_particle, bytes_per_bond, peak_per_bond) = if mpm {
-            // The plastic extensions a bond keeps: two for viscous bonds, one for
-            // plastic ones.
+            // The plastic extensions a bond keeps.
             let flows = scene
                 .materials
                 .values()
                 .filter_map(|m| m.mpm.as_ref().and_then(|m| m.bonds.as_ref()))
-                .map(|b| match (b.viscosity, b.yield_stress) {
-                    (Some(_), _) => 2,
-                    (None, Some(_)) => 1,
-                    (None, None) => 0,
-                })
+                .map(|b| crate::mpm::patches::flows_per_bond(b.viscosity, b.yield_stress))
                 .max()
                 .unwrap_or(0);
             let extension = flows * crate::mpm::patches::PLASTIC_BYTES_PER_BOND;

@@ -128,15 +128,9 @@ pub struct IntegralBonds {
 }
 
 impl IntegralBonds {
-    /// How many plastic extensions each bond keeps: none for elastic bonds, e^p for
-    /// plastic ones, and for viscous ones the springs' and the μ term's apart (the
-    /// module documentation).
+    /// How many plastic extensions each bond keeps ([`flows_per_bond`]).
     pub(super) fn flows_per_bond(&self) -> usize {
-        match (self.viscosity, self.yield_stress) {
-            (Some(_), _) => 2,
-            (None, Some(_)) => 1,
-            (None, None) => 0,
-        }
+        flows_per_bond(self.viscosity, self.yield_stress)
     }
 
     /// How the bonds take e^p off: multiplicatively where they are viscous.
@@ -173,6 +167,17 @@ impl IntegralBonds {
     }
 }
 
+/// How many plastic extensions a bond of a body with these bonds' `viscosity` and
+/// `yield_stress` keeps: none for elastic bonds, e^p for plastic ones, and for
+/// viscous ones the springs' and the μ term's apart (the module documentation).
+pub fn flows_per_bond(viscosity: Option<f64>, yield_stress: Option<f64>) -> usize {
+    match (viscosity, yield_stress) {
+        (Some(_), _) => 2,
+        (None, Some(_)) => 1,
+        (None, None) => 0,
+    }
+}
+
 /// How a body's bonds act this step.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct Law {
@@ -182,7 +187,7 @@ pub(super) struct Law {
     pub(super) flow: Flow,
 }
 
-/// How a bond's deviatoric extension flows into its e^p.
+/// How a bond's extension flows into its e^p.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) enum Flow {
     /// Elastic bonds: no flow.
@@ -275,11 +280,10 @@ pub(super) fn state(
         }
         Shape::Stale | Shape::Flat => None,
     };
-    // Each intact bond's deviatoric extension flows (the module documentation).
     let sigma_y = bonds.yield_stress.unwrap_or(0.0);
     let modulus = 2.0 * bonds.mu + bonds.lambda;
-    // A bond's e^p given its deviatoric extension now and its rate (the module
-    // documentation).
+    // A bond's e^p given the extension it follows (deviatoric for plastic bonds,
+    // whole for viscous ones) and that extension's rate (the module documentation).
     let mut flow = |k: usize, extension: f64, rate: f64| {
         let elastic = extension - extensions[k];
         match law.flow {

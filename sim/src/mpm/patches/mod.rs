@@ -79,7 +79,7 @@ mod pieces;
 mod reference;
 
 use correspondence::{Flow, State, state};
-pub use integral::IntegralBonds;
+pub use integral::{IntegralBonds, flows_per_bond};
 use reference::{Bond, Member, Reference, Shape};
 
 use super::MpmMaterial;
