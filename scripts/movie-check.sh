@@ -15,6 +15,10 @@ frames="${2:?usage: scripts/movie-check.sh OUT FRAMES FPS}"
 fps="${3:?usage: scripts/movie-check.sh OUT FRAMES FPS}"
 venv="${PERIFRAC_DCC_VENV:-$here/../target/dcc-venv}"
 python="${PYTHON:-python3}"
+# One maker of the environment at a time, as scripts/dcc/venv.sh.
+mkdir -p "$(dirname "$venv")"
+exec 9>"$venv.lock"
+flock 9
 if [ ! -x "$venv/bin/python" ]; then
   "$python" -m venv "$venv"
 fi
@@ -24,4 +28,5 @@ if ! "$venv/bin/python" -c "import PIL" 2>/dev/null; then
     exit 77
   fi
 fi
+flock -u 9
 "$venv/bin/python" "$here/dcc/movie_check.py" "$out" "$frames" "$fps"

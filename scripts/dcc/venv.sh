@@ -13,6 +13,11 @@ set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 venv="${PERIFRAC_DCC_VENV:-$here/../../target/dcc-venv}"
 python="${PYTHON:-python3}"
+# Tests run side by side and each calls this: one makes the environment while the
+# others wait (two `python -m venv` on one folder removed each other's python).
+mkdir -p "$(dirname "$venv")"
+exec 9>"$venv.lock"
+flock 9
 if [ ! -x "$venv/bin/python" ]; then
   "$python" -m venv "$venv" >&2
 fi

@@ -83,7 +83,16 @@ pub fn estimate_before_meshing(scene: &Scene) -> Result<MemoryEstimate> {
         let volume = inside_volume(sdf.as_ref());
         if b.model == ModelKind::Mpm {
             // Eight particles a cell of the grid spacing (the smallest resolution).
-            particles += 8.0 * volume / smallest.powi(3);
+            let seeded = 8.0 * volume / smallest.powi(3);
+            particles += seeded;
+            let material = scene.materials.get(&b.material);
+            if material.is_some_and(|m| m.mpm.as_ref().is_some_and(|m| m.bonds.is_some())) {
+                // The integral-based MPM's families, within δ = 1.5 Δx of every
+                // particle from the start (SPB-MPM's come as particles join).
+                let delta = crate::mpm::patches::HORIZON_CELLS;
+                let family = 4.0 / 3.0 * std::f64::consts::PI * delta.powi(3) * 8.0;
+                bonds += seeded * (family - 1.0);
+            }
             continue;
         }
         let tets = TETS_PER_CUBE * volume / h.powi(3);

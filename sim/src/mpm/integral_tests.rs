@@ -198,6 +198,31 @@ fn a_ball_of_stiff_honey_lands_as_a_puddle_that_keeps_its_volume() {
     assert!((median - 1.0).abs() < 0.04, "{median}");
 }
 
+/// `perifrac check`'s estimate before seeding counts the integral-based MPM's bonds
+/// (a full family within δ = 1.5 Δx of every particle): within 35% of the bonds the
+/// ball of honey builds (more, as its surface families are cut).
+#[test]
+fn the_memory_estimate_before_seeding_counts_the_bonds() {
+    let text = "[scene]\nduration = 0.01\n\
+         [materials.honey]\ndensity = 1400\nyoungs_modulus = 1e6\npoisson_ratio = 0.25\n\
+         [materials.honey.mpm]\nbonds = { viscosity = 10 }\n\
+         [[body]]\nmodel = \"mpm\"\nmaterial = \"honey\"\nresolution = 0.01\n\
+         shape = { type = \"sphere\", center = [0, 0.08, 0], radius = 0.05 }\n\
+         [output]\ntets = false\nsurface = \"none\"\npreview = false\n";
+    let p = prepared(text);
+    let path = std::path::Path::new("honey.toml");
+    let scene =
+        perifrac_cache::scene::Scene::parse(text, path, std::path::Path::new(".")).expect("scene");
+    let estimate = crate::memory::estimate_before_meshing(&scene).expect("estimate");
+    let built = p.world.bonds() as f64;
+    eprintln!("bonds: {:.0} estimated, {built} built", estimate.bonds);
+    assert!(
+        (estimate.bonds / built - 1.0).abs() < 0.35,
+        "{} against {built}",
+        estimate.bonds
+    );
+}
+
 /// Eq. 5.21 and the crack cut: a notched bar of breakable bonds (l_threshold 0.05) on
 /// a 2 cm grid separates into two large pieces, and with l_threshold 1 no bond
 /// breaks in the same pull. It separates at the edge of its upper clamp, not at its
