@@ -199,6 +199,11 @@ pub fn cofactor(a: &Mat3) -> Mat3 {
     ]
 }
 
+/// The bulk modulus K = λ + 2μ/3 of Lamé's `lambda` and `mu`.
+pub fn bulk_modulus(lambda: f64, mu: f64) -> f64 {
+    lambda + 2.0 * mu / 3.0
+}
+
 impl Elastic {
     /// The material of Young's modulus `e` and Poisson ratio `nu` (Lyu Eq. 3.6).
     pub fn from_young(energy: MpmElasticity, e: f64, nu: f64) -> Elastic {
@@ -207,6 +212,11 @@ impl Elastic {
             mu: e / (2.0 * (1.0 + nu)),
             lambda: e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)),
         }
+    }
+
+    /// The bulk modulus K = λ + 2μ/3.
+    pub fn bulk_modulus(&self) -> f64 {
+        bulk_modulus(self.lambda, self.mu)
     }
 
     /// Young's modulus E = μ(3λ + 2μ)/(λ + μ).

@@ -85,7 +85,7 @@ impl Mpm {
                         }
                     },
                     volume_modulus: match mpm.bonds.and_then(|b| b.viscosity) {
-                        Some(_) => elastic.lambda + 2.0 * elastic.mu / 3.0,
+                        Some(_) => elastic.bulk_modulus(),
                         None => 0.0,
                     },
                 }

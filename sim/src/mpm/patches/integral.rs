@@ -384,7 +384,7 @@ pub(super) fn state(
     }
     if viscous {
         // The volume's K ln(J) F⁻ᵀ (the module documentation).
-        let bulk = bonds.lambda + 2.0 * bonds.mu / 3.0;
+        let bulk = constitutive::bulk_modulus(bonds.lambda, bonds.mu);
         let determinant = constitutive::determinant(&f);
         let inverse = inverse3(&f, determinant);
         let pressure = bulk * determinant.ln();

@@ -326,8 +326,13 @@ impl Patches {
         let started = std::time::Instant::now();
         let delta = self.horizon;
         let p = &*particles;
-        let bodies = &self.bodies;
-        let full_weights = &self.full_weights;
+        // Each integral-based body's bonds' law this step.
+        let laws: Vec<Option<integral::Law>> = self
+            .bodies
+            .iter()
+            .zip(&self.full_weights)
+            .map(|(body, &full)| body.bonds.map(|bonds| bonds.law(full, dt)))
+            .collect();
         let measured: Vec<(State, Option<Flow>)> = self
             .members
             .par_iter()
@@ -342,10 +347,9 @@ impl Patches {
                 if *shape == Shape::Stale {
                     *shape = reference::shape(member, p, delta);
                 }
-                match &bodies[p.body[i] as usize].bonds {
-                    Some(bonds) => {
-                        let law = bonds.law(full_weights[p.body[i] as usize], dt);
-                        let state = integral::state(member, *shape, extensions, p, &law, delta);
+                match &laws[p.body[i] as usize] {
+                    Some(law) => {
+                        let state = integral::state(member, *shape, extensions, p, law, delta);
                         (state, None)
                     }
                     None => state(member, *shape, inverse.as_ref(), p, materials, delta),
