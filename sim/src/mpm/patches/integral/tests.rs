@@ -1,7 +1,7 @@
 //! The integral-based MPM's force state against its energy.
 use super::*;
 use crate::mpm::patches::reference::shape;
-use perifrac_math::{cross, det3, inverse3};
+use perifrac_math::{add, cross, det3, inverse3, normalize};
 
 const DELTA: f64 = 0.03;
 const BONDS: IntegralBonds = IntegralBonds {
@@ -72,15 +72,14 @@ fn state_of(p: &MpmParticles, family: &[u32], table: &[Bond], whole: f64) -> Sta
     state(member, shape, &mut [], p, &BONDS.law(whole, 1e-5), DELTA)
 }
 
-/// ψ_p of the module documentation at the particles' positions.
-fn energy(p: &MpmParticles, family: &[u32]) -> f64 {
+/// Particle 0's F over its whole `family` (Eq. 4.4), worked out afresh.
+fn deformation(p: &MpmParticles, family: &[u32]) -> [[f64; 3]; 3] {
     let (x0, x, v) = (&p.reference, &p.position, &p.volume);
-    let (mut shape, mut moment, mut whole) = ([[0.0; 3]; 3], [[0.0; 3]; 3], 0.0);
+    let (mut shape, mut moment) = ([[0.0; 3]; 3], [[0.0; 3]; 3]);
     for &q in family {
         let q = q as usize;
         let (xi, y) = (sub(x0[q], x0[0]), sub(x[q], x[0]));
         let w = DELTA / norm(xi) * v[q];
-        whole += w;
         for a in 0..3 {
             for b in 0..3 {
                 shape[a][b] += w * xi[a] * xi[b];
@@ -88,7 +87,14 @@ fn energy(p: &MpmParticles, family: &[u32]) -> f64 {
             }
         }
     }
-    let f = mat_mul(&moment, &inverse3(&shape, det3(&shape)));
+    mat_mul(&moment, &inverse3(&shape, det3(&shape)))
+}
+
+/// ψ_p of the module documentation at the particles' positions.
+fn energy(p: &MpmParticles, family: &[u32]) -> f64 {
+    let (x0, x, v) = (&p.reference, &p.position, &p.volume);
+    let whole = whole_weight(p, family);
+    let f = deformation(p, family);
     let c = UNIAXIAL_WEIGHT / whole;
     // A full lattice family: its surface correction is that of the cubic lattice.
     let table = table(p, family, whole);
@@ -206,19 +212,7 @@ fn viscous_bonds_forces_are_the_gradient_of_their_energy() {
     assert!(kept.iter().zip(&flows).all(|(a, b)| (a - b).abs() < 1e-15));
     let energy = |p: &MpmParticles| {
         let (x0, x, v) = (&p.reference, &p.position, &p.volume);
-        let (mut shape, mut moment) = ([[0.0; 3]; 3], [[0.0; 3]; 3]);
-        for &q in &family {
-            let q = q as usize;
-            let (xi, y) = (sub(x0[q], x0[0]), sub(x[q], x[0]));
-            let w = DELTA / norm(xi) * v[q];
-            for a in 0..3 {
-                for b in 0..3 {
-                    shape[a][b] += w * xi[a] * xi[b];
-                    moment[a][b] += w * y[a] * xi[b];
-                }
-            }
-        }
-        let f = mat_mul(&moment, &inverse3(&shape, det3(&shape)));
+        let f = deformation(p, &family);
         let c = UNIAXIAL_WEIGHT / whole;
         let bonds: f64 = family
             .iter()
