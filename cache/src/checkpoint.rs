@@ -20,6 +20,7 @@
 //! In a payload a slice is its length (u64) and then its values, so a decoder checks
 //! each array's length against the scene before reading it.
 
+use std::io::{Seek, SeekFrom, Write};
 use std::path::Path;
 
 use crate::error::{CacheError, Result};
@@ -62,22 +63,37 @@ impl Checkpoint {
     /// The file's bytes.
     pub fn encode(&self) -> Vec<u8> {
         let mut out = Vec::with_capacity(HEADER_LEN + self.payload.len() + 4);
-        out.extend_from_slice(MAGIC);
-        out.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
-        for v in [self.scene_hash, self.frame, self.steps, self.broken_bonds] {
-            out.extend_from_slice(&v.to_le_bytes());
-        }
-        out.extend_from_slice(&self.time.to_le_bytes());
-        out.extend_from_slice(&(self.payload.len() as u64).to_le_bytes());
+        out.extend_from_slice(&self.header(self.payload.len() as u64));
         out.extend_from_slice(&self.payload);
         let crc = crc32fast::hash(&out);
         out.extend_from_slice(&crc.to_le_bytes());
         out
     }
 
+    /// The bytes before a payload of `payload_len` bytes.
+    fn header(&self, payload_len: u64) -> Vec<u8> {
+        let mut out = Vec::with_capacity(HEADER_LEN);
+        out.extend_from_slice(MAGIC);
+        out.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
+        for v in [self.scene_hash, self.frame, self.steps, self.broken_bonds] {
+            out.extend_from_slice(&v.to_le_bytes());
+        }
+        out.extend_from_slice(&self.time.to_le_bytes());
+        out.extend_from_slice(&payload_len.to_le_bytes());
+        out
+    }
+
     /// Decodes the bytes of the checkpoint file `path` (named in errors): refuses a
     /// wrong magic or version, a truncated file, trailing bytes and a bad checksum.
     pub fn decode(bytes: &[u8], path: &Path) -> Result<Checkpoint> {
+        let mut checkpoint = Self::check(bytes, path)?;
+        checkpoint.payload = bytes[HEADER_LEN..bytes.len() - 4].to_vec();
+        Ok(checkpoint)
+    }
+
+    /// The counters of the checkpoint whose file's bytes are `bytes`, checked as
+    /// [`Checkpoint::decode`] does, with an empty payload.
+    fn check(bytes: &[u8], path: &Path) -> Result<Checkpoint> {
         let fail = |message: String| CacheError::checkpoint(path, message);
         if bytes.get(..MAGIC.len()) != Some(MAGIC.as_slice()) {
             let what = if bytes.starts_with(b"PFCKPT") {
@@ -146,7 +162,7 @@ impl Checkpoint {
             steps,
             broken_bonds,
             time,
-            payload: body[HEADER_LEN..].to_vec(),
+            payload: Vec::new(),
         })
     }
 
@@ -155,18 +171,84 @@ impl Checkpoint {
         crate::write_atomic(path, &self.encode())
     }
 
+    /// Writes the checkpoint atomically with the payload `save` encodes (in place of
+    /// `self.payload`, which is not written), passed to the file in chunks of
+    /// [`SPILL_CHUNK`] bytes as it is encoded: the same bytes as [`Checkpoint::write`]
+    /// of that payload, without the state held in memory a second and a third time
+    /// (the payload, then the file's bytes; for an MPM run, 224 bytes a particle
+    /// each). Returns the payload's length.
+    pub fn write_encoded(&self, path: &Path, save: impl FnOnce(&mut Encoder)) -> Result<u64> {
+        let tmp = crate::layout::temporary_file(path);
+        let mut written = HEADER_LEN as u64;
+        let write = || -> std::io::Result<u64> {
+            let mut file = std::fs::File::create(&tmp.path)?;
+            // The header's payload length is known at the end: room for it now.
+            file.write_all(&[0; HEADER_LEN])?;
+            let mut encoder = Encoder {
+                bytes: Vec::with_capacity(SPILL_CHUNK),
+                spill: Some(Spill {
+                    file,
+                    crc: crc32fast::Hasher::new(),
+                    len: 0,
+                    error: None,
+                }),
+            };
+            save(&mut encoder);
+            let Spill {
+                mut file, crc, len, ..
+            } = encoder.into_spill(&mut written)?;
+            let head = self.header(len);
+            let mut whole = crc32fast::Hasher::new();
+            whole.update(&head);
+            whole.combine(&crc);
+            file.write_all(&whole.finalize().to_le_bytes())?;
+            file.seek(SeekFrom::Start(0))?;
+            file.write_all(&head)?;
+            file.sync_data()?;
+            drop(file);
+            std::fs::rename(&tmp.path, path)?;
+            Ok(len)
+        };
+        write().map_err(|error| {
+            // The partial file would keep a full disk full.
+            let _ = std::fs::remove_file(&tmp.path);
+            crate::layout::write_error(path, error, written + 4)
+        })
+    }
+
     /// Reads and checks the checkpoint at `path`.
     pub fn read(path: &Path) -> Result<Checkpoint> {
-        let bytes = std::fs::read(path).map_err(|e| CacheError::io(path, e))?;
-        Checkpoint::decode(&bytes, path)
+        let mut bytes = std::fs::read(path).map_err(|e| CacheError::io(path, e))?;
+        let mut checkpoint = Self::check(&bytes, path)?;
+        // The payload in the file's own buffer, not copied: the state is large.
+        bytes.truncate(bytes.len() - 4);
+        bytes.drain(..HEADER_LEN);
+        checkpoint.payload = bytes;
+        Ok(checkpoint)
     }
 }
 
+/// Bytes an [`Encoder`] writing a checkpoint file holds before it passes them on.
+pub const SPILL_CHUNK: usize = 1 << 22;
+
 /// Writes a model's state into a checkpoint payload (little-endian; slices with
-/// their length first).
-#[derive(Debug, Clone, Default)]
+/// their length first): into memory ([`Encoder::new`], [`Encoder::finish`]), or into
+/// a checkpoint file as it goes ([`Checkpoint::write_encoded`]).
+#[derive(Debug, Default)]
 pub struct Encoder {
     bytes: Vec<u8>,
+    spill: Option<Spill>,
+}
+
+/// Where an [`Encoder`] of [`Checkpoint::write_encoded`] passes its bytes: the
+/// checkpoint's temporary file, the payload's CRC and length so far, the first
+/// failed write (encoding goes on; the write reports it at the end).
+#[derive(Debug)]
+struct Spill {
+    file: std::fs::File,
+    crc: crc32fast::Hasher,
+    len: u64,
+    error: Option<std::io::Error>,
 }
 
 impl Encoder {
@@ -175,24 +257,59 @@ impl Encoder {
         Encoder::default()
     }
 
+    /// Appends bytes; an encoder with a spill passes them on every [`SPILL_CHUNK`].
+    fn push(&mut self, b: &[u8]) {
+        self.bytes.extend_from_slice(b);
+        if self.bytes.len() >= SPILL_CHUNK {
+            self.spill_bytes();
+        }
+    }
+
+    /// Passes the bytes held to the spill, if there is one.
+    fn spill_bytes(&mut self) {
+        let Some(spill) = &mut self.spill else {
+            return;
+        };
+        if spill.error.is_none() {
+            if let Err(error) = spill.file.write_all(&self.bytes) {
+                spill.error = Some(error);
+            }
+            spill.crc.update(&self.bytes);
+            spill.len += self.bytes.len() as u64;
+        }
+        self.bytes.clear();
+    }
+
+    /// The spill with every byte passed on, or the first failed write; `written`
+    /// grows by the payload's bytes (for the error's "this file needs").
+    fn into_spill(mut self, written: &mut u64) -> std::io::Result<Spill> {
+        self.spill_bytes();
+        let mut spill = self.spill.take().expect("an encoder of a checkpoint file");
+        *written += spill.len;
+        match spill.error.take() {
+            Some(error) => Err(error),
+            None => Ok(spill),
+        }
+    }
+
     /// Appends a u32.
     pub fn put_u32(&mut self, v: u32) {
-        self.bytes.extend_from_slice(&v.to_le_bytes());
+        self.push(&v.to_le_bytes());
     }
 
     /// Appends a u64.
     pub fn put_u64(&mut self, v: u64) {
-        self.bytes.extend_from_slice(&v.to_le_bytes());
+        self.push(&v.to_le_bytes());
     }
 
     /// Appends an f32.
     pub fn put_f32(&mut self, v: f32) {
-        self.bytes.extend_from_slice(&v.to_le_bytes());
+        self.push(&v.to_le_bytes());
     }
 
     /// Appends an f64.
     pub fn put_f64(&mut self, v: f64) {
-        self.bytes.extend_from_slice(&v.to_le_bytes());
+        self.push(&v.to_le_bytes());
     }
 
     /// Appends a slice length.
@@ -224,7 +341,7 @@ impl Encoder {
         v.iter().flatten().for_each(|&x| self.put_f64(x));
     }
 
-    /// The payload.
+    /// The payload of an encoder made by [`Encoder::new`].
     pub fn finish(self) -> Vec<u8> {
         self.bytes
     }
@@ -425,114 +542,4 @@ impl<'a> Decoder<'a> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn sample() -> Checkpoint {
-        let mut e = Encoder::new();
-        e.put_f64x3_slice(&[[1.0, 2.0, 3.0], [0.1 + 0.2, -0.0, 1e-300]]);
-        e.put_u32_slice(&[0, 1, 7]);
-        e.put_f32_slice(&[0.5]);
-        e.put_f64(1.0 / 3.0);
-        e.put_u64(42);
-        Checkpoint {
-            scene_hash: 0xfeed_beef,
-            frame: 12,
-            steps: 3456,
-            broken_bonds: 78,
-            time: 0.5 + 1e-17,
-            payload: e.finish(),
-        }
-    }
-
-    fn message(bytes: &[u8]) -> String {
-        Checkpoint::decode(bytes, Path::new("out/checkpoint/state.bin"))
-            .unwrap_err()
-            .to_string()
-    }
-
-    #[test]
-    fn round_trip_through_a_file() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("state.bin");
-        let c = sample();
-        c.write(&path).unwrap();
-        let back = Checkpoint::read(&path).unwrap();
-        assert_eq!(back, c);
-        assert_eq!(back.time.to_bits(), c.time.to_bits());
-        let mut d = Decoder::new(&back.payload, &path);
-        let p = d.take_f64x3_slice("position", 2).unwrap();
-        assert_eq!(p[1][0].to_bits(), (0.1f64 + 0.2).to_bits());
-        assert_eq!(
-            d.take_u32_slice_bounded("neighbours", 3, 8).unwrap(),
-            [0, 1, 7]
-        );
-        assert_eq!(d.take_f32_slice("damage", 1).unwrap(), [0.5]);
-        assert_eq!(d.take_f64("work").unwrap(), 1.0 / 3.0);
-        assert_eq!(d.take_u64("count").unwrap(), 42);
-        d.finish().unwrap();
-    }
-
-    #[test]
-    fn damage_is_refused_with_the_file_and_the_reason() {
-        let good = sample().encode();
-        let mut flipped = good.clone();
-        flipped[HEADER_LEN + 5] ^= 0x10;
-        let m = message(&flipped);
-        assert!(
-            m.starts_with("out/checkpoint/state.bin: checksum mismatch")
-                && m.contains("damaged")
-                && m.contains("frame")
-                && m.contains("12")
-                && m.contains("without --resume"),
-            "{m}"
-        );
-        let m = message(&good[..good.len() - 9]);
-        assert!(m.contains("truncated"), "{m}");
-        let m = message(&good[..20]);
-        assert!(m.contains("truncated"), "{m}");
-        let mut long = good.clone();
-        long.push(0);
-        assert!(message(&long).contains("trailing bytes"));
-        let mut old = good.clone();
-        old[..8].copy_from_slice(b"PFCKPT01");
-        assert!(message(&old).contains("another perifrac version"));
-        assert!(message(b"hello").contains("not a perifrac checkpoint"));
-        let mut version = good.clone();
-        version[8] = 9;
-        assert!(message(&version).contains("format version 9"));
-    }
-
-    #[test]
-    fn decoder_names_short_and_invalid_fields() {
-        let c = sample();
-        let path = Path::new("state.bin");
-        let mut d = Decoder::new(&c.payload, path);
-        let m = d.take_f64x3_slice("position", 3).unwrap_err().to_string();
-        assert!(
-            m.contains("'position'") && m.contains("scene gives 3"),
-            "{m}"
-        );
-        let mut d = Decoder::new(&c.payload, path);
-        d.take_f64x3_slice("position", 2).unwrap();
-        let m = d
-            .take_u32_slice_bounded("neighbours", 3, 7)
-            .unwrap_err()
-            .to_string();
-        assert!(
-            m.contains("'neighbours'") && m.contains("value 7 at 2"),
-            "{m}"
-        );
-        let mut d = Decoder::new(&c.payload[..c.payload.len() - 3], path);
-        d.take_f64x3_slice("position", 2).unwrap();
-        d.take_u32_slice("neighbours", 3).unwrap();
-        d.take_f32_slice("damage", 1).unwrap();
-        d.take_f64("work").unwrap();
-        let m = d.take_u64("count").unwrap_err().to_string();
-        assert!(m.contains("'count'") && m.contains("truncated"), "{m}");
-        let mut d = Decoder::new(&c.payload, path);
-        d.take_f64x3_slice("position", 2).unwrap();
-        let m = d.finish().unwrap_err().to_string();
-        assert!(m.contains("bytes left"), "{m}");
-    }
-}
+mod tests;

@@ -11,7 +11,7 @@ use std::time::Instant;
 
 use super::resume::Resumed;
 use super::{Prepared, Progress, RunOptions, scene_hash};
-use crate::cache::checkpoint::{Checkpoint, Encoder};
+use crate::cache::checkpoint::Checkpoint;
 use crate::cache::manifest::{BodyInfo, FileRecord, Manifest, Status, Timings};
 use crate::cache::ply::ParticleFrame;
 use crate::cache::{CacheError, Layout, human_bytes};
@@ -361,18 +361,16 @@ impl<'a> Frames<'a> {
         if !self.writes {
             return Ok(());
         }
-        let mut payload = Encoder::new();
-        world.save(&mut payload);
         let checkpoint = Checkpoint {
             scene_hash: scene_hash(self.scene),
             frame: frame as u64,
             steps: world.steps,
             broken_bonds: self.broken_total,
             time: world.time,
-            payload: payload.finish(),
+            payload: Vec::new(),
         };
-        checkpoint.write(&self.layout.checkpoint())?;
-        self.checkpoint_bytes = checkpoint.payload.len() as u64;
+        self.checkpoint_bytes =
+            checkpoint.write_encoded(&self.layout.checkpoint(), |payload| world.save(payload))?;
         Ok(())
     }
 
