@@ -10,6 +10,7 @@
 //! fall back to the body's resolution λ ([`ParticleFrame::volume`] is `None`). Debris
 //! points (`surface/NNNN_debris.ply`) are written with [`encode_points`] too.
 
+use std::io::Write;
 use std::path::Path;
 
 use crate::error::{CacheError, Result};
@@ -35,7 +36,14 @@ pub fn encode_points(
     velocity: &[[f32; 3]],
     scalars: &[(&str, &[f32])],
 ) -> Vec<u8> {
-    let count = position.len();
+    let mut out = Vec::with_capacity(points_len(comment, position.len(), scalars));
+    write_points(&mut out, comment, position, velocity, scalars)
+        .expect("writing into memory does not fail");
+    out
+}
+
+/// The header of [`encode_points`]' file.
+fn points_header(comment: &str, count: usize, scalars: &[(&str, &[f32])]) -> String {
     let mut header = format!(
         "ply\nformat binary_little_endian 1.0\ncomment {comment}\nelement vertex {count}\n"
     );
@@ -46,15 +54,33 @@ pub fn encode_points(
         header.push_str(&format!("property float {name}\n"));
     }
     header.push_str("end_header\n");
-    let mut out = Vec::with_capacity(header.len() + count * 4 * (6 + scalars.len()));
-    out.extend_from_slice(header.as_bytes());
-    for i in 0..count {
+    header
+}
+
+/// The length of [`encode_points`]' file.
+fn points_len(comment: &str, count: usize, scalars: &[(&str, &[f32])]) -> usize {
+    points_header(comment, count, scalars).len() + count * 4 * (6 + scalars.len())
+}
+
+/// [`encode_points`]' bytes written to `out`.
+fn write_points(
+    out: &mut dyn Write,
+    comment: &str,
+    position: &[[f32; 3]],
+    velocity: &[[f32; 3]],
+    scalars: &[(&str, &[f32])],
+) -> std::io::Result<()> {
+    out.write_all(points_header(comment, position.len(), scalars).as_bytes())?;
+    let mut row = Vec::with_capacity(4 * (6 + scalars.len()));
+    for i in 0..position.len() {
+        row.clear();
         let vectors = position[i].into_iter().chain(velocity[i]);
         for v in vectors.chain(scalars.iter().map(|c| c.1[i])) {
-            out.extend_from_slice(&v.to_le_bytes());
+            row.extend_from_slice(&v.to_le_bytes());
         }
+        out.write_all(&row)?;
     }
-    out
+    Ok(())
 }
 
 /// A decoded float PLY: its comment lines and its columns in file order.
@@ -236,6 +262,12 @@ impl ParticleFrame {
 
     /// Encodes the frame as PLY bytes.
     pub fn to_bytes(&self) -> Vec<u8> {
+        let (comment, scalars) = self.columns();
+        encode_points(&comment, &self.position, &self.velocity, &scalars)
+    }
+
+    /// The comment line and the scalar columns, in file order.
+    fn columns(&self) -> (String, Vec<(&str, &[f32])>) {
         let standard: [&[f32]; 4] = [&self.damage, &self.plastic, &self.material, &self.fragment];
         let scalars: Vec<(&str, &[f32])> = PROPERTIES[6..]
             .iter()
@@ -247,11 +279,12 @@ impl ParticleFrame {
             "perifrac particles frame {} time {:e}",
             self.frame, self.time
         );
-        encode_points(&comment, &self.position, &self.velocity, &scalars)
+        (comment, scalars)
     }
 
-    /// Writes the frame atomically; refuses columns of the wrong length. Returns
-    /// what the manifest records of the file.
+    /// Writes the frame atomically, through a buffer (the file's bytes are never
+    /// held whole: 52 bytes a particle and more); refuses columns of the wrong
+    /// length. Returns what the manifest records of the file.
     pub fn write(&self, path: &Path) -> Result<crate::manifest::FileRecord> {
         let n = self.len();
         let lengths = [
@@ -268,9 +301,11 @@ impl ParticleFrame {
                 format!("{n} particles but {len} values of '{name}'"),
             ));
         }
-        let bytes = self.to_bytes();
-        crate::write_atomic(path, &bytes)?;
-        Ok(crate::manifest::FileRecord::of(&bytes))
+        let (comment, scalars) = self.columns();
+        let needed = points_len(&comment, n, &scalars) as u64;
+        crate::layout::write_atomic_with(path, needed, |out| {
+            write_points(out, &comment, &self.position, &self.velocity, &scalars)
+        })
     }
 
     /// Reads a frame written by [`ParticleFrame::write`] (or any binary little-endian
@@ -340,6 +375,34 @@ mod tests {
         assert_eq!(ParticleFrame::from_bytes(&bytes).unwrap(), f);
         let err = ParticleFrame::from_bytes(&bytes[..bytes.len() - 3]).unwrap_err();
         assert!(err.contains("truncated"), "{err}");
+    }
+
+    #[test]
+    fn a_frame_written_through_a_buffer_is_its_bytes() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("0003.ply");
+        let mut f = two_particles();
+        // More rows than the writer's buffer holds.
+        let n = 40_000;
+        f.position = (0..n).map(|i| [i as f32, 0.5, -(i as f32)]).collect();
+        f.velocity = vec![[0.25; 3]; n];
+        for column in [
+            &mut f.damage,
+            &mut f.plastic,
+            &mut f.material,
+            &mut f.fragment,
+        ] {
+            *column = (0..n).map(|i| (i % 7) as f32).collect();
+        }
+        f.extra = vec![("region".to_string(), vec![1.0; n])];
+        let record = f.write(&path).unwrap();
+        let bytes = std::fs::read(&path).unwrap();
+        assert!(bytes == f.to_bytes());
+        assert_eq!(record, crate::manifest::FileRecord::of(&bytes));
+        assert_eq!(
+            record.bytes as usize,
+            points_len(&f.columns().0, n, &f.columns().1)
+        );
     }
 
     #[test]
