@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # The memory estimate against the measured peak resident memory (docs/memory.md):
 # three elastic 1 × 1 × 0.1 m walls (Chen Table 1's), λ from coarse to fine, each run
-# for one frame (meshing, families, a few steps, one PLY) under /usr/bin/time -v.
+# for one frame (meshing, families, a few steps, one PLY) under /usr/bin/time -v;
+# then MPM: an elastic 0.4 m block at four grid spacings and a wall two cells thick,
+# three frames with a checkpoint at each.
 # Usage: scripts/memory-peak.sh [PERIFRAC_BINARY] [REPEATS]
 set -euo pipefail
 bin=${1:-target/release/perifrac}
@@ -48,4 +50,50 @@ TOML
   hi=$(printf '%s\n' "${peaks[@]}" | sort -n | tail -1)
   ratio=$(awk -v a="$before" -v l="$lo" -v h="$hi" 'BEGIN { printf "%.2f–%.2f", a / h, a / l }')
   printf '| %s | %s | %s | %s | %s | %s–%s | %s |\n' "$lambda" "$particles" "$bonds" "$before" "$after" "$lo" "$hi" "$ratio"
+done
+
+peak_mib() {
+  /usr/bin/time -v "$bin" run "$1" -o "$dir/out" --force --quiet 2>&1 >/dev/null \
+    | sed -n 's/.*Maximum resident set size (kbytes): \([0-9]*\).*/\1/p' \
+    | awk '{ printf "%.1f", $1 / 1024 }'
+}
+printf '\n| MPM body | particles | estimate (MiB) | of it the grid (MiB) | peak RSS (MiB) | estimate / peak |\n'
+printf '|---|---|---|---|---|---|\n'
+for body in "block 0.02 0.4" "block 0.0125 0.4" "block 0.008 0.4" "block 0.006 0.4" "wall 0.005 0.01"; do
+  read -r kind dx thick <<<"$body"
+  cat > "$dir/mpm.toml" <<TOML
+[scene]
+name = "mpm"
+duration = 0.003
+fps = 1000.0
+[materials.m]
+density = 1000.0
+youngs_modulus = 1.0e5
+poisson_ratio = 0.3
+[[body]]
+model = "mpm"
+material = "m"
+resolution = $dx
+velocity = [0.0, -1.0, 0.0]
+shape = { type = "box", center = [0.0, 0.5, 0.0], size = [$thick, $( [ "$kind" = wall ] && echo 0.6 || echo 0.4 ), $( [ "$kind" = wall ] && echo 0.6 || echo 0.4 )] }
+[output]
+preview = false
+usd = false
+surface = "none"
+tets = false
+checkpoint_every = 1
+TOML
+  check=$("$bin" check "$dir/mpm.toml")
+  particles=$(sed -n 's/^  particles: \([0-9]*\).*/\1/p' <<<"$check")
+  estimate=$(sed -n 's/^  memory: *\([0-9.]*\) MiB at the peak.*/\1/p' <<<"$check")
+  grid=$(sed -n "s/.*the grid's \([0-9.]*\) MiB.*/\1/p" <<<"$check")
+  peaks=()
+  for _ in $(seq "$repeats"); do
+    rm -rf "$dir/out"
+    peaks+=("$(peak_mib "$dir/mpm.toml")")
+  done
+  lo=$(printf '%s\n' "${peaks[@]}" | sort -n | head -1)
+  hi=$(printf '%s\n' "${peaks[@]}" | sort -n | tail -1)
+  ratio=$(awk -v a="$estimate" -v l="$lo" -v h="$hi" 'BEGIN { printf "%.2f–%.2f", a / h, a / l }')
+  printf '| %s, Δx %s m | %s | %s | %s | %s–%s | %s |\n' "$kind" "$dx" "$particles" "$estimate" "$grid" "$lo" "$hi" "$ratio"
 done

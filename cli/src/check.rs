@@ -72,10 +72,11 @@ pub fn command(path: &Path) -> Result<(), Failure> {
     );
     println!(
         "  memory:    {:.1} MiB at the peak of set-up ({} bytes a bond during the run, {} more \
-         while the families are built)",
+         while the families are built, and the process's {:.0} MiB)",
         memory / (1 << 20) as f64,
         estimate.bytes_per_bond,
-        SETUP_BYTES_PER_BOND
+        SETUP_BYTES_PER_BOND,
+        perifrac_sim::memory::PROCESS_BYTES / (1 << 20) as f64
     );
     println!(
         "             {:.1} MiB as estimated before meshing ({:.0} particles, {:.3e} bonds)",
@@ -184,7 +185,13 @@ fn check_mpm(scene: &Scene, disc: Discretization, before: &MemoryEstimate) -> Re
     }
     let particles = owners.len();
     let bonds = prepared.world.bonds();
-    let estimate = MemoryEstimate::new(scene, particles as f64, bonds as f64, 0.0);
+    let dx = scene
+        .bodies
+        .iter()
+        .map(|b| b.resolution)
+        .fold(f64::INFINITY, f64::min);
+    let grid = mpm::grid::SparseGrid::estimate_bytes(&prepared.discretization.position, dx);
+    let estimate = MemoryEstimate::new(scene, particles as f64, bonds as f64, 0.0).with_grid(grid);
     crate::memory::check_memory(&estimate)?;
     println!("  particles: {particles}");
     // SPB-MPM's bonds come as particles join, the integral-based MPM's at the start.
@@ -197,10 +204,14 @@ fn check_mpm(scene: &Scene, disc: Discretization, before: &MemoryEstimate) -> Re
         String::new()
     };
     println!(
-        "  memory:    {:.1} MiB for the particles ({} bytes each){with_bonds} (the MPM grid \
-         not counted)",
+        "  memory:    {:.1} MiB at the peak: {} bytes a particle (its state, the step's \
+         buffers, the frame's columns){with_bonds}, the grid's {:.1} MiB ({:.0} bytes a \
+         particle) and the process's {:.0} MiB",
         estimate.bytes / (1 << 20) as f64,
-        mpm::BYTES_PER_PARTICLE
+        mpm::PEAK_BYTES_PER_PARTICLE,
+        grid / (1 << 20) as f64,
+        grid / particles.max(1) as f64,
+        perifrac_sim::memory::PROCESS_BYTES / (1 << 20) as f64
     );
     println!(
         "             {:.1} MiB as estimated before seeding ({:.0} particles)",

@@ -15,8 +15,14 @@ use crate::scene::{ModelKind, Scene, ShapeSpec};
 
 /// Bytes per particle of state and scratch (positions, velocities, reference data,
 /// θ, forces, accelerations, masses, flags); an MPM particle's are
-/// [`crate::mpm::BYTES_PER_PARTICLE`].
+/// [`crate::mpm::PEAK_BYTES_PER_PARTICLE`].
 pub const BYTES_PER_PARTICLE: usize = 8 * 3 * 5 + 8 * 5 + 4 * 3 + 2;
+
+/// Bytes a run holds whatever its scene: the program and its libraries, the worker
+/// threads' stacks, the allocator's arenas. Measured: 39 MiB, the intercept of an
+/// MPM block's peak resident memory less its grid against its particles
+/// (docs/memory.md).
+pub const PROCESS_BYTES: f64 = 39.0 * (1u64 << 20) as f64;
 
 /// What a scene will cost in memory.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -29,8 +35,12 @@ pub struct MemoryEstimate {
     pub bytes_per_bond: usize,
     /// Points of the mesher's lattices (0 once the scene is meshed).
     pub lattice_points: f64,
-    /// Bytes at the run's peak (set-up, or the mesher's lattice if larger).
+    /// Bytes at the run's peak (set-up, or the mesher's lattice if larger), the
+    /// process's own [`PROCESS_BYTES`] included.
     pub bytes: f64,
+    /// Of them, the MPM grid's: as for a body that fills its grid blocks until the
+    /// particles are seeded ([`MemoryEstimate::with_grid`]).
+    pub grid: f64,
 }
 
 /// Samples a grid of this many points a side over a body's bounds to measure the
@@ -191,7 +201,11 @@ impl MemoryEstimate {
                 .unwrap_or(0);
             let extension = flows * crate::mpm::patches::PLASTIC_BYTES_PER_BOND;
             let bytes = crate::mpm::patches::BYTES_PER_BOND + extension;
-            (crate::mpm::BYTES_PER_PARTICLE, bytes, bytes)
+            (
+                crate::mpm::PEAK_BYTES_PER_PARTICLE + crate::mpm::COMPACT_GRID_BYTES_PER_PARTICLE,
+                bytes,
+                bytes,
+            )
         } else {
             let bytes = family::BYTES_PER_BOND
                 + if plastic { 12 } else { 0 }
@@ -199,15 +213,29 @@ impl MemoryEstimate {
             (BYTES_PER_PARTICLE, bytes, bytes + SETUP_BYTES_PER_BOND)
         };
         let (per_particle, peak_per_bond) = (per_particle as f64, peak_per_bond as f64);
-        let run = bonds * peak_per_bond + particles * per_particle;
-        let mesh = lattice * BYTES_PER_LATTICE_POINT + particles * per_particle;
+        let run = PROCESS_BYTES + bonds * peak_per_bond + particles * per_particle;
+        let mesh = PROCESS_BYTES + lattice * BYTES_PER_LATTICE_POINT + particles * per_particle;
         MemoryEstimate {
             particles: particles.round() as usize,
             bonds,
             bytes_per_bond,
             lattice_points: lattice,
             bytes: run.max(mesh),
+            grid: if mpm {
+                particles * crate::mpm::COMPACT_GRID_BYTES_PER_PARTICLE as f64
+            } else {
+                0.0
+            },
         }
+    }
+
+    /// The estimate with the MPM grid's `bytes` counted from the seeded particles
+    /// ([`crate::mpm::grid::SparseGrid::estimate_bytes`]) in place of a body that
+    /// fills its blocks: thin walls, nets and sheets hold a few particles a block.
+    pub fn with_grid(mut self, bytes: f64) -> MemoryEstimate {
+        self.bytes += bytes - self.grid;
+        self.grid = bytes;
+        self
     }
 }
 

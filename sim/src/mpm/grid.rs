@@ -213,6 +213,21 @@ impl SparseGrid {
             + self.held.len() * size_of::<[f64; 4]>()
     }
 
+    /// Bytes a grid of spacing `dx` takes for particles at `position` once it has
+    /// stepped (for `perifrac check`): each bin's scatter and velocity spans, each
+    /// block's nodes, key and slot ([`SparseGrid::memory_bytes`] under APIC without
+    /// anchors; the sort's 16 bytes a particle are the particles' own).
+    pub fn estimate_bytes(position: &[[f64; 3]], dx: f64) -> f64 {
+        use std::mem::size_of;
+        let mut grid = SparseGrid::new(dx);
+        grid.rebuild(position);
+        let bin = size_of::<Bin>() + SPAN_NODES * (size_of::<[f64; 4]>() + size_of::<[f64; 3]>());
+        // A block's nodes, its key, and its map entry (key, slot and the table's control byte).
+        let block =
+            BLOCK_NODES * size_of::<[f64; 4]>() + 2 * size_of::<u64>() + 2 * size_of::<u32>() + 1;
+        (grid.bins.len() * bin + grid.blocks.len() * block) as f64
+    }
+
     /// Keeps the nodes' mass and momentum after a P2G of the anchored particles alone
     /// (the others with zero mass, each anchored one at its anchor's velocity): the
     /// grid update then moves held nodes with the anchors ([`HELD_MASS_SHARE`]).

@@ -252,11 +252,16 @@ struct StageTimes {
     plasticity: f64,
 }
 
-/// Bytes an MPM particle takes while the run steps: x, v and X (72), m and V (16), its
-/// body (4), F and C (144), ε^p (8), the stress stage's A_p (72) and the grid's sort
-/// key, index and bin of it (16); the grid's nodes are not counted. Read by
-/// `perifrac check`'s memory estimate.
-pub const BYTES_PER_PARTICLE: usize = 3 * 24 + 2 * 8 + 4 + 2 * 72 + 8 + 72 + 16;
+/// Bytes an MPM particle takes at the run's peak besides the grid, `perifrac
+/// check`'s figure: its state (x, v and X, m and V, its body, F and C, ε^p, the stress
+/// stage's A_p, the grid's sort entries: 332), the step's other buffers and a frame's
+/// columns. Measured: the slope of an elastic block's peak resident memory less its
+/// grid against its particles, 262,144 to 2.4 million (docs/memory.md).
+pub const PEAK_BYTES_PER_PARTICLE: usize = 489;
+
+/// The grid's bytes a particle of a body that fills its blocks (a block of 10⁶
+/// particles, [`grid::SparseGrid::estimate_bytes`]): the estimate before seeding.
+pub const COMPACT_GRID_BYTES_PER_PARTICLE: usize = 37;
 
 /// The MLS-MPM model of a scene's bodies on one sparse grid.
 #[derive(Debug)]
