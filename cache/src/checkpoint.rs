@@ -178,16 +178,14 @@ impl Checkpoint {
     /// (the payload, then the file's bytes; for an MPM run, 224 bytes a particle
     /// each). Returns the payload's length.
     pub fn write_encoded(&self, path: &Path, save: impl FnOnce(&mut Encoder)) -> Result<u64> {
-        let tmp = crate::layout::temporary_file(path);
-        let mut written = HEADER_LEN as u64;
-        let write = || -> std::io::Result<u64> {
-            let mut file = std::fs::File::create(&tmp.path)?;
+        let written = std::cell::Cell::new(HEADER_LEN as u64 + 4);
+        let write = |file: &mut std::fs::File| -> std::io::Result<u64> {
             // The header's payload length is known at the end: room for it now.
             file.write_all(&[0; HEADER_LEN])?;
             let mut encoder = Encoder {
                 bytes: Vec::with_capacity(SPILL_CHUNK),
                 spill: Some(Spill {
-                    file,
+                    file: file.try_clone()?,
                     crc: crc32fast::Hasher::new(),
                     len: 0,
                     error: None,
@@ -195,8 +193,12 @@ impl Checkpoint {
             };
             save(&mut encoder);
             let Spill {
-                mut file, crc, len, ..
-            } = encoder.into_spill(&mut written)?;
+                crc, len, error, ..
+            } = encoder.into_spill();
+            written.set(written.get() + len);
+            if let Some(error) = error {
+                return Err(error);
+            }
             let head = self.header(len);
             let mut whole = crc32fast::Hasher::new();
             whole.update(&head);
@@ -204,16 +206,9 @@ impl Checkpoint {
             file.write_all(&whole.finalize().to_le_bytes())?;
             file.seek(SeekFrom::Start(0))?;
             file.write_all(&head)?;
-            file.sync_data()?;
-            drop(file);
-            std::fs::rename(&tmp.path, path)?;
             Ok(len)
         };
-        write().map_err(|error| {
-            // The partial file would keep a full disk full.
-            let _ = std::fs::remove_file(&tmp.path);
-            crate::layout::write_error(path, error, written + 4)
-        })
+        crate::layout::write_atomic_file(path, write, || written.get())
     }
 
     /// Reads and checks the checkpoint at `path`.
@@ -241,7 +236,8 @@ pub struct Encoder {
 }
 
 /// Where an [`Encoder`] of [`Checkpoint::write_encoded`] passes its bytes: the
-/// checkpoint's temporary file, the payload's CRC and length so far, the first
+/// checkpoint's temporary file (a handle of its own at the same offset), the
+/// payload's CRC and length so far, the first
 /// failed write (encoding goes on; the write reports it at the end).
 #[derive(Debug)]
 struct Spill {
@@ -275,21 +271,16 @@ impl Encoder {
                 spill.error = Some(error);
             }
             spill.crc.update(&self.bytes);
-            spill.len += self.bytes.len() as u64;
         }
+        // Counted after a failed write too: the whole payload is what the file needs.
+        spill.len += self.bytes.len() as u64;
         self.bytes.clear();
     }
 
-    /// The spill with every byte passed on, or the first failed write; `written`
-    /// grows by the payload's bytes (for the error's "this file needs").
-    fn into_spill(mut self, written: &mut u64) -> std::io::Result<Spill> {
+    /// The spill with every byte passed on (or its first failed write in `error`).
+    fn into_spill(mut self) -> Spill {
         self.spill_bytes();
-        let mut spill = self.spill.take().expect("an encoder of a checkpoint file");
-        *written += spill.len;
-        match spill.error.take() {
-            Some(error) => Err(error),
-            None => Ok(spill),
-        }
+        self.spill.expect("an encoder of a checkpoint file")
     }
 
     /// Appends a u32.

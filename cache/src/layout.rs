@@ -433,19 +433,7 @@ fn process_is_running(pid: u32) -> bool {
 /// On failure the temporary file is removed and the error names `path`, the OS's
 /// reason and the fix (for a full disk, the free space and the bytes needed).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let tmp = temporary_file(path);
-    let write = || -> std::io::Result<()> {
-        let mut f = std::fs::File::create(&tmp.path)?;
-        f.write_all(bytes)?;
-        f.sync_data()?;
-        drop(f);
-        std::fs::rename(&tmp.path, path)
-    };
-    write().map_err(|error| {
-        // The partial file would keep a full disk full.
-        let _ = std::fs::remove_file(&tmp.path);
-        write_error(path, error, bytes.len() as u64)
-    })
+    write_atomic_file(path, |f| f.write_all(bytes), || bytes.len() as u64)
 }
 
 /// Writes the file `path` atomically as [`write_atomic`] does, its bytes passed by
@@ -456,26 +444,47 @@ pub fn write_atomic_with(
     needed: u64,
     write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
 ) -> Result<crate::manifest::FileRecord> {
+    write_atomic_file(
+        path,
+        |file| {
+            let mut out = Recorded {
+                inner: std::io::BufWriter::with_capacity(1 << 20, file),
+                crc: crc32fast::Hasher::new(),
+                bytes: 0,
+            };
+            write(&mut out)?;
+            out.inner.flush()?;
+            Ok(crate::manifest::FileRecord {
+                bytes: out.bytes,
+                crc32: out.crc.finalize(),
+            })
+        },
+        || needed,
+    )
+}
+
+/// Writes the file `path` atomically: `write` fills the temporary file beside it,
+/// which is synced and renamed into place. On failure the temporary file is removed
+/// and the error names `path`, the OS's reason and the fix (for a full disk, the free
+/// space and the `needed` bytes).
+pub fn write_atomic_file<T>(
+    path: &Path,
+    write: impl FnOnce(&mut std::fs::File) -> std::io::Result<T>,
+    needed: impl FnOnce() -> u64,
+) -> Result<T> {
     let tmp = temporary_file(path);
-    let written = || -> std::io::Result<crate::manifest::FileRecord> {
-        let mut out = Recorded {
-            inner: std::io::BufWriter::with_capacity(1 << 20, std::fs::File::create(&tmp.path)?),
-            crc: crc32fast::Hasher::new(),
-            bytes: 0,
-        };
-        write(&mut out)?;
-        let file = out.inner.into_inner().map_err(|e| e.into_error())?;
+    let written = || -> std::io::Result<T> {
+        let mut file = std::fs::File::create(&tmp.path)?;
+        let value = write(&mut file)?;
         file.sync_data()?;
         drop(file);
         std::fs::rename(&tmp.path, path)?;
-        Ok(crate::manifest::FileRecord {
-            bytes: out.bytes,
-            crc32: out.crc.finalize(),
-        })
+        Ok(value)
     };
     written().map_err(|error| {
+        // The partial file would keep a full disk full.
         let _ = std::fs::remove_file(&tmp.path);
-        write_error(path, error, needed)
+        write_error(path, error, needed())
     })
 }
 

@@ -173,6 +173,20 @@ fn check_mpm(scene: &Scene, disc: Discretization, before: &MemoryEstimate) -> Re
         );
         let material = &scene.materials[&spec.material];
         let bonded = material.mpm.as_ref().is_some_and(|m| m.bonds.is_some());
+        let spb = material
+            .mpm
+            .as_ref()
+            .is_some_and(|m| m.energy_release_rate.is_some() && m.bonds.is_none());
+        if spb {
+            let bonds = n as f64 * mpm::patches::interior_family();
+            println!(
+                "  note: body {} fractures by SPB-MPM: its bonds come as its particles join the \
+                 peridynamic region, not counted below; if all {n} joined, {bonds:.3e} bonds \
+                 would take {:.1} MiB more",
+                spec.name,
+                bonds * mpm::patches::BYTES_PER_BOND as f64 / (1 << 20) as f64
+            );
+        }
         let nu = perifrac_sim::material::Material::from_spec(material).poisson_ratio();
         if bonded && (nu - 0.25).abs() > 1e-9 {
             println!(
@@ -185,11 +199,7 @@ fn check_mpm(scene: &Scene, disc: Discretization, before: &MemoryEstimate) -> Re
     }
     let particles = owners.len();
     let bonds = prepared.world.bonds();
-    let dx = scene
-        .bodies
-        .iter()
-        .map(|b| b.resolution)
-        .fold(f64::INFINITY, f64::min);
+    let dx = mpm::grid::spacing(scene);
     let grid = mpm::grid::SparseGrid::estimate_bytes(&prepared.discretization.position, dx);
     let estimate = MemoryEstimate::new(scene, particles as f64, bonds as f64, 0.0).with_grid(grid);
     crate::memory::check_memory(&estimate)?;

@@ -99,9 +99,7 @@ pub fn estimate_before_meshing(scene: &Scene) -> Result<MemoryEstimate> {
             if material.is_some_and(|m| m.mpm.as_ref().is_some_and(|m| m.bonds.is_some())) {
                 // The integral-based MPM's families, within δ = 1.5 Δx of every
                 // particle from the start (SPB-MPM's come as particles join).
-                let delta = crate::mpm::patches::HORIZON_CELLS;
-                let family = 4.0 / 3.0 * std::f64::consts::PI * delta.powi(3) * 8.0;
-                bonds += seeded * (family - 1.0);
+                bonds += seeded * crate::mpm::patches::interior_family();
             }
             continue;
         }

@@ -146,6 +146,15 @@ pub struct Boundary<'a> {
     pub colliders: &'a [Collider],
 }
 
+/// Δx of a scene's one MPM grid: its finest body's resolution.
+pub fn spacing(scene: &crate::scene::Scene) -> f64 {
+    scene
+        .bodies
+        .iter()
+        .map(|b| b.resolution)
+        .fold(f64::INFINITY, f64::min)
+}
+
 /// The sparse grid of one MPM model.
 #[derive(Debug, Clone, Default)]
 pub struct SparseGrid {

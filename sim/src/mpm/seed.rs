@@ -56,11 +56,7 @@ pub(super) fn seed(scene: &Scene) -> Result<MpmParticles> {
             return Err(empty_body(&spec.name));
         }
     }
-    let dx = scene
-        .bodies
-        .iter()
-        .map(|b| b.resolution)
-        .fold(f64::INFINITY, f64::min);
+    let dx = grid::spacing(scene);
     let mut order: Vec<(u64, usize)> = position
         .par_iter()
         .enumerate()

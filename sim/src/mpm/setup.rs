@@ -107,11 +107,7 @@ impl Mpm {
                 .map(|&b| room(&materials[b as usize]).unwrap_or(lowest))
                 .collect();
         }
-        let dx = scene
-            .bodies
-            .iter()
-            .map(|b| b.resolution)
-            .fold(f64::INFINITY, f64::min);
+        let dx = super::grid::spacing(scene);
         let mut model = Mpm::new(particles, materials, dx);
         let shapes = crate::geometry::shape::bond_shapes(scene)?;
         let bodies = scene

@@ -93,6 +93,15 @@ use crate::geometry::Sdf;
 /// The horizon δ in grid spacings: 3 particle spacings at 8 particles a cell, about
 /// 110 neighbours (Table 6.2 uses H_p = 100).
 pub const HORIZON_CELLS: f64 = 1.5;
+/// The bonds a particle's family holds inside a body: its neighbours within δ at
+/// [`PARTICLES_PER_CELL_AXIS`]³ particles a cell (about 112).
+///
+/// [`PARTICLES_PER_CELL_AXIS`]: crate::mpm::PARTICLES_PER_CELL_AXIS
+pub fn interior_family() -> f64 {
+    let per_cell = crate::mpm::PARTICLES_PER_CELL_AXIS.pow(3) as f64;
+    4.0 / 3.0 * std::f64::consts::PI * HORIZON_CELLS.powi(3) * per_cell - 1.0
+}
+
 /// l₀ of Eq. 6.10 in horizons (see the module documentation).
 pub const RELEASE_LENGTH_HORIZONS: f64 = 2.0;
 /// A member measures F and carries stress while the smallest eigenvalue of its shape
