@@ -218,7 +218,7 @@ fn check_mpm(scene: &Scene, disc: Discretization, before: &MemoryEstimate) -> Re
          buffers, the frame's columns){with_bonds}, the grid's {:.1} MiB ({:.0} bytes a \
          particle) and the process's {:.0} MiB",
         estimate.bytes / (1 << 20) as f64,
-        mpm::PEAK_BYTES_PER_PARTICLE,
+        perifrac_sim::memory::MPM_PEAK_BYTES_PER_PARTICLE,
         grid / (1 << 20) as f64,
         grid / particles.max(1) as f64,
         perifrac_sim::memory::PROCESS_BYTES / (1 << 20) as f64

@@ -15,7 +15,7 @@ use crate::scene::{ModelKind, Scene, ShapeSpec};
 
 /// Bytes per particle of state and scratch (positions, velocities, reference data,
 /// θ, forces, accelerations, masses, flags); an MPM particle's are
-/// [`crate::mpm::PEAK_BYTES_PER_PARTICLE`].
+/// [`MPM_PEAK_BYTES_PER_PARTICLE`].
 pub const BYTES_PER_PARTICLE: usize = 8 * 3 * 5 + 8 * 5 + 4 * 3 + 2;
 
 /// Bytes a run holds whatever its scene: the program and its libraries, the worker
@@ -23,6 +23,17 @@ pub const BYTES_PER_PARTICLE: usize = 8 * 3 * 5 + 8 * 5 + 4 * 3 + 2;
 /// MPM block's peak resident memory less its grid against its particles
 /// (docs/memory.md).
 pub const PROCESS_BYTES: f64 = 39.0 * (1u64 << 20) as f64;
+
+/// Bytes an MPM particle takes at the run's peak besides the grid, `perifrac
+/// check`'s figure: its state (x, v and X, m and V, its body, F and C, ε^p, the stress
+/// stage's A_p, the grid's sort entries: 332), the step's other buffers and a frame's
+/// columns. Measured: the slope of an elastic block's peak resident memory less its
+/// grid against its particles, 262,144 to 2.4 million (docs/memory.md).
+pub const MPM_PEAK_BYTES_PER_PARTICLE: usize = 489;
+
+/// The grid's bytes a particle of a body that fills its blocks (a block of 10⁶
+/// particles, [`crate::mpm::grid::SparseGrid::estimate_bytes`]): the estimate before seeding.
+pub const MPM_COMPACT_GRID_BYTES_PER_PARTICLE: usize = 37;
 
 /// What a scene will cost in memory.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -200,7 +211,7 @@ impl MemoryEstimate {
             let extension = flows * crate::mpm::patches::PLASTIC_BYTES_PER_BOND;
             let bytes = crate::mpm::patches::BYTES_PER_BOND + extension;
             (
-                crate::mpm::PEAK_BYTES_PER_PARTICLE + crate::mpm::COMPACT_GRID_BYTES_PER_PARTICLE,
+                MPM_PEAK_BYTES_PER_PARTICLE + MPM_COMPACT_GRID_BYTES_PER_PARTICLE,
                 bytes,
                 bytes,
             )
@@ -220,7 +231,7 @@ impl MemoryEstimate {
             lattice_points: lattice,
             bytes: run.max(mesh),
             grid: if mpm {
-                particles * crate::mpm::COMPACT_GRID_BYTES_PER_PARTICLE as f64
+                particles * MPM_COMPACT_GRID_BYTES_PER_PARTICLE as f64
             } else {
                 0.0
             },

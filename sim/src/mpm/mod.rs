@@ -252,17 +252,6 @@ struct StageTimes {
     plasticity: f64,
 }
 
-/// Bytes an MPM particle takes at the run's peak besides the grid, `perifrac
-/// check`'s figure: its state (x, v and X, m and V, its body, F and C, ε^p, the stress
-/// stage's A_p, the grid's sort entries: 332), the step's other buffers and a frame's
-/// columns. Measured: the slope of an elastic block's peak resident memory less its
-/// grid against its particles, 262,144 to 2.4 million (docs/memory.md).
-pub const PEAK_BYTES_PER_PARTICLE: usize = 489;
-
-/// The grid's bytes a particle of a body that fills its blocks (a block of 10⁶
-/// particles, [`grid::SparseGrid::estimate_bytes`]): the estimate before seeding.
-pub const COMPACT_GRID_BYTES_PER_PARTICLE: usize = 37;
-
 /// The MLS-MPM model of a scene's bodies on one sparse grid.
 #[derive(Debug)]
 pub struct Mpm {
@@ -280,6 +269,9 @@ pub struct Mpm {
     momentum_affine: Vec<Mat3>,
     /// Scratch: the anchored particles of this step and their anchors' velocities.
     held: Vec<(u32, [f64; 3])>,
+    /// Scratch: each particle's mass and velocity in the anchors' P2G (0 and stale
+    /// for the particles not held), kept between steps.
+    held_p2g: (Vec<f64>, Vec<[f64; 3]>),
     /// Scratch: each particle's eigenerosion history as the stress stage raised it
     /// (empty unless a body erodes).
     raised: Vec<f64>,
@@ -299,6 +291,7 @@ impl Mpm {
             patches: None,
             momentum_affine: vec![[[0.0; 3]; 3]; n],
             held: Vec::new(),
+            held_p2g: (Vec::new(), Vec::new()),
             raised: Vec::new(),
             times: StageTimes::default(),
         }
@@ -348,14 +341,16 @@ impl Mpm {
         } else {
             // A P2G of the anchored particles alone, at their anchors' velocities.
             let p = &self.particles;
-            let mut mass = vec![0.0; p.len()];
-            let mut velocity = vec![[0.0; 3]; p.len()];
+            let (mass, velocity) = &mut self.held_p2g;
+            mass.resize(p.len(), 0.0);
+            velocity.resize(p.len(), [0.0; 3]);
             for &(i, v) in &self.held {
                 mass[i as usize] = p.mass[i as usize];
                 velocity[i as usize] = v;
             }
-            self.grid.p2g_momentum(&p.position, &mass, &velocity);
+            self.grid.p2g_momentum(&p.position, mass, velocity);
             self.grid.keep_held();
+            self.held.iter().for_each(|&(i, _)| mass[i as usize] = 0.0);
         }
         let t1 = Instant::now();
         self.stress(dt);
