@@ -10,6 +10,21 @@ bin=${1:-target/release/perifrac}
 repeats=${2:-2}
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
+# The peak resident memory (MiB) of REPEATS runs of SCENE against ESTIMATE (MiB):
+# prints "LO–HI | ESTIMATE/HI–ESTIMATE/LO". Usage: measure ESTIMATE SCENE [RUN ARGS]
+measure() {
+  local estimate=$1 scene=$2 peaks=() lo hi
+  shift 2
+  for _ in $(seq "$repeats"); do
+    rm -rf "$dir/out"
+    peaks+=("$(/usr/bin/time -v "$bin" run "$scene" -o "$dir/out" --quiet "$@" 2>&1 >/dev/null \
+      | sed -n 's/.*Maximum resident set size (kbytes): \([0-9]*\).*/\1/p' \
+      | awk '{ printf "%.1f", $1 / 1024 }')")
+  done
+  lo=$(printf '%s\n' "${peaks[@]}" | sort -n | head -1)
+  hi=$(printf '%s\n' "${peaks[@]}" | sort -n | tail -1)
+  awk -v a="$estimate" -v l="$lo" -v h="$hi" 'BEGIN { printf "%s–%s | %.2f–%.2f", l, h, a / h, a / l }'
+}
 printf '| λ (m) | particles | directed bonds | estimate before meshing (MiB) | estimate after meshing (MiB) | peak RSS (MiB) | estimate / peak |\n'
 printf '|---|---|---|---|---|---|---|\n'
 for lambda in 0.021 0.0154 0.0122; do
@@ -39,24 +54,10 @@ TOML
   bonds=$(sed -n 's/^  bonds: *\([0-9]*\) directed.*/\1/p' <<<"$check")
   after=$(sed -n 's/^  memory: *\([0-9.]*\) MiB at the peak.*/\1/p' <<<"$check")
   before=$(sed -n 's/^ *\([0-9.]*\) MiB as estimated before meshing.*/\1/p' <<<"$check")
-  peaks=()
-  for _ in $(seq "$repeats"); do
-    rm -rf "$dir/out"
-    kib=$(/usr/bin/time -v "$bin" run "$dir/wall.toml" -o "$dir/out" --frames 1 --quiet 2>&1 >/dev/null \
-      | sed -n 's/.*Maximum resident set size (kbytes): \([0-9]*\).*/\1/p')
-    peaks+=("$(awk -v k="$kib" 'BEGIN { printf "%.0f", k / 1024 }')")
-  done
-  lo=$(printf '%s\n' "${peaks[@]}" | sort -n | head -1)
-  hi=$(printf '%s\n' "${peaks[@]}" | sort -n | tail -1)
-  ratio=$(awk -v a="$before" -v l="$lo" -v h="$hi" 'BEGIN { printf "%.2f–%.2f", a / h, a / l }')
-  printf '| %s | %s | %s | %s | %s | %s–%s | %s |\n' "$lambda" "$particles" "$bonds" "$before" "$after" "$lo" "$hi" "$ratio"
+  printf '| %s | %s | %s | %s | %s | %s |\n' "$lambda" "$particles" "$bonds" "$before" "$after" \
+    "$(measure "$before" "$dir/wall.toml" --frames 1)"
 done
 
-peak_mib() {
-  /usr/bin/time -v "$bin" run "$1" -o "$dir/out" --force --quiet 2>&1 >/dev/null \
-    | sed -n 's/.*Maximum resident set size (kbytes): \([0-9]*\).*/\1/p' \
-    | awk '{ printf "%.1f", $1 / 1024 }'
-}
 printf '\n| MPM body | particles | estimate (MiB) | of it the grid (MiB) | peak RSS (MiB) | estimate / peak |\n'
 printf '|---|---|---|---|---|---|\n'
 for body in "block 0.02 0.4" "block 0.0125 0.4" "block 0.008 0.4" "block 0.006 0.4" "wall 0.005 0.01"; do
@@ -87,13 +88,6 @@ TOML
   particles=$(sed -n 's/^  particles: \([0-9]*\).*/\1/p' <<<"$check")
   estimate=$(sed -n 's/^  memory: *\([0-9.]*\) MiB at the peak.*/\1/p' <<<"$check")
   grid=$(sed -n "s/.*the grid's \([0-9.]*\) MiB.*/\1/p" <<<"$check")
-  peaks=()
-  for _ in $(seq "$repeats"); do
-    rm -rf "$dir/out"
-    peaks+=("$(peak_mib "$dir/mpm.toml")")
-  done
-  lo=$(printf '%s\n' "${peaks[@]}" | sort -n | head -1)
-  hi=$(printf '%s\n' "${peaks[@]}" | sort -n | tail -1)
-  ratio=$(awk -v a="$estimate" -v l="$lo" -v h="$hi" 'BEGIN { printf "%.2f–%.2f", a / h, a / l }')
-  printf '| %s, Δx %s m | %s | %s | %s | %s–%s | %s |\n' "$kind" "$dx" "$particles" "$estimate" "$grid" "$lo" "$hi" "$ratio"
+  printf '| %s, Δx %s m | %s | %s | %s | %s |\n' "$kind" "$dx" "$particles" "$estimate" "$grid" \
+    "$(measure "$estimate" "$dir/mpm.toml")"
 done

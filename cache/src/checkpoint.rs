@@ -192,9 +192,15 @@ impl Checkpoint {
                 }),
             };
             save(&mut encoder);
-            let Spill {
+            encoder.spill_bytes();
+            let Some(Spill {
                 crc, len, error, ..
-            } = encoder.into_spill();
+            }) = encoder.spill
+            else {
+                return Err(std::io::Error::other(
+                    "the checkpoint's encoder has no file",
+                ));
+            };
             written.set(written.get() + len);
             if let Some(error) = error {
                 return Err(error);
@@ -275,12 +281,6 @@ impl Encoder {
         // Counted after a failed write too: the whole payload is what the file needs.
         spill.len += self.bytes.len() as u64;
         self.bytes.clear();
-    }
-
-    /// The spill with every byte passed on (or its first failed write in `error`).
-    fn into_spill(mut self) -> Spill {
-        self.spill_bytes();
-        self.spill.expect("an encoder of a checkpoint file")
     }
 
     /// Appends a u32.
