@@ -64,7 +64,8 @@ pub fn command(path: &Path) -> Result<(), Failure> {
     }
     let bonds = family::count_bonds(&disc.position, &disc.body, &delta)?;
     let particles = disc.position.len();
-    let memory = MemoryEstimate::new(&scene, particles as f64, bonds as f64, 0.0).bytes;
+    let after = MemoryEstimate::new(&scene, particles as f64, bonds as f64, 0.0);
+    let memory = after.bytes;
     println!("  particles: {particles}");
     println!(
         "  bonds:     {bonds} directed ({:.1} per particle)",
@@ -84,11 +85,15 @@ pub fn command(path: &Path) -> Result<(), Failure> {
         before.particles,
         before.bonds
     );
+    let per_rank: Vec<String> = [2, 4, 16]
+        .iter()
+        .map(|&n| format!("{n}: {:.1}", after.per_rank(n) / (1 << 20) as f64))
+        .collect();
     println!(
-        "  ranks:     each rank of `mpirun -np N perifrac run` needs the same {:.1} MiB, \
-         whatever N: every rank holds the whole world and N ranks split the bond work \
+        "  ranks:     MiB a rank of `mpirun -np N perifrac run` needs, N = {}: each keeps \
+         the particles and the bonds' neighbours, and the constants of its own bonds \
          (docs/ranks.md)",
-        memory / (1 << 20) as f64
+        per_rank.join(", ")
     );
     print_prepared(&scene, run::prepare_discretized(&scene, disc)?)
 }
@@ -227,6 +232,11 @@ fn check_mpm(scene: &Scene, disc: Discretization, before: &MemoryEstimate) -> Re
         "             {:.1} MiB as estimated before seeding ({:.0} particles)",
         before.bytes / (1 << 20) as f64,
         before.particles
+    );
+    println!(
+        "  ranks:     {:.1} MiB a rank of `mpirun -np N perifrac run`, whatever N: every \
+         rank steps the whole MPM world (docs/ranks.md)",
+        estimate.per_rank(2) / (1 << 20) as f64
     );
     print_prepared(scene, prepared)
 }

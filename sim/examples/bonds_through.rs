@@ -1,6 +1,6 @@
 //! The set-up cost of bonds only through material (issue 13, item 2;
 //! `docs/lattice.md`): a scene's particles, then its families found by distance alone
-//! and through each non-convex body's material ([`family::build_through`]), the two
+//! and through each non-convex body's material ([`family::families_through`]), the two
 //! interleaved, `REPEATS` times each (default 3), with the bond counts.
 //!
 //! ```text
@@ -57,15 +57,8 @@ fn measure(path: &Path, repeats: usize) -> Result<(), String> {
     );
     let build = |solids: &[Option<Solid>]| {
         let start = Instant::now();
-        let (bonds, _) = family::build_through(
-            &disc.position,
-            &disc.volume,
-            &disc.body,
-            &delta,
-            scene.scene.surface_correction,
-            solids,
-        )
-        .map_err(|e| e.to_string())?;
+        let bonds = family::families_through(&disc.position, &disc.body, &delta, solids)
+            .map_err(|e| e.to_string())?;
         Ok::<_, String>((start.elapsed().as_secs_f64(), bonds.neighbours.len()))
     };
     for round in 1..=repeats {

@@ -52,6 +52,11 @@ pub struct MemoryEstimate {
     /// Of them, the MPM grid's: as for a body that fills its grid blocks until the
     /// particles are seeded ([`MemoryEstimate::with_grid`]).
     pub grid: f64,
+    /// Of them, what the ranks of a distributed run split among themselves: the
+    /// peridynamic bonds' constants and their set-up ([`SPLIT_PEAK_BYTES_PER_BOND`]).
+    pub split: f64,
+    /// The mesher's peak, which every rank reaches alone.
+    pub mesh: f64,
 }
 
 /// Samples a grid of this many points a side over a body's bounds to measure the
@@ -177,12 +182,28 @@ pub fn estimate_memory(scene: &Scene, disc: &Discretization) -> MemoryEstimate {
     MemoryEstimate::new(scene, disc.position.len() as f64, bonds, 0.0)
 }
 
-/// Bytes a directed bond takes at the peak of set-up on top of what it keeps for
-/// the run: the families as found (u32, with the growth of each family's vector),
-/// the rest lengths and correction weights per family before they are joined
-/// (f64 + 2 f32), and the reverse index built for the coefficients (u32).
-/// Calibrated against the peak resident memory (docs/memory.md).
-pub const SETUP_BYTES_PER_BOND: usize = 26;
+/// Bytes a directed bond takes at the peak of a peridynamic set-up on every rank of a
+/// distributed run, whatever their number: its neighbour word (with the broken
+/// bit), and the families as found before they are joined into rows. Calibrated with
+/// [`SPLIT_PEAK_BYTES_PER_BOND`] against the peak resident memory of one process and
+/// of each of 2 and 4 ranks (docs/memory.md).
+pub const WHOLE_PEAK_BYTES_PER_BOND: usize = 7;
+
+/// Bytes a directed bond takes at the peak of set-up that the ranks split among
+/// themselves ([`crate::pd::Coefficients`]: each rank builds and keeps the constants of
+/// its own rows): the rest length and the four coefficients (24 kept), and the
+/// correction weights while they are folded in.
+pub const SPLIT_PEAK_BYTES_PER_BOND: usize = 30;
+
+/// Bytes a bond takes at the peak of set-up in one process on top of what it keeps
+/// for the run ([`family::BYTES_PER_BOND`]).
+pub const SETUP_BYTES_PER_BOND: usize =
+    WHOLE_PEAK_BYTES_PER_BOND + SPLIT_PEAK_BYTES_PER_BOND - family::BYTES_PER_BOND;
+
+/// Bytes each rank of a distributed run holds besides its share of the model:
+/// OpenMPI's shared-memory transport and buffers. Measured: 10–17 MiB over the
+/// estimate without it on 2 and 4 ranks (docs/memory.md).
+pub const RANK_BYTES: f64 = 15.0 * (1u64 << 20) as f64;
 
 impl MemoryEstimate {
     /// The estimate of `particles` and `bonds` (directed) of `scene`'s models, with
@@ -199,7 +220,7 @@ impl MemoryEstimate {
         // Every body of an MPM scene is MPM: its particles' and Ω^PD's bonds' bytes
         // instead (what building the bonds holds for a moment is not counted).
         let mpm = scene.bodies.iter().any(|b| b.model == ModelKind::Mpm);
-        let (per_particle, bytes_per_bond, peak_per_bond) = if mpm {
+        let (per_particle, bytes_per_bond, peak_per_bond, split_per_bond) = if mpm {
             // The plastic extensions a bond keeps.
             let flows = scene
                 .materials
@@ -214,12 +235,20 @@ impl MemoryEstimate {
                 MPM_PEAK_BYTES_PER_PARTICLE + MPM_COMPACT_GRID_BYTES_PER_PARTICLE,
                 bytes,
                 bytes,
+                0,
             )
         } else {
-            let bytes = family::BYTES_PER_BOND
-                + if plastic { 12 } else { 0 }
-                + if crushing { 4 } else { 0 };
-            (BYTES_PER_PARTICLE, bytes, bytes + SETUP_BYTES_PER_BOND)
+            // e^p on every rank, the reverse index with the rank's rows; e^c.
+            let (whole, split) = (
+                if plastic { 8 } else { 0 } + if crushing { 4 } else { 0 },
+                if plastic { 4 } else { 0 },
+            );
+            (
+                BYTES_PER_PARTICLE,
+                family::BYTES_PER_BOND + whole + split,
+                WHOLE_PEAK_BYTES_PER_BOND + SPLIT_PEAK_BYTES_PER_BOND + whole + split,
+                SPLIT_PEAK_BYTES_PER_BOND + split,
+            )
         };
         let (per_particle, peak_per_bond) = (per_particle as f64, peak_per_bond as f64);
         let run = PROCESS_BYTES + bonds * peak_per_bond + particles * per_particle;
@@ -230,6 +259,12 @@ impl MemoryEstimate {
             bytes_per_bond,
             lattice_points: lattice,
             bytes: run.max(mesh),
+            split: if run > mesh {
+                bonds * split_per_bond as f64
+            } else {
+                0.0
+            },
+            mesh,
             grid: if mpm {
                 particles * MPM_COMPACT_GRID_BYTES_PER_PARTICLE as f64
             } else {
@@ -245,6 +280,18 @@ impl MemoryEstimate {
         self.bytes += bytes - self.grid;
         self.grid = bytes;
         self
+    }
+
+    /// The peak of each of `ranks` ranks of `mpirun -np N perifrac run` (docs/ranks.md):
+    /// every rank holds the particles and the bonds' neighbours, and builds and keeps
+    /// the peridynamic bonds' constants of its own rows alone; MPM, membranes and the
+    /// FEM run whole on every rank.
+    pub fn per_rank(&self, ranks: usize) -> f64 {
+        if ranks <= 1 {
+            return self.bytes;
+        }
+        let run = self.bytes - self.split * (1.0 - 1.0 / ranks as f64);
+        run.max(self.mesh) + RANK_BYTES
     }
 }
 

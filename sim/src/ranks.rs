@@ -3,16 +3,18 @@
 //! binary implements [`Ranks`] over MPI behind its `mpi` feature; `sim` has no MPI in
 //! its build.
 //!
-//! This first cut splits the work, not the memory: every rank keeps the whole world
-//! (positions, velocities, bonds), steps everything that is cheap (the integrator,
-//! contact, colliders, the rigid phase) itself, and the bond work of peridynamics —
-//! dilatation, return mapping, forces and fracture, most of a step — is split into
-//! contiguous particle ranges of about equal bond count ([`split_by_bonds`]). After each
-//! stage a rank sends what it changed in its range (θ; forces and damage; the bonds it
-//! broke, crushed or yielded) and receives the others'. Each particle still gathers
-//! over its own family in the same order, so a run gives the same bytes on any number
-//! of ranks. Keeping ghost copies within δ instead of the whole world (memory that
-//! shrinks with the rank count) is not done yet; see docs/ranks.md.
+//! This first cut splits the work and the bonds' constants, not the particles: every
+//! rank keeps all particles (positions, velocities) and every bond's neighbour word
+//! (the broken bits), steps everything that is cheap (the integrator, contact,
+//! colliders, the rigid phase) itself, and the bond work of peridynamics — dilatation,
+//! return mapping, forces and fracture, most of a step — is split into contiguous
+//! particle ranges of about equal bond count ([`split_by_bonds`]), each rank building
+//! and keeping the per-bond constants of its own range alone
+//! ([`crate::pd::Coefficients`]). After each stage a rank sends what it changed in its
+//! range (θ; forces and damage; the bonds it broke, crushed or yielded) and receives
+//! the others'. Each particle still gathers over its own family in the same order, so
+//! a run gives the same bytes on any number of ranks. Keeping ghost copies within δ
+//! instead of every particle is not done yet; see docs/ranks.md.
 
 use std::fmt::Debug;
 use std::ops::Range;

@@ -31,21 +31,23 @@ pub const BROKEN: u32 = 1 << 31;
 pub const INDEX: u32 = !BROKEN;
 
 /// Bonds in compressed sparse rows: the family of particle i is
-/// `neighbours[offsets[i]..offsets[i + 1]]`.
+/// `neighbours[offsets[i]..offsets[i + 1]]`. What a model keeps per bond besides
+/// (lengths, weights, state) it keeps itself, for the rows it works on ([`Weights`]).
 #[derive(Debug, Clone)]
 pub struct Bonds {
     /// Row starts, one more than there are particles.
     pub offsets: Vec<usize>,
     /// Neighbour index per directed bond; the [`BROKEN`] bit marks a broken bond.
     pub neighbours: Vec<u32>,
-    /// Reference bond length |ξ| = |x_j − x_i|.
-    pub rest_length: Vec<f64>,
 }
 
-/// The surface corrections of each directed bond (see the `correction` module); 1
-/// for a complete continuum family.
-#[derive(Debug, Clone)]
-pub struct Corrections {
+/// The reference lengths and surface corrections (see the `correction` module; 1 for
+/// a complete continuum family) of the bonds of some rows, in row order: all of them
+/// ([`build`]), or the rows a rank of a distributed run works on ([`weights`]).
+#[derive(Debug, Clone, Default)]
+pub struct Weights {
+    /// Reference bond length |ξ| = |x_j − x_i|.
+    pub rest_length: Vec<f64>,
     /// Dilatation weight q_ij.
     pub dilatation: Vec<f32>,
     /// Deviatoric weight p_ij multiplying b.
@@ -184,7 +186,7 @@ impl Search {
         })
     }
 
-    /// The family of particle `i` as [`build_through`] finds it: the particles of its
+    /// The family of particle `i` as [`families_through`] finds it: the particles of its
     /// body within `delta` of it (not itself), through `solid` when given, sorted by
     /// index. `positions` and `body` are those the search was built over; `depths`
     /// each particle's signed distance to its body's solid (read only with a `solid`).
@@ -300,29 +302,31 @@ fn neighbours_of(
 }
 
 /// Builds every family within `delta[i]` (δ in metres of i's body), among particles of the
-/// same body, and the surface corrections q_ij and p_ij (all 1 when
-/// `surface_correction` is off, which is Chen Eq. 6 and 8 as printed).
+/// same body, and the weights of every row (surface corrections q_ij and p_ij all 1
+/// when `surface_correction` is off, which is Chen Eq. 6 and 8 as printed).
 pub fn build(
     positions: &[[f64; 3]],
     volumes: &[f64],
     body: &[u32],
     delta: &[f64],
     surface_correction: bool,
-) -> Result<(Bonds, Corrections)> {
-    build_through(positions, volumes, body, delta, surface_correction, &[])
+) -> Result<(Bonds, Weights)> {
+    let bonds = families_through(positions, body, delta, &[])?;
+    let all: Vec<usize> = (0..positions.len()).collect();
+    let weights = weights(&bonds, positions, volumes, delta, surface_correction, &all);
+    Ok((bonds, weights))
 }
 
-/// [`build`], keeping only the bonds that stay inside their body's solid
-/// (`solids[body]`, see [`Solid`]); a body without one (`None`, or past the end of
-/// `solids`: a convex shape, where every bond is inside) pays nothing.
-pub fn build_through(
+/// Every family within `delta[i]` of particle i among the particles of its body,
+/// keeping only the bonds that stay inside their body's solid (`solids[body]`, see
+/// [`Solid`]); a body without one (`None`, or past the end of `solids`: a convex
+/// shape, where every bond is inside) pays nothing.
+pub fn families_through(
     positions: &[[f64; 3]],
-    volumes: &[f64],
     body: &[u32],
     delta: &[f64],
-    surface_correction: bool,
     solids: &[Option<Solid>],
-) -> Result<(Bonds, Corrections)> {
+) -> Result<Bonds> {
     let n = positions.len();
     if n >= INDEX as usize {
         return Err(SimError::Refused(format!(
@@ -352,47 +356,63 @@ pub fn build_through(
     for f in &families {
         offsets.push(offsets.last().copied().unwrap_or(0) + f.len());
     }
-    let per_particle: Vec<(Vec<f64>, Vec<f32>, Vec<f32>)> = families
-        .par_iter()
-        .enumerate()
-        .map(|(i, family)| {
-            let lengths: Vec<f64> = family
-                .iter()
-                .map(|&j| dist(positions[i], positions[j as usize]))
-                .collect();
-            if !surface_correction {
-                return (lengths, vec![1.0; family.len()], vec![1.0; family.len()]);
-            }
-            let dirs: Vec<[f64; 3]> = family
-                .iter()
-                .map(|&j| unit(positions[i], positions[j as usize]))
-                .collect();
-            let vols: Vec<f64> = family.iter().map(|&j| volumes[j as usize]).collect();
-            let q = dilatation_weights(&dirs, &vols, delta[i]);
-            let p = deviatoric_weights(&dirs, &vols, &lengths, delta[i]);
-            (lengths, q, p)
-        })
-        .collect();
-    let neighbours: Vec<u32> = families.into_iter().flatten().collect();
-    let mut rest_length = Vec::with_capacity(neighbours.len());
-    let mut weight = Vec::with_capacity(neighbours.len());
-    let mut dev_weight = Vec::with_capacity(neighbours.len());
-    for (l, q, p) in per_particle {
-        rest_length.extend(l);
-        weight.extend(q);
-        dev_weight.extend(p);
+    let mut neighbours = Vec::with_capacity(offsets[n]);
+    for f in families {
+        neighbours.extend(f);
     }
-    Ok((
-        Bonds {
-            offsets,
-            neighbours,
-            rest_length,
-        },
-        Corrections {
-            dilatation: weight,
-            deviatoric: dev_weight,
-        },
-    ))
+    Ok(Bonds {
+        offsets,
+        neighbours,
+    })
+}
+
+/// The weights of the bonds of `rows` (ascending), in row order: each bond's reference
+/// length and, with `surface_correction`, the corrections of its particle's family
+/// (Chen §6; a row's weights depend on its own family alone, so any set of rows gets
+/// the values a build of all of them does).
+pub fn weights(
+    bonds: &Bonds,
+    positions: &[[f64; 3]],
+    volumes: &[f64],
+    delta: &[f64],
+    surface_correction: bool,
+    rows: &[usize],
+) -> Weights {
+    // Each row's bonds start at `starts[r]` of the output, written in place.
+    let mut starts = Vec::with_capacity(rows.len() + 1);
+    starts.push(0usize);
+    for &i in rows {
+        starts.push(starts[starts.len() - 1] + bonds.range(i).len());
+    }
+    let total = starts[rows.len()];
+    let mut out = Weights {
+        rest_length: vec![0.0; total],
+        dilatation: vec![1.0; total],
+        deviatoric: vec![1.0; total],
+    };
+    rows_mut(&mut out.rest_length, &starts)
+        .into_par_iter()
+        .zip(rows_mut(&mut out.dilatation, &starts))
+        .zip(rows_mut(&mut out.deviatoric, &starts))
+        .zip(rows)
+        .for_each(|(((lengths, q), p), &i)| {
+            let family = &bonds.neighbours[bonds.range(i)];
+            let at = |j: u32| positions[(j & INDEX) as usize];
+            for (l, &j) in lengths.iter_mut().zip(family) {
+                *l = dist(positions[i], at(j));
+            }
+            if !surface_correction {
+                return;
+            }
+            let dirs: Vec<[f64; 3]> = family.iter().map(|&j| unit(positions[i], at(j))).collect();
+            let vols: Vec<f64> = family
+                .iter()
+                .map(|&j| volumes[(j & INDEX) as usize])
+                .collect();
+            q.copy_from_slice(&dilatation_weights(&dirs, &vols, delta[i]));
+            p.copy_from_slice(&deviatoric_weights(&dirs, &vols, lengths, delta[i]));
+        });
+    out
 }
 
 /// (b − a) / |b − a|.

@@ -30,7 +30,7 @@ impl MembraneModel {
         let (y, volume, body, bodies) = (&self.position, &self.volume, &self.body, &self.bodies);
         let (theta, area) = (&self.quantity, &self.area);
         let (m, dilatation) = (&self.weighted_volume, &self.dilatation);
-        let (rest, weight, offsets) = (&self.bonds.rest_length, &self.weight, &self.bonds.offsets);
+        let (rest, weight, offsets) = (&self.rest_length, &self.weight, &self.bonds.offsets);
         let inverse_rest = &self.inverse_rest;
         let initial = &self.initial_bonds;
         // Particle i's bonds, force, damage and rate (when a body conducts); returns
@@ -139,7 +139,7 @@ impl MembraneModel {
     fn dilatations(&mut self) -> usize {
         let (y, body, bodies) = (&self.position, &self.body, &self.bodies);
         let (theta, area, m) = (&self.quantity, &self.area, &self.weighted_volume);
-        let (rest, weight, offsets) = (&self.bonds.rest_length, &self.weight, &self.bonds.offsets);
+        let (rest, weight, offsets) = (&self.rest_length, &self.weight, &self.bonds.offsets);
         let rows = rows_mut(&mut self.bonds.neighbours, offsets);
         rows.into_par_iter()
             .zip(self.dilatation.par_iter_mut())

@@ -192,6 +192,8 @@ pub struct MembraneModel {
     pub bodies: Vec<SheetBody>,
     /// Bonds within each body's cutoff R; the broken bit is γ_ij = 0 (Eq. 27–28).
     pub bonds: Bonds,
+    /// Reference bond length |ξ_ij| per directed bond.
+    pub rest_length: Vec<f64>,
     /// W_ij = 1 − |ξ|/R per directed bond (Eq. 23).
     pub weight: Vec<f64>,
     /// 1/|ξ_ij| per directed bond: the strain and the diffusion's 1/|ξ|² without a
@@ -243,12 +245,13 @@ impl MembraneModel {
             .map(|i| volume[i] * bodies[body[i] as usize].density)
             .collect();
         let cutoff: Vec<f64> = body.iter().map(|&b| bodies[b as usize].cutoff).collect();
-        let (bonds, _) = family::build(&reference, &volume, &body, &cutoff, false)?;
+        let (bonds, family::Weights { rest_length, .. }) =
+            family::build(&reference, &volume, &body, &cutoff, false)?;
         let weight = (0..n)
             .flat_map(|i| bonds.range(i).map(move |k| (i, k)))
-            .map(|(i, k)| (1.0 - bonds.rest_length[k] / cutoff[i]).max(0.0))
+            .map(|(i, k)| (1.0 - rest_length[k] / cutoff[i]).max(0.0))
             .collect();
-        let inverse_rest = bonds.rest_length.iter().map(|&xi| 1.0 / xi).collect();
+        let inverse_rest = rest_length.iter().map(|&xi| 1.0 / xi).collect();
         let initial_bonds = (0..n).map(|i| bonds.range(i).len() as u32).collect();
         let weighted_volume: Vec<f64> = if bodies.iter().any(|b| b.state.is_some()) {
             (0..n)
@@ -257,7 +260,7 @@ impl MembraneModel {
                         .range(i)
                         .map(|k| {
                             let j = (bonds.neighbours[k] & INDEX) as usize;
-                            let xi = bonds.rest_length[k];
+                            let xi = rest_length[k];
                             (1.0 - xi / cutoff[i]).max(0.0) * xi * xi * area[j]
                         })
                         .sum()
@@ -278,6 +281,7 @@ impl MembraneModel {
             body,
             bodies,
             bonds,
+            rest_length,
             weight,
             inverse_rest,
             quantity: vec![0.0; n],
@@ -385,13 +389,13 @@ impl MembraneModel {
                         .range(i)
                         .map(|k| {
                             let j = (bonds.neighbours[k] & INDEX) as usize;
-                            self.weight[k] * bonds.rest_length[k] * self.area[j]
+                            self.weight[k] * self.rest_length[k] * self.area[j]
                         })
                         .sum(),
                 };
                 for k in bonds.range(i) {
                     let j = (bonds.neighbours[k] & INDEX) as usize;
-                    let (xi, w) = (bonds.rest_length[k], self.weight[k]);
+                    let (xi, w) = (self.rest_length[k], self.weight[k]);
                     springs += match b.state {
                         None => b.law.stiffness() * b.micromodulus * w * self.volume[j] / xi,
                         Some(plane) => {
@@ -451,7 +455,7 @@ impl MembraneModel {
                     return None;
                 }
                 let j = (nb & INDEX) as usize;
-                let xi = bonds.rest_length[k];
+                let xi = self.rest_length[k];
                 let expanded = 1.0 + b.expansion * 0.5 * (self.quantity[i] + self.quantity[j]);
                 Some((self.weight[k], xi, expanded, dist(y[i], y[j]), j))
             });

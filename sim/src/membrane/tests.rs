@@ -109,7 +109,7 @@ fn biaxial_stretch_gives_the_micro_spring_stress_and_poisson_one_third() {
     let mut predicted = [0.0; 2];
     for k in m.bonds.range(i) {
         let j = (m.bonds.neighbours[k] & INDEX) as usize;
-        let xi = m.bonds.rest_length[k];
+        let xi = m.rest_length[k];
         let d = [
             m.reference[j][0] - m.reference[i][0],
             m.reference[j][2] - m.reference[i][2],
@@ -340,7 +340,7 @@ fn a_notched_strip_breaks_at_the_critical_strain_and_not_below() {
                     let r: f64 = (0..3)
                         .map(|a| (m.position[j][a] - m.position[i][a]).powi(2))
                         .sum();
-                    worst = worst.max(r.sqrt() / m.bonds.rest_length[k] - 1.0);
+                    worst = worst.max(r.sqrt() / m.rest_length[k] - 1.0);
                 }
             }
         }

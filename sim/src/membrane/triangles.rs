@@ -33,11 +33,11 @@ impl MembraneModel {
             }
             let shortest = bonds
                 .range(i)
-                .map(|k| bonds.rest_length[k])
+                .map(|k| self.rest_length[k])
                 .fold(f64::INFINITY, f64::min);
             let mut near: Vec<usize> = bonds
                 .range(i)
-                .filter(|&k| bonds.rest_length[k] <= 1.001 * shortest)
+                .filter(|&k| self.rest_length[k] <= 1.001 * shortest)
                 .map(|k| (bonds.neighbours[k] & INDEX) as usize)
                 .filter(|&j| j > i)
                 .collect();

@@ -148,6 +148,7 @@ fn dilatation<const F: bool, const L: bool, const KEEP: bool>(
     if KEEP {
         kept.clear();
     }
+    let first = m.coef.first;
     for k in bonds.range(i) {
         let nb = bonds.neighbours[k];
         if F && nb & BROKEN != 0 {
@@ -159,13 +160,13 @@ fn dilatation<const F: bool, const L: bool, const KEEP: bool>(
         let j = (nb & INDEX) as usize;
         let d = [y[j][0] - yi[0], y[j][1] - yi[1], y[j][2] - yi[2]];
         let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-        let r = bonds.rest_length[k];
+        let r = m.coef.rest_length[k - first];
         let e = l - r;
         let lam = projection::<L>(m, i, j, d, l, r);
         if KEEP {
             kept.push([e, lam]);
         }
-        sum += m.coef.dil[k] as f64 * e * lam * v[j];
+        sum += m.coef.dil[k - first] as f64 * e * lam * v[j];
     }
     3.0 * sum / (delta * family_volume(delta))
 }
@@ -194,22 +195,24 @@ fn return_mapping<const F: bool, const A: bool>(
     let critical = (2.0 * c.psi0).sqrt();
     let inv_delta = 1.0 / c.delta;
     let mut yielded = false;
+    let coef = &m.coef;
     for (slot, k) in bonds.range(i).enumerate() {
         if F && bonds.neighbours[k] & BROKEN != 0 {
             continue;
         }
         let [e, lam] = kept[slot];
-        let r = bonds.rest_length[k];
+        let k = k - coef.first;
+        let r = coef.rest_length[k];
         let ep = ext[slot];
         // q_ij = (ω q_ij)/ω with ω = δ/|ξ| (or the stored anisotropic ω);
         // 4ω b p_ij = 4 × the deviatoric coefficient.
         let q = if A {
-            m.coef.dil[k] as f64 / m.omega.as_ref().map_or(1.0, |w| w[k] as f64)
+            coef.dil[k] as f64 / coef.omega.as_ref().map_or(1.0, |w| w[k] as f64)
         } else {
-            m.coef.dil[k] as f64 * r * inv_delta
+            coef.dil[k] as f64 * r * inv_delta
         };
         let e_dev = e - 0.25 * c.delta * q * lam * theta;
-        let stiffness = 4.0 * m.coef.dev[k] as f64;
+        let stiffness = 4.0 * coef.dev[k] as f64;
         let a_dev = stiffness * (e_dev - ep);
         if 0.5 * a_dev * a_dev > c.psi0 {
             let a_c = critical.copysign(a_dev);
@@ -334,7 +337,8 @@ fn particle_force<const P: bool, const F: bool, const A: bool, const L: bool>(
     let pti = packed[i];
     // Eq. 19's (1 + αφ) raises the threshold as the material is damaged (see below).
     let gi = 1.0 / (1.0 + c.alpha * phi[i]);
-    let start = bonds.offsets[i];
+    // Bond k's constants are at k − first ([`super::Coefficients`]).
+    let start = bonds.offsets[i] - coef.first;
     let mut f = [0.0f64; 3];
     let (mut broken, mut intact) = (0, 0);
     if m.is_frozen(i) {
@@ -350,7 +354,7 @@ fn particle_force<const P: bool, const F: bool, const A: bool, const L: bool>(
         let j = (*nb & INDEX) as usize;
         let d = [y[j][0] - yi[0], y[j][1] - yi[1], y[j][2] - yi[2]];
         let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-        let r = bonds.rest_length[k];
+        let r = coef.rest_length[k];
         let e = l - r;
         if crushed_bond {
             if m.is_frozen(j) {
@@ -371,11 +375,15 @@ fn particle_force<const P: bool, const F: bool, const A: bool, const L: bool>(
             }
             continue;
         }
-        let (ep_ij, ep_ji) = match (&m.plastic, P) {
-            (Some(p), true) => (
-                if p.yielded[i] { p.extension[k] } else { 0.0 },
+        let (ep_ij, ep_ji) = match (&m.plastic, &coef.reverse, P) {
+            (Some(p), Some(reverse), true) => (
+                if p.yielded[i] {
+                    p.extension[bonds.offsets[i] + slot]
+                } else {
+                    0.0
+                },
                 if p.yielded[j] {
-                    p.extension[p.reverse[k] as usize]
+                    p.extension[reverse[k] as usize]
                 } else {
                     0.0
                 },
@@ -398,7 +406,7 @@ fn particle_force<const P: bool, const F: bool, const A: bool, const L: bool>(
         if F {
             // s^ω > s_c ⟺ (1 + αφ)(e − e^p) > s_c ω|ξ|, and ω|ξ| = δ when isotropic.
             let omega_r = if A {
-                m.omega.as_ref().map_or(0.0, |w| w[k] as f64) * r
+                coef.omega.as_ref().map_or(0.0, |w| w[k] as f64) * r
             } else {
                 delta
             };
@@ -435,11 +443,13 @@ fn particle_force<const P: bool, const F: bool, const A: bool, const L: bool>(
 
 /// Σ_i V_i (c θ_i² + b Σ_j p_ij ω (e − e^p)² V_j), c = a'δV_H∞/3 = (κ − 5μ/3)/2, with
 /// crushed bonds' min(e − e^c, 0) for e − e^p. Uses the θ of the last force evaluation.
+/// A shared model sums each rank's particles' terms, gathered in particle order, so
+/// the sum is the single process's to the bit.
 pub(super) fn strain_energy(m: &PdModel) -> f64 {
     let y = &m.particles.position;
     let v = &m.reference.volume;
-    let bonds = &m.bonds;
-    det_sum(m.len(), |i| {
+    let (bonds, coef) = (&m.bonds, &m.coef);
+    let energy = |i: usize| {
         let body = &m.bodies[m.reference.body[i] as usize];
         let delta = body.constants.delta;
         let c = body.a_prime * delta * family_volume(delta) / 3.0;
@@ -459,14 +469,22 @@ pub(super) fn strain_energy(m: &PdModel) -> f64 {
             }
             let j = (nb & INDEX) as usize;
             let d = [y[j][0] - yi[0], y[j][1] - yi[1], y[j][2] - yi[2]];
-            let r = bonds.rest_length[k];
+            let r = coef.rest_length[k - coef.first];
             let e = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() - r;
             let elastic = match crushed {
                 Some(ec) => (e - ec).min(0.0),
                 None => e - m.plastic.as_ref().map_or(0.0, |p| p.extension[k]),
             };
-            dev += m.coef.dev[k] as f64 * elastic * elastic * v[j];
+            dev += coef.dev[k - coef.first] as f64 * elastic * elastic * v[j];
         }
         v[i] * (c * m.theta[i] * m.theta[i] + dev)
-    })
+    };
+    match &m.share {
+        None => det_sum(m.len(), energy),
+        Some(share) => {
+            let mine: Vec<f64> = share.owned().into_par_iter().map(energy).collect();
+            let all = share.ranks.gather(&mine).concat();
+            det_sum(all.len(), |i| all[i])
+        }
+    }
 }

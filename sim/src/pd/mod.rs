@@ -31,6 +31,7 @@
 //! and stored per bond ([`PdModel::crushed`]). Its energy, b p ω (e − e^c)² V_j
 //! while compressed, is in W_i.
 
+mod coefficients;
 mod crack;
 mod kernel;
 pub mod share;
@@ -40,14 +41,15 @@ mod stable;
 use std::ops::Range;
 use std::sync::Arc;
 
-use perifrac_math::{det_sum, dot, mat_vec, norm, sub};
+use perifrac_math::{det_sum, dist, dot, norm, sub};
 use rayon::prelude::*;
 
-use crate::family::{BROKEN, Bonds, Corrections, INDEX};
+use crate::family::{BROKEN, Bonds, INDEX};
 use crate::material::{Material, PdConstants};
 use crate::ranks::{Ranks, Share};
 use crate::scene::DilatationForm;
 
+pub use coefficients::Coefficients;
 pub use crack::cut_initial_cracks;
 pub use kernel::StageTimes;
 pub use solver::Peridynamics;
@@ -101,32 +103,27 @@ impl BodyModel {
     }
 }
 
-/// Per-bond coefficients with ω, the surface corrections and b folded in, so the
-/// kernels divide by nothing but the deformed length. The `_rev` arrays hold, at bond
-/// i→j, the value of bond j→i: the force gather needs no reverse lookup, and both
-/// ends of a bond use the very same numbers (momentum is conserved exactly).
-#[derive(Debug, Clone, Default)]
-pub struct Coefficients {
-    /// ω_ij q_ij (Eq. 4, 6).
-    pub dil: Vec<f32>,
-    /// ω_ji q_ji.
-    pub dil_rev: Vec<f32>,
-    /// ω_ij b p_ij (Eq. 8, 12).
-    pub dev: Vec<f32>,
-    /// ω_ji b p_ji.
-    pub dev_rev: Vec<f32>,
-}
-
 /// Plastic bond state, allocated only when a material yields.
 #[derive(Debug, Clone)]
 pub struct Plastic {
-    /// e^p per directed bond (Eq. 11).
+    /// e^p per directed bond (Eq. 11), of every row: the force pass of i reads e^p_ji
+    /// from j's row (the reverse index is [`Coefficients::reverse`]).
     pub extension: Vec<f64>,
-    /// Index of the reverse bond j→i of each bond i→j.
-    pub reverse: Vec<u32>,
     /// Whether any bond of a particle has yielded: the force pass reads e^p (a
     /// scattered read for j→i) only for particles that have.
     pub yielded: Vec<bool>,
+}
+
+/// How [`PdModel::new`] sets the model up.
+#[derive(Debug, Clone)]
+pub struct Setup {
+    /// Λ of Eq. 6 and 8 ([`DilatationForm`]).
+    pub form: DilatationForm,
+    /// Chen §6's surface correction of each family (the scene's `surface_correction`).
+    pub surface_correction: bool,
+    /// The ranks of a distributed run: the per-bond constants are built for this
+    /// rank's rows alone; `None` in one process.
+    pub share: Option<Share>,
 }
 
 /// What a scene needs of the model; picks the compiled kernel.
@@ -151,11 +148,8 @@ pub struct PdModel {
     pub reference: Reference,
     /// Families (CSR).
     pub bonds: Bonds,
-    /// Per-bond coefficients of the kernels.
+    /// Per-bond constants of the kernels, of the rows this process works on.
     pub coef: Coefficients,
-    /// ω per bond, only for anisotropic materials (Eq. 17): fracture and return
-    /// mapping need it apart from the coefficients.
-    pub omega: Option<Vec<f32>>,
     /// Plastic state, only when some material yields.
     pub plastic: Option<Plastic>,
     /// e^c per directed bond: the extension below which a crushed bond pushes back
@@ -188,72 +182,39 @@ pub fn family_volume(delta: f64) -> f64 {
 }
 
 impl PdModel {
-    /// Sets up the model from particles, bonds (with their surface corrections) and
-    /// per-body materials.
+    /// Sets up the model from particles, their families and per-body materials; the
+    /// per-bond constants only for the rows this process works on (`setup.share`).
     pub fn new(
         reference_position: Vec<[f64; 3]>,
         volume: Vec<f64>,
         body: Vec<u32>,
         bonds: Bonds,
-        corrections: Corrections,
         bodies: Vec<BodyModel>,
-        form: DilatationForm,
+        setup: Setup,
     ) -> PdModel {
         let n = reference_position.len();
         let features = Features {
             plastic: bodies.iter().any(|b| b.material.is_plastic()),
             fracture: bodies.iter().any(|b| b.material.critical_stretch.is_some()),
             anisotropic: bodies.iter().any(|b| b.material.anisotropy.is_some()),
-            paper_form: form == DilatationForm::Paper,
+            paper_form: setup.form == DilatationForm::Paper,
         };
         let initial_bonds: Vec<u32> = (0..n).map(|i| bonds.range(i).len() as u32).collect();
-        let reverse = bonds.reverse_index();
-        // ω per bond, δ/|ξ| (Eq. 5) or δ/|Gξ| (Eq. 17), into (ω q, ω b p, ω).
-        let per_bond: Vec<(f32, f32, f32)> = (0..n)
-            .into_par_iter()
-            .flat_map_iter(|i| {
-                let body_model = &bodies[body[i] as usize];
-                let g = body_model.material.anisotropy;
-                let (delta, b) = (body_model.constants.delta, body_model.constants.b);
-                let bonds = &bonds;
-                let corrections = &corrections;
-                let reference_position = &reference_position;
-                bonds.range(i).map(move |k| {
-                    let omega = match g {
-                        Some(g) => {
-                            let j = (bonds.neighbours[k] & INDEX) as usize;
-                            delta
-                                / norm(mat_vec(
-                                    g,
-                                    sub(reference_position[j], reference_position[i]),
-                                ))
-                        }
-                        None => delta / bonds.rest_length[k],
-                    };
-                    (
-                        (omega * corrections.dilatation[k] as f64) as f32,
-                        (omega * b * corrections.deviatoric[k] as f64) as f32,
-                        omega as f32,
-                    )
-                })
-            })
-            .collect();
-        drop(corrections);
-        let dil: Vec<f32> = per_bond.par_iter().map(|c| c.0).collect();
-        let dev: Vec<f32> = per_bond.par_iter().map(|c| c.1).collect();
-        let omega = features
-            .anisotropic
-            .then(|| per_bond.par_iter().map(|c| c.2).collect());
-        drop(per_bond);
-        let coef = Coefficients {
-            dil_rev: reverse.par_iter().map(|&r| dil[r as usize]).collect(),
-            dev_rev: reverse.par_iter().map(|&r| dev[r as usize]).collect(),
-            dil,
-            dev,
-        };
+        let rows = setup.share.as_ref().map_or(0..n, Share::owned);
+        let coef = Coefficients::build(
+            &bonds,
+            rows,
+            &coefficients::Inputs {
+                position: &reference_position,
+                volume: &volume,
+                body: &body,
+                bodies: &bodies,
+                surface_correction: setup.surface_correction,
+                keep_reverse: features.plastic,
+            },
+        );
         let plastic = features.plastic.then(|| Plastic {
             extension: vec![0.0f64; bonds.len()],
-            reverse,
             yielded: vec![false; n],
         });
         let crushed = bodies
@@ -274,7 +235,6 @@ impl PdModel {
             },
             bonds,
             coef,
-            omega,
             plastic,
             crushed,
             bodies,
@@ -283,15 +243,22 @@ impl PdModel {
             force: vec![[0.0; 3]; n],
             times: StageTimes::default(),
             frozen: None,
-            share: None,
+            share: setup.share,
         }
     }
 
     /// Splits the bond work over `ranks` ([`share`]): from the next step on, this
     /// rank computes its range of particles and takes in the others'. One rank keeps
     /// it whole.
+    /// A model built with its share ([`Setup::share`]) keeps it; one built whole
+    /// drops the per-bond constants of the rows other ranks work on.
     pub fn share(&mut self, ranks: Arc<dyn Ranks>) {
-        self.share = (ranks.size() > 1).then(|| Share::by_bonds(ranks, &self.bonds.offsets));
+        if self.share.is_some() || ranks.size() < 2 {
+            return;
+        }
+        let share = Share::by_bonds(ranks, &self.bonds.offsets);
+        self.coef.keep(share.owned(), &self.bonds.offsets);
+        self.share = Some(share);
     }
 
     /// The particles whose bond work this process does: all of them in one process.
@@ -418,7 +385,7 @@ impl PdModel {
         if !self.features.fracture {
             return vec![-1.0; self.len()];
         }
-        let y = &self.particles.position;
+        let (x, y) = (&self.reference.position, &self.particles.position);
         let bonds = &self.bonds;
         let phi = &self.particles.damage;
         (0..self.len())
@@ -430,6 +397,9 @@ impl PdModel {
                     return -1.0;
                 }
                 let g = 1.0 + c.alpha * phi[i];
+                let anisotropy = self.bodies[self.reference.body[i] as usize]
+                    .material
+                    .anisotropy;
                 let mut worst = 0.0f64;
                 for k in bonds.range(i) {
                     let nb = bonds.neighbours[k];
@@ -437,12 +407,17 @@ impl PdModel {
                         continue;
                     }
                     let j = (nb & INDEX) as usize;
-                    let r = bonds.rest_length[k];
+                    // Every row's, not only this rank's ([`Coefficients::rows`]): the
+                    // lengths and ω as the coefficients have them, to the bit.
+                    let r = dist(x[i], x[j]);
                     let e = norm(sub(y[j], y[i]))
                         - r
                         - self.plastic.as_ref().map_or(0.0, |p| p.extension[k]);
-                    let omega_r = match &self.omega {
-                        Some(w) => w[k] as f64 * r,
+                    let omega_r = match anisotropy {
+                        Some(_) => {
+                            let w = coefficients::omega(c.delta, anisotropy, sub(x[j], x[i]), r);
+                            w as f32 as f64 * r
+                        }
                         None => c.delta,
                     };
                     worst = worst
@@ -468,22 +443,24 @@ impl PdModel {
                     return 0.0;
                 }
                 let n = r.len() as f64;
-                r.map(|k| plastic.extension[k].abs() / self.bonds.rest_length[k])
-                    .sum::<f64>()
+                let x = &self.reference.position;
+                r.map(|k| {
+                    let j = (self.bonds.neighbours[k] & INDEX) as usize;
+                    plastic.extension[k].abs() / dist(x[i], x[j])
+                })
+                .sum::<f64>()
                     / n
             })
             .collect()
     }
 
-    /// Bytes of bond storage in use (neighbours, lengths, weights, optional state).
+    /// Bytes of bond storage in use: the neighbour words of every row, the per-bond
+    /// constants of this process's rows, and the optional state of every row (e^p, e^c).
     pub fn bond_bytes(&self) -> usize {
         let n = self.bonds.len();
-        let mut bytes = n * crate::family::BYTES_PER_BOND;
-        if self.omega.is_some() {
-            bytes += n * 4;
-        }
+        let mut bytes = n * 4 + self.coef.bytes();
         if self.plastic.is_some() {
-            bytes += n * (8 + 4);
+            bytes += n * 8;
         }
         if self.crushed.is_some() {
             bytes += n * 4;

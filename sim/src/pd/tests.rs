@@ -6,6 +6,7 @@ use super::*;
 use crate::family;
 use crate::geometry::{Cuboid, random_rotation, stuff, stuff_rotated};
 use crate::scene::MaterialSpec;
+use perifrac_math::mat_vec;
 
 fn material(e: f64, nu: f64) -> MaterialSpec {
     MaterialSpec {
@@ -64,10 +65,14 @@ fn block_on(
     let v: Vec<f64> = (0..mesh.tets.len()).map(|t| mesh.volume(t)).collect();
     let body = vec![0u32; x.len()];
     let delta = horizon * lambda;
-    let (bonds, corrections) =
-        family::build(&x, &v, &body, &vec![delta; x.len()], correction).expect("bonds");
+    let bonds = family::families_through(&x, &body, &vec![delta; x.len()], &[]).expect("bonds");
     let bodies = vec![BodyModel::new(Material::from_spec(spec), delta)];
-    PdModel::new(x, v, body, bonds, corrections, bodies, form)
+    let setup = Setup {
+        form,
+        surface_correction: correction,
+        share: None,
+    };
+    PdModel::new(x, v, body, bonds, bodies, setup)
 }
 
 /// Particles whose whole horizon lies inside the box.
@@ -107,7 +112,7 @@ fn force_scale(m: &PdModel, i: usize) -> f64 {
         .range(i)
         .map(|k| {
             let j = (m.bonds.neighbours[k] & INDEX) as usize;
-            let e = norm(sub(y[j], y[i])) - m.bonds.rest_length[k];
+            let e = norm(sub(y[j], y[i])) - m.coef.rest_length[k];
             let half_a = 2.0
                 * (a_prime * (m.theta[i] * c.dil[k] as f64 + m.theta[j] * c.dil_rev[k] as f64)
                     + (c.dev[k] + c.dev_rev[k]) as f64 * e);
@@ -452,7 +457,7 @@ fn return_mapping_lands_on_yield_surface() {
             }
             yielded += 1;
             let j = (m.bonds.neighbours[k] & INDEX) as usize;
-            let r = m.bonds.rest_length[k];
+            let r = m.coef.rest_length[k];
             let e = norm(sub(y[j], y[i])) - r;
             let q = m.coef.dil[k] as f64 * r / c.delta;
             let a_dev = 4.0 * m.coef.dev[k] as f64 * (e - 0.25 * c.delta * q * m.theta[i] - ext[k]);
@@ -487,7 +492,7 @@ fn stretch_energy(m: &mut PdModel, axis: usize, eps: f64, only: &[usize]) -> f64
                 .range(i)
                 .map(|k| {
                     let j = (m.bonds.neighbours[k] & INDEX) as usize;
-                    let e = norm(sub(y[j], y[i])) - m.bonds.rest_length[k];
+                    let e = norm(sub(y[j], y[i])) - m.coef.rest_length[k];
                     m.coef.dev[k] as f64 * e * e * m.reference.volume[j]
                 })
                 .sum();
@@ -577,7 +582,7 @@ fn broken_under(eps: f64, stretch: f64, compression: Option<f64>) -> (Vec<(bool,
     );
     m.internal_forces();
     let bonds = (0..m.bonds.neighbours.len())
-        .map(|k| (m.bonds.neighbours[k] & BROKEN != 0, m.bonds.rest_length[k]))
+        .map(|k| (m.bonds.neighbours[k] & BROKEN != 0, m.coef.rest_length[k]))
         .collect();
     (bonds, 1.45 * lambda)
 }

@@ -48,7 +48,7 @@ pub struct Frames<'a> {
     /// The other ranks of a distributed run, which must agree on when to stop.
     ranks: Option<Arc<dyn Ranks>>,
     /// Whether this process writes the cache: rank 0 of a distributed run writes it
-    /// alone (every rank holds the whole world), the others only step.
+    /// alone (every rank holds every particle and broken bit), the others only step.
     writes: bool,
 }
 

@@ -11,7 +11,7 @@ use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 pub use resume::{Plan, plan as resume_plan};
-pub use setup::{Prepared, prepare, prepare_discretized, uses_fem, uses_membrane};
+pub use setup::{Prepared, prepare, prepare_discretized, prepare_shared, uses_fem, uses_membrane};
 
 use crate::cache::manifest::Manifest;
 use crate::cache::{Layout, write_atomic};
@@ -37,7 +37,8 @@ pub struct RunOptions {
     /// there, marks the manifest interrupted and returns [`SimError::Interrupted`].
     pub stop: StopRequest,
     /// The ranks of a distributed run (`mpirun -np N perifrac run`): every rank runs
-    /// the whole world, the models split their bond work over the ranks
+    /// every particle, the models split their bond work (and peridynamics its bonds'
+    /// constants) over the ranks
     /// ([`crate::model::Model::share`]), and rank 0 alone writes the cache. `None` in
     /// one process.
     pub ranks: Option<Arc<dyn Ranks>>,
@@ -146,7 +147,7 @@ pub fn run(
         estimate_memory(scene, &disc).refuse_above(limit)?;
     }
     let t_disc = start.elapsed().as_secs_f64();
-    let mut prepared = prepare_discretized(scene, disc)?;
+    let mut prepared = prepare_shared(scene, disc, options.ranks.as_ref())?;
     prepared.timings.discretize = t_disc;
     run_prepared(scene, &layout, options, prepared, start, progress)
 }

@@ -2,6 +2,7 @@
 //! initial cracks for peridynamics, elements for the FEM, sheets for membranes), initial velocities,
 //! anchors, colliders, and the time step.
 
+use std::sync::Arc;
 use std::time::Instant;
 
 use perifrac_math::sub;
@@ -19,7 +20,8 @@ use crate::membrane::{Membrane, MembraneModel};
 use crate::model::Model;
 use crate::mpm::Mpm;
 use crate::particle_contact::ParticleContact;
-use crate::pd::{BodyModel, PdModel, Peridynamics, cut_initial_cracks};
+use crate::pd::{BodyModel, PdModel, Peridynamics, Setup, cut_initial_cracks};
+use crate::ranks::{Ranks, Share};
 use crate::scene::{ModelKind, Scene};
 use crate::world::{Part, World, WorldSettings};
 
@@ -61,6 +63,18 @@ pub fn prepare(scene: &Scene) -> Result<Prepared> {
 
 /// [`prepare`] for a scene already discretized.
 pub fn prepare_discretized(scene: &Scene, disc: Discretization) -> Result<Prepared> {
+    prepare_shared(scene, disc, None)
+}
+
+/// [`prepare_discretized`] for one of the `ranks` of a distributed run: a peridynamic
+/// model keeps the per-bond constants of its own rows alone from the start (the
+/// memory of a rank, docs/ranks.md); the other models are split later
+/// ([`Model::share`]).
+pub fn prepare_shared(
+    scene: &Scene,
+    disc: Discretization,
+    ranks: Option<&Arc<dyn Ranks>>,
+) -> Result<Prepared> {
     let t1 = Instant::now();
     let mut disc = disc;
     let part = if uses_fem(scene) {
@@ -70,7 +84,7 @@ pub fn prepare_discretized(scene: &Scene, disc: Discretization) -> Result<Prepar
     } else if scene.bodies.iter().any(|b| b.model == ModelKind::Mpm) {
         mpm_part(scene, &mut disc)?
     } else {
-        peridynamic_part(scene, &disc)?
+        peridynamic_part(scene, &disc, ranks)?
     };
     let parts = vec![part];
     let mut stable = parts
@@ -123,7 +137,11 @@ pub fn prepare_discretized(scene: &Scene, disc: Discretization) -> Result<Prepar
 /// The peridynamic model of every body (Chen et al. 2018): families within each
 /// body's horizon δ, initial velocities, initial cracks, anchors, and the embedded tet
 /// mesh when the scene writes `tets/`.
-fn peridynamic_part(scene: &Scene, disc: &Discretization) -> Result<Part> {
+fn peridynamic_part(
+    scene: &Scene,
+    disc: &Discretization,
+    ranks: Option<&Arc<dyn Ranks>>,
+) -> Result<Part> {
     let delta: Vec<f64> = disc
         .body
         .iter()
@@ -136,14 +154,10 @@ fn peridynamic_part(scene: &Scene, disc: &Discretization) -> Result<Part> {
         .zip(&scene.bodies)
         .map(|(sdf, b)| sdf.as_deref().map(|sdf| Solid::of(sdf, b.resolution)))
         .collect();
-    let (bonds, corrections) = family::build_through(
-        &disc.position,
-        &disc.volume,
-        &disc.body,
-        &delta,
-        scene.scene.surface_correction,
-        &solids,
-    )?;
+    let bonds = family::families_through(&disc.position, &disc.body, &delta, &solids)?;
+    let share = ranks
+        .filter(|r| r.size() > 1)
+        .map(|r| Share::by_bonds(r.clone(), &bonds.offsets));
     let bodies: Vec<BodyModel> = scene
         .bodies
         .iter()
@@ -159,9 +173,12 @@ fn peridynamic_part(scene: &Scene, disc: &Discretization) -> Result<Part> {
         disc.volume.clone(),
         disc.body.clone(),
         bonds,
-        corrections,
         bodies,
-        scene.scene.dilatation,
+        Setup {
+            form: scene.scene.dilatation,
+            surface_correction: scene.scene.surface_correction,
+            share,
+        },
     );
     let r = &model.reference;
     set_initial_velocities(
