@@ -226,7 +226,8 @@ mod tests {
     /// Each rank's coefficients, built from its own rows and its ghosts' weights, are
     /// the rows of a build over every particle, to the bit, and hold only its rows'
     /// bonds: an anisotropic, yielding body (ω and the reverse index kept) with
-    /// surface corrections, split over three ranks and over one. A ghost row's weights
+    /// surface corrections, split over three ranks and over one, and the whole model's
+    /// split after it was built ([`Coefficients::keep`]). A ghost row's weights
     /// taken from the wrong row, or the reverse bond's coefficients from the bond
     /// itself, would differ at the boundary particles.
     #[test]
@@ -277,6 +278,14 @@ mod tests {
             let part = Coefficients::build(&bonds, rows.clone(), &input);
             let b = bonds.offsets[rows.start]..bonds.offsets[rows.end];
             assert_eq!(part.first, b.start);
+            // A model built whole and split after keeps the same.
+            let mut kept = whole.clone();
+            kept.keep(rows.clone(), &bonds.offsets);
+            assert_eq!(
+                format!("{kept:?}"),
+                format!("{part:?}"),
+                "rank {rank}: kept"
+            );
             let same = |a: &[f32], w: &[f32]| {
                 a.len() == b.len()
                     && a.iter()

@@ -281,14 +281,14 @@ pub(super) fn state(
     let modulus = 2.0 * bonds.mu + bonds.lambda;
     // A bond's e^p given the extension it follows (deviatoric for plastic bonds,
     // whole for viscous ones) and that extension's rate (the module documentation).
-    let mut flow = |k: usize, extension: f64, rate: f64| {
-        let elastic = extension - extensions[k];
+    let flow = |plastic: &mut f64, extension: f64, rate: f64| {
+        let elastic = extension - *plastic;
         match law.flow {
             Flow::Elastic => {}
             Flow::Return => {
                 let stress = modulus * elastic;
                 if stress.abs() > sigma_y {
-                    extensions[k] += (stress - sigma_y.copysign(stress)) / modulus;
+                    *plastic += (stress - sigma_y.copysign(stress)) / modulus;
                 }
             }
             Flow::Maxwell { decay, tau, dt } => {
@@ -306,7 +306,23 @@ pub(super) fn state(
                         + (relaxed - over)
                             .clamp(0.0_f64.min(elastic - over), 0.0_f64.max(elastic - over));
                 }
-                extensions[k] = extension - relaxed;
+                *plastic = extension - relaxed;
+            }
+        }
+    };
+    // P_μ = Σ 2μ c G ω V (|FX|/|X| − 1 − e^p or − exp e^p) FX ⊗ X / (|X| |FX|) over
+    // the intact bonds (the module documentation), a bond at a time.
+    let strain = bonds.strain();
+    let mut piola = [[0.0; 3]; 3];
+    let mut add = |q: usize, bond: &Bond, xi: [f64; 3], average: [f64; 3], plastic: f64| {
+        let (length, average_length) = (bond.length, norm(average));
+        let magnitude = 2.0 * bonds.mu * c * bond.correction * delta / length
+            * volume[q]
+            * strain.elastic(average_length, length, plastic)
+            / (length * average_length);
+        for a in 0..3 {
+            for b in 0..3 {
+                piola[a][b] += magnitude * average[a] * xi[b];
             }
         }
     };
@@ -320,36 +336,54 @@ pub(super) fn state(
     let n = family.len();
     match (bonds.viscosity, measured) {
         // Viscous bonds: a spring's own ln(|Y|/|X|), and the μ term's ln(|F X|/|X|)
-        // (kept after the springs') where F is measured, with their rates from the
-        // particles' velocities (Ḟ = Σ ω (v_q − v_p) ⊗ X V K⁻¹).
+        // where F is measured, with their rates from the particles' velocities
+        // (Ḟ = Σ ω (v_q − v_p) ⊗ X V K⁻¹); the μ term's force from the same F X.
         (Some(_), measured) => {
             let rates =
                 measured.map(|(f, shape_inverse)| (f, mat_mul(&rate_moment, &shape_inverse)));
             for (k, (&nb, bond)) in intact() {
                 let q = (nb & INDEX) as usize;
                 let (y, dv) = (sub(x[q], x[i]), sub(v[q], v[i]));
-                flow(k, (norm(y) / bond.length).ln(), dot(y, dv) / dot(y, y));
+                let spring_rate = dot(y, dv) / dot(y, y);
+                flow(
+                    &mut extensions[k],
+                    (norm(y) / bond.length).ln(),
+                    spring_rate,
+                );
                 if let Some((f, f_dot)) = rates {
                     let xi = sub(x0[q], x0[i]);
                     let (average, rate) = (mat_vec(f, xi), mat_vec(f_dot, xi));
                     let shear = (norm(average) / bond.length).ln();
-                    flow(n + k, shear, dot(average, rate) / dot(average, average));
+                    let plastic = &mut extensions[n + k];
+                    flow(plastic, shear, dot(average, rate) / dot(average, average));
+                    add(q, bond, xi, average, *plastic);
                 }
             }
         }
-        // Plastic bonds: e − ϑ/3.
-        (None, _) if plastic_dilatation && weights > 0.0 => {
-            let theta = 3.0 * dilatation / weights;
-            for (k, (&nb, bond)) in intact() {
-                let e = norm(sub(x[(nb & INDEX) as usize], x[i])) / bond.length - 1.0;
-                flow(k, e - theta / 3.0, 0.0);
+        // Plastic bonds: e − ϑ/3, then the μ term's force.
+        (None, _) => {
+            if plastic_dilatation && weights > 0.0 {
+                let theta = 3.0 * dilatation / weights;
+                for (k, (&nb, bond)) in intact() {
+                    let e = norm(sub(x[(nb & INDEX) as usize], x[i])) / bond.length - 1.0;
+                    flow(&mut extensions[k], e - theta / 3.0, 0.0);
+                }
+            }
+            if let Some((f, _)) = measured {
+                for (k, (&nb, bond)) in intact() {
+                    let q = (nb & INDEX) as usize;
+                    let xi = sub(x0[q], x0[i]);
+                    add(
+                        q,
+                        bond,
+                        xi,
+                        mat_vec(f, xi),
+                        extensions.get(k).copied().unwrap_or(0.0),
+                    );
+                }
             }
         }
-        (None, _) => {}
     }
-    // The μ term's e^p: after the springs' for viscous bonds, the same for plastic.
-    let shear_flow = if viscous { n } else { 0 };
-    let strain = bonds.strain();
     let Some((f, shape_inverse)) = measured else {
         return State {
             measure: Measure::Bonds(p.deformation[i]),
@@ -358,27 +392,6 @@ pub(super) fn state(
             strain,
         };
     };
-    let mut piola = [[0.0; 3]; 3];
-    for (k, (&nb, bond)) in family.iter().zip(table).enumerate() {
-        if nb & BROKEN != 0 {
-            continue;
-        }
-        let q = (nb & INDEX) as usize;
-        let xi = sub(x0[q], x0[i]);
-        let length = bond.length;
-        let average = mat_vec(f, xi);
-        let average_length = norm(average);
-        let plastic = extensions.get(shear_flow + k).copied().unwrap_or(0.0);
-        let magnitude = 2.0 * bonds.mu * c * bond.correction * delta / length
-            * volume[q]
-            * strain.elastic(average_length, length, plastic)
-            / (length * average_length);
-        for a in 0..3 {
-            for b in 0..3 {
-                piola[a][b] += magnitude * average[a] * xi[b];
-            }
-        }
-    }
     if viscous {
         // The volume's K ln(J) F⁻ᵀ (the module documentation).
         let bulk = constitutive::bulk_modulus(bonds.lambda, bonds.mu);
