@@ -5,7 +5,6 @@
 //! held whole a second time). Alone in its test binary: it measures its children.
 
 use std::path::Path;
-use std::process::Command;
 
 mod common;
 
@@ -39,27 +38,12 @@ fn estimate(scene: &Path) -> f64 {
 }
 
 /// The peak resident memory (MiB) of `perifrac run` on `scene` into `out`.
-// The child is reaped by wait4, which gives its own rusage (std's wait does not).
-#[allow(clippy::zombie_processes)]
 fn peak(scene: &Path, out: &Path) -> f64 {
-    let child = Command::new(env!("CARGO_BIN_EXE_perifrac"))
-        .args(["run", scene.to_str().expect("utf-8"), "-o"])
-        .arg(out)
-        .arg("--quiet")
-        .spawn()
-        .expect("starts perifrac");
-    let mut status = 0;
-    // SAFETY: rusage is plain data that wait4 fills for the child it reaps.
-    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
-    let pid = child.id() as libc::pid_t;
-    // SAFETY: waits for our own child, which std has not reaped (no wait on it).
-    let reaped = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
-    assert_eq!(reaped, pid, "waits for perifrac");
-    assert!(
-        libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0,
-        "perifrac run failed: {status}"
-    );
-    usage.ru_maxrss as f64 / 1024.0
+    let (scene, out) = (scene.to_str().expect("utf-8"), out.to_str().expect("utf-8"));
+    common::peak_mib(
+        env!("CARGO_BIN_EXE_perifrac"),
+        &["run", scene, "-o", out, "--quiet"],
+    )
 }
 
 #[test]

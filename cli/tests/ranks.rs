@@ -10,6 +10,8 @@ use std::process::{Command, Output};
 
 use perifrac_cache::ply::ParticleFrame;
 
+mod common;
+
 /// A glass wall hit by a ball, coarse (1,499 particles, 5 frames): bonds break and
 /// crush (`critical_compression`), so every kind of per-bond state a step sends
 /// between ranks changes; the split tet mesh is written.
@@ -210,29 +212,6 @@ fn a_run_stopped_on_two_ranks_resumes_on_two_or_three_to_the_same_bytes() {
     }
 }
 
-/// The peak resident memory (MiB) of `program ARGS` and its children (wait4 gives the
-/// child's own rusage, whose maximum covers the ranks `mpirun` waited for).
-// The child is reaped by wait4, which gives its own rusage (std's wait does not).
-#[allow(clippy::zombie_processes)]
-fn peak(program: &str, args: &[String]) -> f64 {
-    let child = Command::new(program)
-        .args(args)
-        .spawn()
-        .expect("starts the run");
-    let mut status = 0;
-    // SAFETY: rusage is plain data that wait4 fills for the child it reaps.
-    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
-    let pid = child.id() as libc::pid_t;
-    // SAFETY: waits for our own child, which std has not reaped (no wait on it).
-    let reaped = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
-    assert_eq!(reaped, pid, "waits for the run");
-    assert!(
-        libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0,
-        "{program} {args:?} failed: {status}"
-    );
-    usage.ru_maxrss as f64 / 1024.0
-}
-
 /// A rank keeps the constants of its own bonds alone (sim/src/pd/coefficients.rs):
 /// on 2 ranks each peaks at 0.77 of one process (116 against 150 MiB, a soft wall of
 /// 2.75×10⁶ bonds, 36 bytes a bond at the peak of one process' set-up, OpenMPI's own
@@ -253,8 +232,8 @@ fn a_rank_holds_its_share_of_the_bonds() {
     let bin = env!("CARGO_BIN_EXE_perifrac");
     let out = |name: &str| dir.path().join(name).to_string_lossy().into_owned();
     let (one_out, two_out) = (out("one"), out("two"));
-    let run = |out: &str| {
-        let args = [
+    let run = |out| {
+        [
             "run",
             &scene,
             "-o",
@@ -264,15 +243,11 @@ fn a_rank_holds_its_share_of_the_bonds() {
             "--quiet",
             "--threads",
             "1",
-        ];
-        args.map(String::from).to_vec()
+        ]
     };
-    let one = peak(bin, &run(&one_out));
-    let mut args: Vec<String> = ["--oversubscribe", "--allow-run-as-root", "-np", "2", bin]
-        .map(String::from)
-        .to_vec();
-    args.extend(run(&two_out));
-    let two = peak("mpirun", &args);
+    let one = common::peak_mib(bin, &run(&one_out));
+    let mpirun = ["--oversubscribe", "--allow-run-as-root", "-np", "2", bin];
+    let two = common::peak_mib("mpirun", &[&mpirun[..], &run(&two_out)].concat());
     println!("peak: one process {one:.1} MiB, a rank of 2 {two:.1} MiB");
     assert!(
         two < 0.85 * one,
