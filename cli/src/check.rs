@@ -85,17 +85,29 @@ pub fn command(path: &Path) -> Result<(), Failure> {
         before.particles,
         before.bonds
     );
-    let per_rank: Vec<String> = [2, 4, 16]
-        .iter()
-        .map(|&n| format!("{n}: {:.1}", after.per_rank(n) / (1 << 20) as f64))
-        .collect();
-    println!(
-        "  ranks:     MiB a rank of `mpirun -np N perifrac run` needs, N = {}: each keeps \
-         the particles and the bonds' neighbours, and the constants of its own bonds \
-         (docs/ranks.md)",
-        per_rank.join(", ")
-    );
+    print_ranks(&after);
     print_prepared(&scene, run::prepare_discretized(&scene, disc)?)
+}
+
+/// The memory a rank of `mpirun -np N perifrac run` needs (docs/ranks.md).
+fn print_ranks(estimate: &MemoryEstimate) {
+    let mib = |n| estimate.per_rank(n) / (1 << 20) as f64;
+    if estimate.split > 0.0 {
+        println!(
+            "  ranks:     MiB a rank of `mpirun -np N perifrac run` needs, N = 2: {:.1}, \
+             4: {:.1}, 16: {:.1}: each keeps the particles and the bonds' neighbours, \
+             and the constants of its own bonds (docs/ranks.md)",
+            mib(2),
+            mib(4),
+            mib(16)
+        );
+    } else {
+        println!(
+            "  ranks:     {:.1} MiB a rank of `mpirun -np N perifrac run`, whatever N: \
+             every rank steps the whole model (docs/ranks.md)",
+            mib(2)
+        );
+    }
 }
 
 /// What the prepared world tells of a scene: its clamps by default, the cost of its
@@ -233,11 +245,7 @@ fn check_mpm(scene: &Scene, disc: Discretization, before: &MemoryEstimate) -> Re
         before.bytes / (1 << 20) as f64,
         before.particles
     );
-    println!(
-        "  ranks:     {:.1} MiB a rank of `mpirun -np N perifrac run`, whatever N: every \
-         rank steps the whole MPM world (docs/ranks.md)",
-        estimate.per_rank(2) / (1 << 20) as f64
-    );
+    print_ranks(&estimate);
     print_prepared(scene, prepared)
 }
 

@@ -243,11 +243,21 @@ impl MemoryEstimate {
                 if plastic { 8 } else { 0 } + if crushing { 4 } else { 0 },
                 if plastic { 4 } else { 0 },
             );
+            // Only peridynamics splits its bonds over ranks; membranes (and the FEM,
+            // which has none) run whole on every rank.
+            let peridynamic = scene
+                .bodies
+                .iter()
+                .all(|b| b.model == ModelKind::Peridynamics);
             (
                 BYTES_PER_PARTICLE,
                 family::BYTES_PER_BOND + whole + split,
                 WHOLE_PEAK_BYTES_PER_BOND + SPLIT_PEAK_BYTES_PER_BOND + whole + split,
-                SPLIT_PEAK_BYTES_PER_BOND + split,
+                if peridynamic {
+                    SPLIT_PEAK_BYTES_PER_BOND + split
+                } else {
+                    0
+                },
             )
         };
         let (per_particle, peak_per_bond) = (per_particle as f64, peak_per_bond as f64);
