@@ -31,6 +31,8 @@
 //! terms between the transfers without copying them.
 
 pub mod constitutive;
+#[cfg(test)]
+mod elastic_check_tests;
 pub mod grid;
 #[cfg(test)]
 mod integral_tests;

@@ -27,9 +27,10 @@
 //! [`EIGEN_CONDITION_FLOOR`] λ_max(C)) takes the inversion-safe SVD
 //! ([`rotation_svd`]); the Jacobi path takes what lies between that and the closed
 //! form's floor ([`super::spectral::SPECTRUM_CONDITION_FLOOR`]). Before
-//! any of it, J2 and snow ask whether the particle can yield at all from invariants
+//! any of it, every model asks whether the particle can yield at all from invariants
 //! that cost a few multiplications ([`j2_surely_elastic`], the Gershgorin discs of C
-//! for snow), so a particle inside the yield surface is not decomposed. The test
+//! for snow, [`drucker_prager_surely_elastic`]), so a particle inside the yield surface
+//! is not decomposed. The test
 //! `fast_projections_match_the_svd_ones` holds every projection to its SVD form.
 
 use perifrac_math::{RotationSvd, rotation_svd};
@@ -186,8 +187,8 @@ impl Plasticity {
     /// Whether `f` cannot yield, from invariants that cost a few multiplications
     /// and without a decomposition or the strain rate: J2 by [`j2_surely_elastic`] at
     /// the flow stress of the reference rate (the rate factor is never below 1),
-    /// snow by the Gershgorin discs of C. False when it may yield (and always for
-    /// Drucker–Prager).
+    /// snow by the Gershgorin discs of C, Drucker–Prager by
+    /// [`drucker_prager_surely_elastic`]. False when it may yield.
     pub fn surely_elastic(&self, f: &Mat3, input: &FlowInput) -> bool {
         match *self {
             Plasticity::None => true,
@@ -210,7 +211,9 @@ impl Plasticity {
                 let (lo, hi) = snow_bounds(critical_compression, critical_stretch);
                 determinant(f) > 0.0 && gershgorin_within(&gram(f), lo * lo, hi * hi)
             }
-            Plasticity::DruckerPrager { .. } => false,
+            Plasticity::DruckerPrager { alpha } => {
+                drucker_prager_surely_elastic(f, alpha, input.mu, input.lambda)
+            }
         }
     }
 
@@ -436,6 +439,40 @@ pub fn j2_surely_elastic(f: &Mat3, mu: f64, yield_stress: f64) -> bool {
     let cbrt = j.cbrt();
     let delta = (ic / (cbrt * cbrt) - 3.0).max(0.0);
     delta < 1.0 / 3.0 && 3.0 * mu * mu * delta * (3.0 * delta).sqrt().exp() <= limit
+}
+
+/// The margin in δ = I_C/J^{2/3} − 3 that [`drucker_prager_surely_elastic`] leaves for
+/// the round-off of I_C³ and J² (about 10⁻¹⁵ in δ): a particle strained less than
+/// ‖dev log Σ̂‖ ≈ 2·10⁻⁷ is never accepted and goes to the exact test.
+const DRUCKER_PRAGER_ROUNDING: f64 = 1e-13;
+
+/// Whether the Drucker–Prager trial state of `f` lies inside the cone of friction
+/// coefficient `alpha` for certain, from I_C = tr FᵀF and J = det F alone. With l =
+/// log Σ̂, the state is inside when ‖dev l‖ ≤ k α (−tr l), k = (3λ + 2μ)/(2μ) (δγ ≤ 0 of
+/// Klár et al. 2016 Eq. 28), tr l = ln J; a stretched particle (J ≥ 1) goes to the
+/// tip and is never inside. The bound of [`j2_surely_elastic`] with x = 2 dev l gives
+/// ‖dev l‖² ≤ δ e^{√(3δ)}/2 for δ = I_C/J^{2/3} − 3 < 1/3, and −ln J ≥ u + u²/2 with
+/// u = 1 − J (the series of −ln(1 − u) has no negative term). So with m = kα(u + u²/2),
+/// δ₀ = min(2m², 0.3) and e^{√(3δ₀)} ≤ 1/(1 − √(3δ₀)), the state is inside if δ ≤
+/// δ₀(1 − √(3δ₀)), that is I_C³ ≤ (3 + δ₀(1 − √(3δ₀)))³ J² (less a rounding margin,
+/// [`DRUCKER_PRAGER_ROUNDING`]): no logarithm, cube root or exponential. At small
+/// strain it accepts states up to about 1 − √(3δ₀)/2 of the cone's radius.
+pub fn drucker_prager_surely_elastic(f: &Mat3, alpha: f64, mu: f64, lambda: f64) -> bool {
+    let j = determinant(f);
+    // NaN fails too.
+    if !(j > 0.0 && j < 1.0) {
+        return false;
+    }
+    let u = 1.0 - j;
+    let radius = (3.0 * lambda + 2.0 * mu) / (2.0 * mu) * alpha * u * (1.0 + 0.5 * u);
+    let cap = (2.0 * radius * radius).min(0.3);
+    let most = cap * (1.0 - (3.0 * cap).sqrt()) - DRUCKER_PRAGER_ROUNDING;
+    if most <= 0.0 {
+        return false;
+    }
+    let ic: f64 = f.iter().flatten().map(|x| x * x).sum();
+    let bound = 3.0 + most;
+    ic * ic * ic <= bound * bound * bound * j * j
 }
 
 /// Snow's range of singular values: [1 − θ_c, 1 + θ_s].
