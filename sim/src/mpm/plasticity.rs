@@ -41,7 +41,7 @@ pub use super::johnson_cook::{
     HARDENING_STRAIN_FLOOR, JohnsonCook, RETURN_ITERATIONS, RETURN_TOLERANCE, Return,
     TAYLOR_QUINNEY, Thermal, deviatoric, equivalent_stress, radial_return,
 };
-use super::spectral::{LogMap, Spectrum};
+use super::spectral::{LogInvariants, LogMap, Spectrum};
 
 /// The simplified Mie–Grüneisen equation of state (Eq. 7.4, with the sign of its
 /// denominator corrected; see [`MieGruneisen::pressure`]).
@@ -240,7 +240,7 @@ impl Plasticity {
             Plasticity::JohnsonCook(_) | Plasticity::DruckerPrager { .. } => {
                 Spectrum::of(f).map(|spectrum| {
                     let logs = spectrum.logs();
-                    let map = self.log_map(logs.map(|l| 0.5 * l), input);
+                    let map = self.log_map(LogInvariants::of(logs.map(|l| 0.5 * l)), input);
                     (spectrum, logs, map)
                 })
             }
@@ -260,7 +260,7 @@ impl Plasticity {
             Plasticity::None => 0.0,
             Plasticity::JohnsonCook(_) | Plasticity::DruckerPrager { .. } => {
                 let log = sigma.map(|s| s.max(SINGULAR_VALUE_FLOOR).ln());
-                let Some(map) = self.log_map(log, input) else {
+                let Some(map) = self.log_map(LogInvariants::of(log), input) else {
                     return 0.0;
                 };
                 let projected = log.map(|l| ((1.0 + map.slope) * l + map.shift).exp());
@@ -289,9 +289,9 @@ impl Plasticity {
     }
 
     /// The projection of J2 or Drucker–Prager as a map of the log singular values
-    /// `log` ([`j2_map`], [`drucker_prager_map`]); `None` when elastic and for the other
-    /// models, whose projections are not of this form.
-    fn log_map(&self, log: [f64; 3], input: &FlowInput) -> Option<LogMap> {
+    /// whose invariants are `log` ([`j2_map`], [`drucker_prager_map`]); `None` when
+    /// elastic and for the other models, whose projections are not of this form.
+    fn log_map(&self, log: LogInvariants, input: &FlowInput) -> Option<LogMap> {
         match *self {
             Plasticity::JohnsonCook(ref hardening) => {
                 let law = hardening
@@ -305,17 +305,15 @@ impl Plasticity {
     }
 }
 
-/// J2's projection as a map of the log singular values `log` = l = log Σ̂ (in any
-/// order), each l to (1 + s) l + t; `None` when elastic. The trial deviatoric
+/// J2's projection as a map of the log singular values l = log Σ̂ whose invariants
+/// are `log`, each l to (1 + s) l + t; `None` when elastic. The trial deviatoric
 /// Kirchhoff stress τ* = 2μ dev l, returned by [`radial_return`] on the flow stress law
 /// `law` (at the step's rate and temperature) with scaling k, gives log Σ = k dev l +
 /// tr(l)/3 (J kept): s = k − 1, t = −s tr(l)/3.
-fn j2_map(law: &JohnsonCook, log: [f64; 3], input: &FlowInput) -> Option<LogMap> {
-    let mean = (log[0] + log[1] + log[2]) / 3.0;
-    let dev = log.map(|e| e - mean);
+fn j2_map(law: &JohnsonCook, log: LogInvariants, input: &FlowInput) -> Option<LogMap> {
+    let mean = log.mean;
     // s* = √(3/2) ‖2μ dev l‖.
-    let trial =
-        2.0 * input.mu * (1.5 * (dev[0] * dev[0] + dev[1] * dev[1] + dev[2] * dev[2])).sqrt();
+    let trial = 2.0 * input.mu * (1.5 * log.deviatoric_squared).sqrt();
     let (increment, scale) = return_map(trial, input.mu, input.plastic_strain, law, input.rate);
     (increment > 0.0).then(|| {
         let slope = scale - 1.0;
@@ -331,19 +329,18 @@ fn j2_map(law: &JohnsonCook, log: [f64; 3], input: &FlowInput) -> Option<LogMap>
 /// [`j2_map`]). Compressed (tr l < 0): log Σ = l − δγ dev l/‖dev l‖ with δγ = ‖dev l‖ +
 /// (3λ + 2μ)/(2μ) tr(l) α (Klár et al. 2016 Eq. 28): s = −δγ/‖dev l‖, t = −s tr(l)/3;
 /// stretched (tr l ≥ 0): the tip Σ = I, s = −1, t = 0.
-fn drucker_prager_map(alpha: f64, log: [f64; 3], input: &FlowInput) -> Option<LogMap> {
-    let mean = (log[0] + log[1] + log[2]) / 3.0;
+fn drucker_prager_map(alpha: f64, log: LogInvariants, input: &FlowInput) -> Option<LogMap> {
+    let mean = log.mean;
     let trace = 3.0 * mean;
     if trace >= 0.0 {
         // Stretched: no cohesion, the tip of the cone.
         return Some(LogMap {
             slope: -1.0,
             shift: 0.0,
-            increment: (log[0] * log[0] + log[1] * log[1] + log[2] * log[2]).sqrt(),
+            increment: log.squared.sqrt(),
         });
     }
-    let dev = log.map(|e| e - mean);
-    let dev_norm = (dev[0] * dev[0] + dev[1] * dev[1] + dev[2] * dev[2]).sqrt();
+    let dev_norm = log.deviatoric_squared.sqrt();
     // Compressed: a purely volumetric state (dev = 0) is inside the cone.
     let gamma = dev_norm + (3.0 * input.lambda + 2.0 * input.mu) / (2.0 * input.mu) * trace * alpha;
     (gamma > 0.0).then(|| {
@@ -415,6 +412,14 @@ impl Stretch {
     }
 }
 
+/// The margin in δ = I_C/J^{2/3} − 3 that [`j2_surely_elastic`] and
+/// [`drucker_prager_surely_elastic`] leave for the round-off of I_C and J (about
+/// 10⁻¹⁵ in δ, which is about 2‖dev log Σ̂‖²): a particle that would yield at a
+/// deviatoric strain below about 2·10⁻⁷ is never accepted and goes to the exact test.
+/// Without it, J2 accepted trial states strained 10⁻⁸ past a yield strain of 10⁻⁸
+/// (found by `small_strain_projections_match_the_svd_ones`).
+const INVARIANT_ROUNDING: f64 = 1e-13;
+
 /// Whether the J2 trial state of `f` lies inside the yield surface σ_y for certain,
 /// from the invariants I_C = tr FᵀF and J = det F alone. With ν_a = σ̂_a²/J^{2/3} (so
 /// Π ν_a = 1), x_a = ln ν_a and δ = Σ ν_a − 3 = Σ (e^{x_a} − 1 − x_a) = I_C/J^{2/3} − 3,
@@ -422,7 +427,8 @@ impl Stretch {
 /// e^{−y} − 1 + y ≥ y²/3 for 0 ≤ y ≤ 1 bounds −x_a by √(3δ) when δ < 1/3. The trial
 /// deviatoric Hencky strain is x/2, so its equivalent stress s* = 2μ √(3/2) ‖x/2‖
 /// satisfies s*² ≤ 3μ² δ e^{√(3δ)}, and the particle is elastic if that is ≤ σ_y².
-/// The bound is tight at small strain (s*² → 3μ² δ).
+/// The bound is tight at small strain (s*² → 3μ² δ); δ is taken
+/// [`INVARIANT_ROUNDING`] larger than computed.
 pub fn j2_surely_elastic(f: &Mat3, mu: f64, yield_stress: f64) -> bool {
     let j = determinant(f);
     if j.is_nan() || j <= 0.0 {
@@ -437,14 +443,9 @@ pub fn j2_surely_elastic(f: &Mat3, mu: f64, yield_stress: f64) -> bool {
         return false;
     }
     let cbrt = j.cbrt();
-    let delta = (ic / (cbrt * cbrt) - 3.0).max(0.0);
+    let delta = (ic / (cbrt * cbrt) - 3.0).max(0.0) + INVARIANT_ROUNDING;
     delta < 1.0 / 3.0 && 3.0 * mu * mu * delta * (3.0 * delta).sqrt().exp() <= limit
 }
-
-/// The margin in δ = I_C/J^{2/3} − 3 that [`drucker_prager_surely_elastic`] leaves for
-/// the round-off of I_C³ and J² (about 10⁻¹⁵ in δ): a particle strained less than
-/// ‖dev log Σ̂‖ ≈ 2·10⁻⁷ is never accepted and goes to the exact test.
-const DRUCKER_PRAGER_ROUNDING: f64 = 1e-13;
 
 /// Whether the Drucker–Prager trial state of `f` lies inside the cone of friction
 /// coefficient `alpha` for certain, from I_C = tr FᵀF and J = det F alone. With l =
@@ -455,7 +456,7 @@ const DRUCKER_PRAGER_ROUNDING: f64 = 1e-13;
 /// u = 1 − J (the series of −ln(1 − u) has no negative term). So with m = kα(u + u²/2),
 /// δ₀ = min(2m², 0.3) and e^{√(3δ₀)} ≤ 1/(1 − √(3δ₀)), the state is inside if δ ≤
 /// δ₀(1 − √(3δ₀)), that is I_C³ ≤ (3 + δ₀(1 − √(3δ₀)))³ J² (less a rounding margin,
-/// [`DRUCKER_PRAGER_ROUNDING`]): no logarithm, cube root or exponential. At small
+/// [`INVARIANT_ROUNDING`]): no logarithm, cube root or exponential. At small
 /// strain it accepts states up to about 1 − √(3δ₀)/2 of the cone's radius.
 pub fn drucker_prager_surely_elastic(f: &Mat3, alpha: f64, mu: f64, lambda: f64) -> bool {
     let j = determinant(f);
@@ -465,8 +466,13 @@ pub fn drucker_prager_surely_elastic(f: &Mat3, alpha: f64, mu: f64, lambda: f64)
     }
     let u = 1.0 - j;
     let radius = (3.0 * lambda + 2.0 * mu) / (2.0 * mu) * alpha * u * (1.0 + 0.5 * u);
-    let cap = (2.0 * radius * radius).min(0.3);
-    let most = cap * (1.0 - (3.0 * cap).sqrt()) - DRUCKER_PRAGER_ROUNDING;
+    // δ₀ = 2m² and √(3δ₀) = √6 m, or 0.3 and √0.9: no square root to wait for.
+    let (cap, root) = if radius * radius < 0.15 {
+        (2.0 * radius * radius, 6f64.sqrt() * radius)
+    } else {
+        (0.3, 0.9f64.sqrt())
+    };
+    let most = cap * (1.0 - root) - INVARIANT_ROUNDING;
     if most <= 0.0 {
         return false;
     }
