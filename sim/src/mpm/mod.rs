@@ -44,6 +44,7 @@ pub mod plasticity;
 #[cfg(test)]
 mod plasticity_tests;
 mod seed;
+pub mod series;
 mod setup;
 mod solver;
 pub mod spectral;

@@ -19,7 +19,9 @@
 //! **How F̂ is decomposed.** Every projection maps the singular values Σ̂ to new ones
 //! Σ and keeps U and V. J2 and Drucker–Prager map log Σ̂ affinely, so F_E = eᵗ F̂
 //! C^{s/2} with C = F̂ᵀF̂ needs only C's eigenvalues, in closed form, and no
-//! eigenvectors ([`Spectrum`], [`LogMap`]); snow's clamp is such a power on each
+//! eigenvectors ([`Spectrum`], [`LogMap`]), or at small strain (‖C − I‖ ≤
+//! [`super::series::SERIES_STRAIN`]) not even those: ln C and C^{s/2} by their series
+//! in C − I ([`series::project`]); snow's clamp is such a power on each
 //! of its pieces ([`Spectrum::clamp`]). Where the closed form would lose digits, F_E =
 //! U Σ Vᵀ = F̂ V Σ̂⁻¹ Σ Vᵀ takes V and Σ̂ from [`symmetric_eigen`] (Jacobi) at a
 //! fraction of the cost of nalgebra's SVD ([`Stretch`]). Squaring F̂ squares its
@@ -41,6 +43,7 @@ pub use super::johnson_cook::{
     HARDENING_STRAIN_FLOOR, JohnsonCook, RETURN_ITERATIONS, RETURN_TOLERANCE, Return,
     TAYLOR_QUINNEY, Thermal, deviatoric, equivalent_stress, radial_return,
 };
+use super::series;
 use super::spectral::{LogInvariants, LogMap, Spectrum};
 
 /// The simplified Mie–Grüneisen equation of state (Eq. 7.4, with the sign of its
@@ -238,6 +241,9 @@ impl Plasticity {
                 None
             }
             Plasticity::JohnsonCook(_) | Plasticity::DruckerPrager { .. } => {
+                if let Some(increment) = series::project(f, |log| self.log_map(log, input)) {
+                    return increment;
+                }
                 Spectrum::of(f).map(|spectrum| {
                     let logs = spectrum.logs();
                     let map = self.log_map(LogInvariants::of(logs.map(|l| 0.5 * l)), input);
@@ -418,7 +424,7 @@ impl Stretch {
 /// deviatoric strain below about 2·10⁻⁷ is never accepted and goes to the exact test.
 /// Without it, J2 accepted trial states strained 10⁻⁸ past a yield strain of 10⁻⁸
 /// (found by `small_strain_projections_match_the_svd_ones`).
-const INVARIANT_ROUNDING: f64 = 1e-13;
+pub const INVARIANT_ROUNDING: f64 = 1e-13;
 
 /// Whether the J2 trial state of `f` lies inside the yield surface σ_y for certain,
 /// from the invariants I_C = tr FᵀF and J = det F alone. With ν_a = σ̂_a²/J^{2/3} (so

@@ -66,7 +66,7 @@ pub struct LogMap {
 
 /// What the J2 and Drucker–Prager projections read of the log singular values l =
 /// log Σ̂: invariants, so that they can come from l itself or from the matrix ½ ln C
-/// whose eigenvalues l are (the small-strain series of `super::series`).
+/// whose eigenvalues l are ([`super::series::project`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LogInvariants {
     /// tr(l)/3.
