@@ -31,6 +31,8 @@
 //! terms between the transfers without copying them.
 
 pub mod constitutive;
+#[cfg(test)]
+mod elastic_check_tests;
 pub mod grid;
 #[cfg(test)]
 mod integral_tests;
@@ -42,6 +44,7 @@ pub mod plasticity;
 #[cfg(test)]
 mod plasticity_tests;
 mod seed;
+pub mod series;
 mod setup;
 mod solver;
 pub mod spectral;

@@ -19,7 +19,9 @@
 //! **How F̂ is decomposed.** Every projection maps the singular values Σ̂ to new ones
 //! Σ and keeps U and V. J2 and Drucker–Prager map log Σ̂ affinely, so F_E = eᵗ F̂
 //! C^{s/2} with C = F̂ᵀF̂ needs only C's eigenvalues, in closed form, and no
-//! eigenvectors ([`Spectrum`], [`LogMap`]); snow's clamp is such a power on each
+//! eigenvectors ([`Spectrum`], [`LogMap`]), or at small strain (‖C − I‖ ≤
+//! [`super::series::SERIES_STRAIN`]) not even those: ln C and C^{s/2} by their series
+//! in C − I ([`series::project`]); snow's clamp is such a power on each
 //! of its pieces ([`Spectrum::clamp`]). Where the closed form would lose digits, F_E =
 //! U Σ Vᵀ = F̂ V Σ̂⁻¹ Σ Vᵀ takes V and Σ̂ from [`symmetric_eigen`] (Jacobi) at a
 //! fraction of the cost of nalgebra's SVD ([`Stretch`]). Squaring F̂ squares its
@@ -27,9 +29,10 @@
 //! [`EIGEN_CONDITION_FLOOR`] λ_max(C)) takes the inversion-safe SVD
 //! ([`rotation_svd`]); the Jacobi path takes what lies between that and the closed
 //! form's floor ([`super::spectral::SPECTRUM_CONDITION_FLOOR`]). Before
-//! any of it, J2 and snow ask whether the particle can yield at all from invariants
+//! any of it, every model asks whether the particle can yield at all from invariants
 //! that cost a few multiplications ([`j2_surely_elastic`], the Gershgorin discs of C
-//! for snow), so a particle inside the yield surface is not decomposed. The test
+//! for snow, [`drucker_prager_surely_elastic`]), so a particle inside the yield surface
+//! is not decomposed. The test
 //! `fast_projections_match_the_svd_ones` holds every projection to its SVD form.
 
 use perifrac_math::{RotationSvd, rotation_svd};
@@ -40,7 +43,8 @@ pub use super::johnson_cook::{
     HARDENING_STRAIN_FLOOR, JohnsonCook, RETURN_ITERATIONS, RETURN_TOLERANCE, Return,
     TAYLOR_QUINNEY, Thermal, deviatoric, equivalent_stress, radial_return,
 };
-use super::spectral::{LogMap, Spectrum};
+use super::series;
+use super::spectral::{LogInvariants, LogMap, Spectrum};
 
 /// The simplified Mie–Grüneisen equation of state (Eq. 7.4, with the sign of its
 /// denominator corrected; see [`MieGruneisen::pressure`]).
@@ -186,8 +190,8 @@ impl Plasticity {
     /// Whether `f` cannot yield, from invariants that cost a few multiplications
     /// and without a decomposition or the strain rate: J2 by [`j2_surely_elastic`] at
     /// the flow stress of the reference rate (the rate factor is never below 1),
-    /// snow by the Gershgorin discs of C. False when it may yield (and always for
-    /// Drucker–Prager).
+    /// snow by the Gershgorin discs of C, Drucker–Prager by
+    /// [`drucker_prager_surely_elastic`]. False when it may yield.
     pub fn surely_elastic(&self, f: &Mat3, input: &FlowInput) -> bool {
         match *self {
             Plasticity::None => true,
@@ -210,7 +214,9 @@ impl Plasticity {
                 let (lo, hi) = snow_bounds(critical_compression, critical_stretch);
                 determinant(f) > 0.0 && gershgorin_within(&gram(f), lo * lo, hi * hi)
             }
-            Plasticity::DruckerPrager { .. } => false,
+            Plasticity::DruckerPrager { alpha } => {
+                drucker_prager_surely_elastic(f, alpha, input.mu, input.lambda)
+            }
         }
     }
 
@@ -235,9 +241,12 @@ impl Plasticity {
                 None
             }
             Plasticity::JohnsonCook(_) | Plasticity::DruckerPrager { .. } => {
+                if let Some(increment) = series::project(f, |log| self.log_map(log, input)) {
+                    return increment;
+                }
                 Spectrum::of(f).map(|spectrum| {
                     let logs = spectrum.logs();
-                    let map = self.log_map(logs.map(|l| 0.5 * l), input);
+                    let map = self.log_map(LogInvariants::of(logs.map(|l| 0.5 * l)), input);
                     (spectrum, logs, map)
                 })
             }
@@ -257,7 +266,7 @@ impl Plasticity {
             Plasticity::None => 0.0,
             Plasticity::JohnsonCook(_) | Plasticity::DruckerPrager { .. } => {
                 let log = sigma.map(|s| s.max(SINGULAR_VALUE_FLOOR).ln());
-                let Some(map) = self.log_map(log, input) else {
+                let Some(map) = self.log_map(LogInvariants::of(log), input) else {
                     return 0.0;
                 };
                 let projected = log.map(|l| ((1.0 + map.slope) * l + map.shift).exp());
@@ -286,9 +295,9 @@ impl Plasticity {
     }
 
     /// The projection of J2 or Drucker–Prager as a map of the log singular values
-    /// `log` ([`j2_map`], [`drucker_prager_map`]); `None` when elastic and for the other
-    /// models, whose projections are not of this form.
-    fn log_map(&self, log: [f64; 3], input: &FlowInput) -> Option<LogMap> {
+    /// whose invariants are `log` ([`j2_map`], [`drucker_prager_map`]); `None` when
+    /// elastic and for the other models, whose projections are not of this form.
+    fn log_map(&self, log: LogInvariants, input: &FlowInput) -> Option<LogMap> {
         match *self {
             Plasticity::JohnsonCook(ref hardening) => {
                 let law = hardening
@@ -302,17 +311,15 @@ impl Plasticity {
     }
 }
 
-/// J2's projection as a map of the log singular values `log` = l = log Σ̂ (in any
-/// order), each l to (1 + s) l + t; `None` when elastic. The trial deviatoric
+/// J2's projection as a map of the log singular values l = log Σ̂ whose invariants
+/// are `log`, each l to (1 + s) l + t; `None` when elastic. The trial deviatoric
 /// Kirchhoff stress τ* = 2μ dev l, returned by [`radial_return`] on the flow stress law
 /// `law` (at the step's rate and temperature) with scaling k, gives log Σ = k dev l +
 /// tr(l)/3 (J kept): s = k − 1, t = −s tr(l)/3.
-fn j2_map(law: &JohnsonCook, log: [f64; 3], input: &FlowInput) -> Option<LogMap> {
-    let mean = (log[0] + log[1] + log[2]) / 3.0;
-    let dev = log.map(|e| e - mean);
+fn j2_map(law: &JohnsonCook, log: LogInvariants, input: &FlowInput) -> Option<LogMap> {
+    let mean = log.mean;
     // s* = √(3/2) ‖2μ dev l‖.
-    let trial =
-        2.0 * input.mu * (1.5 * (dev[0] * dev[0] + dev[1] * dev[1] + dev[2] * dev[2])).sqrt();
+    let trial = 2.0 * input.mu * (1.5 * log.deviatoric_squared).sqrt();
     let (increment, scale) = return_map(trial, input.mu, input.plastic_strain, law, input.rate);
     (increment > 0.0).then(|| {
         let slope = scale - 1.0;
@@ -328,19 +335,18 @@ fn j2_map(law: &JohnsonCook, log: [f64; 3], input: &FlowInput) -> Option<LogMap>
 /// [`j2_map`]). Compressed (tr l < 0): log Σ = l − δγ dev l/‖dev l‖ with δγ = ‖dev l‖ +
 /// (3λ + 2μ)/(2μ) tr(l) α (Klár et al. 2016 Eq. 28): s = −δγ/‖dev l‖, t = −s tr(l)/3;
 /// stretched (tr l ≥ 0): the tip Σ = I, s = −1, t = 0.
-fn drucker_prager_map(alpha: f64, log: [f64; 3], input: &FlowInput) -> Option<LogMap> {
-    let mean = (log[0] + log[1] + log[2]) / 3.0;
+fn drucker_prager_map(alpha: f64, log: LogInvariants, input: &FlowInput) -> Option<LogMap> {
+    let mean = log.mean;
     let trace = 3.0 * mean;
     if trace >= 0.0 {
         // Stretched: no cohesion, the tip of the cone.
         return Some(LogMap {
             slope: -1.0,
             shift: 0.0,
-            increment: (log[0] * log[0] + log[1] * log[1] + log[2] * log[2]).sqrt(),
+            increment: log.squared.sqrt(),
         });
     }
-    let dev = log.map(|e| e - mean);
-    let dev_norm = (dev[0] * dev[0] + dev[1] * dev[1] + dev[2] * dev[2]).sqrt();
+    let dev_norm = log.deviatoric_squared.sqrt();
     // Compressed: a purely volumetric state (dev = 0) is inside the cone.
     let gamma = dev_norm + (3.0 * input.lambda + 2.0 * input.mu) / (2.0 * input.mu) * trace * alpha;
     (gamma > 0.0).then(|| {
@@ -412,6 +418,14 @@ impl Stretch {
     }
 }
 
+/// The margin in δ = I_C/J^{2/3} − 3 that [`j2_surely_elastic`] and
+/// [`drucker_prager_surely_elastic`] leave for the round-off of I_C and J (about
+/// 10⁻¹⁵ in δ, which is about 2‖dev log Σ̂‖²): a particle that would yield at a
+/// deviatoric strain below about 2·10⁻⁷ is never accepted and goes to the exact test.
+/// Without it, J2 accepted trial states strained 10⁻⁸ past a yield strain of 10⁻⁸
+/// (found by `small_strain_projections_match_the_svd_ones`).
+pub const INVARIANT_ROUNDING: f64 = 1e-13;
+
 /// Whether the J2 trial state of `f` lies inside the yield surface σ_y for certain,
 /// from the invariants I_C = tr FᵀF and J = det F alone. With ν_a = σ̂_a²/J^{2/3} (so
 /// Π ν_a = 1), x_a = ln ν_a and δ = Σ ν_a − 3 = Σ (e^{x_a} − 1 − x_a) = I_C/J^{2/3} − 3,
@@ -419,7 +433,8 @@ impl Stretch {
 /// e^{−y} − 1 + y ≥ y²/3 for 0 ≤ y ≤ 1 bounds −x_a by √(3δ) when δ < 1/3. The trial
 /// deviatoric Hencky strain is x/2, so its equivalent stress s* = 2μ √(3/2) ‖x/2‖
 /// satisfies s*² ≤ 3μ² δ e^{√(3δ)}, and the particle is elastic if that is ≤ σ_y².
-/// The bound is tight at small strain (s*² → 3μ² δ).
+/// The bound is tight at small strain (s*² → 3μ² δ); δ is taken
+/// [`INVARIANT_ROUNDING`] larger than computed.
 pub fn j2_surely_elastic(f: &Mat3, mu: f64, yield_stress: f64) -> bool {
     let j = determinant(f);
     if j.is_nan() || j <= 0.0 {
@@ -434,8 +449,42 @@ pub fn j2_surely_elastic(f: &Mat3, mu: f64, yield_stress: f64) -> bool {
         return false;
     }
     let cbrt = j.cbrt();
-    let delta = (ic / (cbrt * cbrt) - 3.0).max(0.0);
+    let delta = (ic / (cbrt * cbrt) - 3.0).max(0.0) + INVARIANT_ROUNDING;
     delta < 1.0 / 3.0 && 3.0 * mu * mu * delta * (3.0 * delta).sqrt().exp() <= limit
+}
+
+/// Whether the Drucker–Prager trial state of `f` lies inside the cone of friction
+/// coefficient `alpha` for certain, from I_C = tr FᵀF and J = det F alone. With l =
+/// log Σ̂, the state is inside when ‖dev l‖ ≤ k α (−tr l), k = (3λ + 2μ)/(2μ) (δγ ≤ 0 of
+/// Klár et al. 2016 Eq. 28), tr l = ln J; a stretched particle (J ≥ 1) goes to the
+/// tip and is never inside. The bound of [`j2_surely_elastic`] with x = 2 dev l gives
+/// ‖dev l‖² ≤ δ e^{√(3δ)}/2 for δ = I_C/J^{2/3} − 3 < 1/3, and −ln J ≥ u + u²/2 with
+/// u = 1 − J (the series of −ln(1 − u) has no negative term). So with m = kα(u + u²/2),
+/// δ₀ = min(2m², 0.3) and e^{√(3δ₀)} ≤ 1/(1 − √(3δ₀)), the state is inside if δ ≤
+/// δ₀(1 − √(3δ₀)), that is I_C³ ≤ (3 + δ₀(1 − √(3δ₀)))³ J² (less a rounding margin,
+/// [`INVARIANT_ROUNDING`]): no logarithm, cube root or exponential. At small
+/// strain it accepts states up to about 1 − √(3δ₀)/2 of the cone's radius.
+pub fn drucker_prager_surely_elastic(f: &Mat3, alpha: f64, mu: f64, lambda: f64) -> bool {
+    let j = determinant(f);
+    // NaN fails too.
+    if !(j > 0.0 && j < 1.0) {
+        return false;
+    }
+    let u = 1.0 - j;
+    let radius = (3.0 * lambda + 2.0 * mu) / (2.0 * mu) * alpha * u * (1.0 + 0.5 * u);
+    // δ₀ = 2m² and √(3δ₀) = √6 m, or 0.3 and √0.9: no square root to wait for.
+    let (cap, root) = if radius * radius < 0.15 {
+        (2.0 * radius * radius, 6f64.sqrt() * radius)
+    } else {
+        (0.3, 0.9f64.sqrt())
+    };
+    let most = cap * (1.0 - root) - INVARIANT_ROUNDING;
+    if most <= 0.0 {
+        return false;
+    }
+    let ic: f64 = f.iter().flatten().map(|x| x * x).sum();
+    let bound = 3.0 + most;
+    ic * ic * ic <= bound * bound * bound * j * j
 }
 
 /// Snow's range of singular values: [1 − θ_c, 1 + θ_s].

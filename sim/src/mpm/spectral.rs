@@ -64,6 +64,32 @@ pub struct LogMap {
     pub increment: f64,
 }
 
+/// What the J2 and Drucker–Prager projections read of the log singular values l =
+/// log Σ̂: invariants, so that they can come from l itself or from the matrix ½ ln C
+/// whose eigenvalues l are ([`super::series::project`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LogInvariants {
+    /// tr(l)/3.
+    pub mean: f64,
+    /// ‖dev l‖².
+    pub deviatoric_squared: f64,
+    /// ‖l‖².
+    pub squared: f64,
+}
+
+impl LogInvariants {
+    /// The invariants of the log singular values `log` (in any order).
+    pub fn of(log: [f64; 3]) -> LogInvariants {
+        let mean = (log[0] + log[1] + log[2]) / 3.0;
+        let dev = log.map(|e| e - mean);
+        LogInvariants {
+            mean,
+            deviatoric_squared: dev[0] * dev[0] + dev[1] * dev[1] + dev[2] * dev[2],
+            squared: log[0] * log[0] + log[1] * log[1] + log[2] * log[2],
+        }
+    }
+}
+
 /// The eigenvalues of C = F̂ᵀF̂ of a well-conditioned, non-inverted F̂, and C itself.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Spectrum {

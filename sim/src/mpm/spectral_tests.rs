@@ -1,9 +1,14 @@
-//! [`Spectrum`]'s powers of C = FᵀF against the eigen-construction F was made of.
+//! [`Spectrum`]'s powers of C = FᵀF, and the small-strain [`series`], against the
+//! eigen-construction F was made of.
 
 use nalgebra::{Matrix3, Rotation3, Vector3};
+use perifrac_math::RotationSvd;
 
-use super::constitutive::Mat3;
+use super::constitutive::{Elastic, Mat3};
+use super::plasticity::{FlowInput, JohnsonCook, Plasticity, Stretch};
+use super::series::{self, SERIES_STRAIN};
 use super::spectral::Spectrum;
+use crate::scene::MpmElasticity;
 
 fn uniform(state: &mut u64) -> f64 {
     *state = state
@@ -149,5 +154,87 @@ fn snow_clamps_by_pieces_as_the_svd_does() {
     assert!(
         clamped > 15_000 && projectors > 8_000 && declined < 9_000,
         "{clamped} clamped, {projectors} with projectors, {declined} declined"
+    );
+}
+
+/// The J2 and Drucker–Prager projections at small strain, where they take the series
+/// in E = C − I ([`series::project`]), match the same projections on the exact SVD F
+/// was made of (`project_with`) to 2e-15 of |F| and their increments to 2e-15 (the
+/// round-off of F = U Σ Vᵀ itself): log singular values of magnitudes 10⁻¹⁶ to 10⁻²,
+/// and a third of them 0.003 to 0.033 (either side of [`SERIES_STRAIN`]), two or three
+/// of them equal or within 10⁻⁹ of each other, Johnson–Cook's yield stress within a
+/// factor 2 of the trial stress. The test fails with a series tolerance of 1e-13.
+#[test]
+fn small_strain_projections_match_the_svd_ones() {
+    let mut state = 23u64;
+    let elastic = Elastic::from_young(MpmElasticity::FixedCorotated, 1e6, 0.3);
+    let (mut worst, mut worst_increment) = (0.0f64, 0.0f64);
+    let (mut by_series, mut yielded) = (0, 0);
+    for case in 0..40_000 {
+        let u = rotation(&mut state);
+        let v = rotation(&mut state);
+        let magnitude = if case % 3 == 0 {
+            SERIES_STRAIN * (0.3 + 3.0 * uniform(&mut state))
+        } else {
+            10f64.powf(-16.0 + 14.0 * uniform(&mut state))
+        };
+        let mut around = || magnitude * (2.0 * uniform(&mut state) - 1.0);
+        let (l, other) = (around(), around());
+        let log = match case % 5 {
+            0 | 1 => [around(), around(), around()],
+            2 => [l, l, other],
+            3 => [l, l + 1e-9 * magnitude, other],
+            _ => [l; 3],
+        };
+        let sigma = log.map(f64::exp);
+        let f = to_mat(u * Matrix3::from_diagonal(&Vector3::from(sigma)) * v.transpose());
+        by_series += usize::from(series::applies(&f));
+        let mean = log.iter().sum::<f64>() / 3.0;
+        let dev = log.iter().map(|x| (x - mean).powi(2)).sum::<f64>().sqrt();
+        let trial = 2.0 * elastic.mu * (1.5f64).sqrt() * dev;
+        let materials = [
+            Plasticity::drucker_prager(30.0),
+            Plasticity::JohnsonCook(JohnsonCook {
+                a: trial * (0.5 + uniform(&mut state)),
+                b: trial,
+                n: 0.5,
+                c: 0.0,
+                reference_rate: 1.0,
+                thermal: None,
+            }),
+        ];
+        let input = FlowInput {
+            mu: elastic.mu,
+            lambda: elastic.lambda,
+            rate: 0.0,
+            plastic_strain: 0.01 * uniform(&mut state),
+            temperature: 0.0,
+        };
+        let exact = Stretch::Svd(RotationSvd {
+            u: to_mat(u),
+            sigma,
+            v: to_mat(v),
+        });
+        for material in materials {
+            let (mut fast, mut slow) = (f, f);
+            let increment = material.project(&mut fast, &input);
+            let expected = material.project_with(&mut slow, &input, &exact);
+            yielded += usize::from(expected > 0.0);
+            worst_increment = worst_increment.max((increment - expected).abs());
+            for (row, row_slow) in fast.iter().zip(&slow) {
+                for (x, y) in row.iter().zip(row_slow) {
+                    worst = worst.max((x - y).abs());
+                }
+            }
+        }
+    }
+    assert!(
+        worst < 2e-15 && worst_increment < 2e-15,
+        "F differs from the exact SVD's projection by {worst:e}, the increment by \
+         {worst_increment:e}"
+    );
+    assert!(
+        by_series > 20_000 && by_series < 36_000 && yielded > 20_000 && yielded < 60_000,
+        "{by_series} by the series, {yielded} projections that yielded"
     );
 }
