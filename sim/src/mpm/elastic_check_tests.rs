@@ -2,28 +2,13 @@
 //! decomposition of F̂: [`plasticity::drucker_prager_surely_elastic`] against the
 //! cone test on the exact singular values F̂ was made of.
 
-use nalgebra::{Matrix3, Rotation3, Vector3};
+use nalgebra::{Matrix3, Vector3};
 use perifrac_math::RotationSvd;
 
-use super::constitutive::{Elastic, Mat3};
+use super::constitutive::Elastic;
 use super::plasticity::{self, FlowInput, Plasticity, Stretch};
+use super::spectral_tests::{rotation, to_mat, uniform};
 use crate::scene::MpmElasticity;
-
-fn uniform(state: &mut u64) -> f64 {
-    *state = state
-        .wrapping_mul(6364136223846793005)
-        .wrapping_add(1442695040888963407);
-    (*state >> 11) as f64 / (1u64 << 53) as f64
-}
-
-fn rotation(state: &mut u64) -> Matrix3<f64> {
-    let mut angle = || 6.3 * uniform(state);
-    Rotation3::from_euler_angles(angle(), angle(), angle()).into_inner()
-}
-
-fn to_mat(m: Matrix3<f64>) -> Mat3 {
-    [0, 1, 2].map(|i| [0, 1, 2].map(|j| m[(i, j)]))
-}
 
 /// [`plasticity::drucker_prager_surely_elastic`] never accepts a state that yields:
 /// on 200,000 random F̂ = U exp(l) Vᵀ compressed by −tr l = −ln J from 10⁻⁸ to 0.5

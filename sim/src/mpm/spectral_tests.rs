@@ -10,19 +10,19 @@ use super::series::{self, SERIES_STRAIN};
 use super::spectral::Spectrum;
 use crate::scene::MpmElasticity;
 
-fn uniform(state: &mut u64) -> f64 {
+pub(super) fn uniform(state: &mut u64) -> f64 {
     *state = state
         .wrapping_mul(6364136223846793005)
         .wrapping_add(1442695040888963407);
     (*state >> 11) as f64 / (1u64 << 53) as f64
 }
 
-fn rotation(state: &mut u64) -> Matrix3<f64> {
+pub(super) fn rotation(state: &mut u64) -> Matrix3<f64> {
     let mut angle = || 6.3 * uniform(state);
     Rotation3::from_euler_angles(angle(), angle(), angle()).into_inner()
 }
 
-fn to_mat(m: Matrix3<f64>) -> Mat3 {
+pub(super) fn to_mat(m: Matrix3<f64>) -> Mat3 {
     [0, 1, 2].map(|i| [0, 1, 2].map(|j| m[(i, j)]))
 }
 

@@ -338,7 +338,8 @@ fn particle_force<const P: bool, const F: bool, const A: bool, const L: bool>(
     // Eq. 19's (1 + αφ) raises the threshold as the material is damaged (see below).
     let gi = 1.0 / (1.0 + c.alpha * phi[i]);
     // Bond k's constants are at k − first ([`super::Coefficients`]).
-    let start = bonds.offsets[i] - coef.first;
+    let first_bond = bonds.offsets[i];
+    let start = first_bond - coef.first;
     let mut f = [0.0f64; 3];
     let (mut broken, mut intact) = (0, 0);
     if m.is_frozen(i) {
@@ -378,7 +379,7 @@ fn particle_force<const P: bool, const F: bool, const A: bool, const L: bool>(
         let (ep_ij, ep_ji) = match (&m.plastic, &coef.reverse, P) {
             (Some(p), Some(reverse), true) => (
                 if p.yielded[i] {
-                    p.extension[bonds.offsets[i] + slot]
+                    p.extension[first_bond + slot]
                 } else {
                     0.0
                 },

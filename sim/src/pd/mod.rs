@@ -376,6 +376,31 @@ impl PdModel {
         self.frozen.as_ref().is_some_and(|f| f[i])
     }
 
+    /// |ξ| of bond `k` of particle `i`: the stored length in this process's rows
+    /// ([`Coefficients::rows`]), else from the reference positions as the build
+    /// computes it, to the bit (another rank's rows in a distributed run).
+    #[inline]
+    fn rest_length(&self, i: usize, k: usize) -> f64 {
+        if self.coef.rows.contains(&i) {
+            return self.coef.rest_length[k - self.coef.first];
+        }
+        let x = &self.reference.position;
+        dist(x[i], x[(self.bonds.neighbours[k] & INDEX) as usize])
+    }
+
+    /// ω (Eq. 17, as stored: f32) of bond `k` of particle `i` of an anisotropic
+    /// material `g` and length `rest`, stored or recomputed as [`Self::rest_length`].
+    #[inline]
+    fn omega(&self, i: usize, k: usize, g: [[f64; 3]; 3], rest: f64) -> f64 {
+        if let (true, Some(w)) = (self.coef.rows.contains(&i), &self.coef.omega) {
+            return w[k - self.coef.first] as f64;
+        }
+        let x = &self.reference.position;
+        let xi = sub(x[(self.bonds.neighbours[k] & INDEX) as usize], x[i]);
+        let delta = self.bodies[self.reference.body[i] as usize].constants.delta;
+        coefficients::omega(delta, Some(g), xi, rest) as f32 as f64
+    }
+
     /// How near each particle's intact bonds are to breaking: the largest, over its
     /// intact bonds, of the weighted elastic stretch over its threshold, s^ω/((1 + αφ)
     /// s_c) (Eq. 18–19 as the force pass applies them), and of the compressive strain
@@ -385,7 +410,7 @@ impl PdModel {
         if !self.features.fracture {
             return vec![-1.0; self.len()];
         }
-        let (x, y) = (&self.reference.position, &self.particles.position);
+        let y = &self.particles.position;
         let bonds = &self.bonds;
         let phi = &self.particles.damage;
         (0..self.len())
@@ -397,9 +422,6 @@ impl PdModel {
                     return -1.0;
                 }
                 let g = 1.0 + c.alpha * phi[i];
-                let anisotropy = self.bodies[self.reference.body[i] as usize]
-                    .material
-                    .anisotropy;
                 let mut worst = 0.0f64;
                 for k in bonds.range(i) {
                     let nb = bonds.neighbours[k];
@@ -407,17 +429,15 @@ impl PdModel {
                         continue;
                     }
                     let j = (nb & INDEX) as usize;
-                    // Every row's, not only this rank's ([`Coefficients::rows`]): the
-                    // lengths and ω as the coefficients have them, to the bit.
-                    let r = dist(x[i], x[j]);
+                    let r = self.rest_length(i, k);
                     let e = norm(sub(y[j], y[i]))
                         - r
                         - self.plastic.as_ref().map_or(0.0, |p| p.extension[k]);
-                    let omega_r = match anisotropy {
-                        Some(_) => {
-                            let w = coefficients::omega(c.delta, anisotropy, sub(x[j], x[i]), r);
-                            w as f32 as f64 * r
-                        }
+                    let omega_r = match self.bodies[self.reference.body[i] as usize]
+                        .material
+                        .anisotropy
+                    {
+                        Some(g) => self.omega(i, k, g, r) * r,
                         None => c.delta,
                     };
                     worst = worst
@@ -443,12 +463,8 @@ impl PdModel {
                     return 0.0;
                 }
                 let n = r.len() as f64;
-                let x = &self.reference.position;
-                r.map(|k| {
-                    let j = (self.bonds.neighbours[k] & INDEX) as usize;
-                    plastic.extension[k].abs() / dist(x[i], x[j])
-                })
-                .sum::<f64>()
+                r.map(|k| plastic.extension[k].abs() / self.rest_length(i, k))
+                    .sum::<f64>()
                     / n
             })
             .collect()
