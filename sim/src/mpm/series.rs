@@ -86,7 +86,7 @@ pub(super) fn applies(f: &Mat3) -> bool {
 /// Projects `f` = F̂ by the map that `map` makes of the invariants of its log singular
 /// values (`None`: elastic), F_E = eᵗ F̂ C^{s/2}, and returns the map's increment (0
 /// when elastic); or `None`, `f` untouched, where the series do not apply
-/// ([`applies`]). The invariants are those of ½ ln C = ½ Σ (−1)^{k+1} E^k/k, C^{s/2} =
+/// (‖E‖_F above [`SERIES_STRAIN`], or det F ≤ 0). The invariants are those of ½ ln C = ½ Σ (−1)^{k+1} E^k/k, C^{s/2} =
 /// Σ C(s/2, k) E^k, and eᵗ is summed by its own series (|t| ≤ |tr ln C|/6 is smaller
 /// than ‖E‖).
 pub fn project(f: &mut Mat3, map: impl FnOnce(LogInvariants) -> Option<LogMap>) -> Option<f64> {
