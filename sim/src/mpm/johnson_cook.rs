@@ -123,7 +123,7 @@ impl JohnsonCook {
         let hardening = if self.n == 0.0 {
             0.0
         } else {
-            self.b * plastic_strain.max(0.0).powf(self.n)
+            self.b * self.power(plastic_strain.max(0.0))
         };
         (self.a + hardening) * self.rate_factor(rate)
     }
@@ -139,11 +139,24 @@ impl JohnsonCook {
             );
         }
         let factor = self.rate_factor(rate);
-        let power = plastic_strain.powf(self.n);
+        let power = self.power(plastic_strain);
         (
             (self.a + self.b * power) * factor,
             self.b * self.n * power / plastic_strain * factor,
         )
+    }
+
+    /// (ε^p)ⁿ: a square root for n = ½ and ε^p itself for n = 1, the exponents of the
+    /// thesis' containers (Fig. 7.5), where `powf` would take a logarithm and an
+    /// exponential in every Newton iteration of the return.
+    fn power(&self, plastic_strain: f64) -> f64 {
+        if self.n == 0.5 {
+            plastic_strain.sqrt()
+        } else if self.n == 1.0 {
+            plastic_strain
+        } else {
+            plastic_strain.powf(self.n)
+        }
     }
 
     /// The plastic modulus E^p = ∂σ_y/∂ε^p = B n (ε^p)ⁿ⁻¹ (1 + C ln(ε̇^p/ε̇₀)) (Eq. 7.8).
@@ -214,13 +227,13 @@ pub(super) fn return_map(
     hardening: &JohnsonCook,
     rate: f64,
 ) -> (f64, f64) {
-    let f0 = s - hardening.yield_stress(plastic_strain, rate);
-    if f0 <= 0.0 {
+    // σ_y and E^p at the step's ε^p serve the yield test and Newton's first iterate.
+    let (mut yield_stress, mut modulus) = hardening.flow_and_modulus(plastic_strain, rate);
+    if s - yield_stress <= 0.0 {
         return (0.0, 1.0);
     }
     let mut increment = 0.0;
     for _ in 0..RETURN_ITERATIONS {
-        let (yield_stress, modulus) = hardening.flow_and_modulus(plastic_strain + increment, rate);
         let f = s - 3.0 * mu * increment - yield_stress;
         if f.abs() <= RETURN_TOLERANCE * yield_stress {
             break;
@@ -233,6 +246,7 @@ pub(super) fn return_map(
             break;
         }
         increment = next;
+        (yield_stress, modulus) = hardening.flow_and_modulus(plastic_strain + increment, rate);
     }
     (increment, (s - 3.0 * mu * increment) / s)
 }

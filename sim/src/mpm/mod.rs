@@ -187,13 +187,16 @@ impl MpmMaterial {
             plastic_strain: plastic,
             temperature,
         };
-        if self.plasticity.surely_elastic(f, &input) {
-            return (0.0, 0.0);
-        }
-        if self.plasticity.reads_rate() {
+        let increment = if self.plasticity.reads_rate() {
+            // The rate only where the particle may yield.
+            if self.plasticity.surely_elastic(f, &input) {
+                return (0.0, 0.0);
+            }
             input.rate = plasticity::equivalent_strain_rate(affine);
-        }
-        let increment = self.plasticity.project_yielding(f, &input);
+            self.plasticity.project_yielding(f, &input)
+        } else {
+            self.plasticity.project(f, &input)
+        };
         let heating = match &self.plasticity {
             Plasticity::JohnsonCook(hardening) if increment > 0.0 => {
                 hardening.thermal.as_ref().map_or(0.0, |thermal| {

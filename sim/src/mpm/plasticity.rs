@@ -179,8 +179,22 @@ impl Plasticity {
     /// Projects the elastic deformation gradient `f` onto the material's admissible set
     /// and returns the increment of the plastic strain measure: Δε^p of the radial
     /// return (J2), ‖log Σ̂ − log Σ‖ (snow), δγ (Drucker–Prager); 0 when elastic:
-    /// [`Plasticity::surely_elastic`], then [`Plasticity::project_yielding`].
+    /// [`Plasticity::surely_elastic`], then [`Plasticity::project_yielding`]. Snow's
+    /// check and clamp share C = F̂ᵀF̂ and det F̂ (on a melon's flesh, nine particles in
+    /// ten fail the check and are clamped, every step).
     pub fn project(&self, f: &mut Mat3, input: &FlowInput) -> f64 {
+        if let Plasticity::Snow {
+            critical_compression,
+            critical_stretch,
+        } = *self
+        {
+            let (lo, hi) = snow_bounds(critical_compression, critical_stretch);
+            let (det, c) = (determinant(f), gram(f));
+            if det > 0.0 && gershgorin_within(&c, lo * lo, hi * hi) {
+                return 0.0;
+            }
+            return self.clamp(f, input, lo, hi, Spectrum::of_gram(c, det));
+        }
         if self.surely_elastic(f, input) {
             return 0.0;
         }
@@ -233,12 +247,7 @@ impl Plasticity {
                 critical_stretch,
             } => {
                 let (lo, hi) = snow_bounds(critical_compression, critical_stretch);
-                if let Some(increment) =
-                    Spectrum::of(f).and_then(|spectrum| spectrum.clamp(f, lo, hi))
-                {
-                    return increment;
-                }
-                None
+                return self.clamp(f, input, lo, hi, Spectrum::of(f));
             }
             Plasticity::JohnsonCook(_) | Plasticity::DruckerPrager { .. } => {
                 if let Some(increment) = series::project(f, |log| self.log_map(log, input)) {
@@ -253,6 +262,24 @@ impl Plasticity {
         };
         if let Some((spectrum, logs, map)) = map {
             return spectrum.project(f, map, &logs);
+        }
+        let stretch = Stretch::of(f);
+        self.project_with(f, input, &stretch)
+    }
+
+    /// Snow's clamp of `f` to singular values lo ≤ σ ≤ hi by its `spectrum`
+    /// ([`Spectrum::clamp`]), or by [`Stretch::of`] where there is none or the clamp
+    /// declines it.
+    fn clamp(
+        &self,
+        f: &mut Mat3,
+        input: &FlowInput,
+        lo: f64,
+        hi: f64,
+        spectrum: Option<Spectrum>,
+    ) -> f64 {
+        if let Some(increment) = spectrum.and_then(|spectrum| spectrum.clamp(f, lo, hi)) {
+            return increment;
         }
         let stretch = Stretch::of(f);
         self.project_with(f, input, &stretch)

@@ -11,11 +11,16 @@
 //!
 //! **The eigenvalues** come in closed form (Smith 1961, "Eigenvalues of a symmetric 3 × 3
 //! matrix"): with q = tr C/3, p² = ‖C − qI‖²_F/6 and r = det((C − qI)/p)/2, they are
-//! q + 2p cos(φ + 2πj/3), φ = arccos(r)/3: one square root, one arccosine and one
-//! sine–cosine pair instead of the Jacobi sweeps of
-//! [`symmetric_eigen`](super::constitutive::symmetric_eigen). Near a double eigenvalue
-//! arccos is ill-conditioned and the two close eigenvalues err by up to √ε p, in
-//! opposite directions; the interpolation below is insensitive to that to second order
+//! q + 2p cos(φ + 2πj/3), φ = arccos(r)/3, instead of the Jacobi sweeps of
+//! [`symmetric_eigen`](super::constitutive::symmetric_eigen). cos φ and sin φ are not
+//! taken from the arccosine and a sine–cosine pair (half the cost of a snow projection,
+//! measured): c = cos φ' is the root in [cos π/6, 1] of the triple-angle equation 4c³ −
+//! 3c = |r| (φ' = arccos(|r|)/3, φ = φ' for r ≥ 0 and π/3 − φ' below), where the
+//! equation's slope 12c² − 3 is at least 6, so two Newton steps from a quartic in |r|
+//! ([`TRIPLE_ANGLE_START`], within 5·10⁻⁶) reach it to round-off, and sin φ' =
+//! √((1 − c)(1 + c)). Near a double eigenvalue (|r| → 1) r → φ is ill-conditioned and
+//! the two close eigenvalues err by up to √ε p, in opposite directions, as they would
+//! through arccos; the interpolation below is insensitive to that to second order
 //! (its error at a true eigenvalue μ is a divided difference times the product of μ's
 //! distances to the nodes, both of them √ε p), so C^a keeps an error of about ε ‖C‖.
 //!
@@ -36,6 +41,17 @@ use super::constitutive::{IDENTITY, Mat3, determinant, gram, mul};
 /// digits of its logarithm (the plastic strain). Below it the projections take the
 /// Jacobi eigen-solve or the SVD ([`super::plasticity::Stretch`]).
 pub const SPECTRUM_CONDITION_FLOOR: f64 = 1e-2;
+
+/// cos(arccos(ρ)/3) on ρ ∈ [0, 1] as a quartic in t = 2ρ − 1 (coefficients of t⁰ to
+/// t⁴; interpolated at the five Chebyshev nodes, within 5.1·10⁻⁶ of it): the start of
+/// [`Spectrum::of`]'s Newton steps on the triple-angle equation.
+const TRIPLE_ANGLE_START: [f64; 5] = [
+    0.939_692_620_785_908_3,
+    0.065_803_115_364_956_16,
+    -0.006_426_687_085_732_754,
+    0.001_180_173_892_737_484_5,
+    -0.000_252_212_419_790_967_26,
+];
 
 /// Relative gap of two eigenvalues below which their divided difference is taken from
 /// the series in their logarithms rather than as a difference quotient.
@@ -103,11 +119,14 @@ impl Spectrum {
     /// The spectrum of FᵀF, or `None` when det F ≤ 0 (inverted) or C's condition
     /// number passes 1/[`SPECTRUM_CONDITION_FLOOR`] (or F is not finite).
     pub fn of(f: &Mat3) -> Option<Spectrum> {
-        let det = determinant(f);
+        Spectrum::of_gram(gram(f), determinant(f))
+    }
+
+    /// [`Spectrum::of`] from C = FᵀF and det F, where the caller has them.
+    pub fn of_gram(c: Mat3, det: f64) -> Option<Spectrum> {
         if det.is_nan() || det <= 0.0 {
             return None;
         }
-        let c = gram(f);
         let q = (c[0][0] + c[1][1] + c[2][2]) / 3.0;
         let off = c[0][1] * c[0][1] + c[0][2] * c[0][2] + c[1][2] * c[1][2];
         let d = [c[0][0] - q, c[1][1] - q, c[2][2] - q];
@@ -120,13 +139,31 @@ impl Spectrum {
             }
             // det((C − qI)/p)/2; a NaN (p³ underflowing) fails the floor test below.
             let r = (0.5 * determinant(&shifted) / (p2 * p)).clamp(-1.0, 1.0);
-            let (sin, cos) = (r.acos() / 3.0).sin_cos();
+            let rho = r.abs();
+            let t = 2.0 * rho - 1.0;
+            let [k0, k1, k2, k3, k4] = TRIPLE_ANGLE_START;
+            let mut cos = k0 + t * (k1 + t * (k2 + t * (k3 + t * k4)));
+            for _ in 0..2 {
+                cos -= (cos * (4.0 * cos * cos - 3.0) - rho) / (12.0 * cos * cos - 3.0);
+            }
+            let sin = ((1.0 - cos) * (1.0 + cos)).max(0.0).sqrt();
             let root3 = 3f64.sqrt();
-            [
-                q + 2.0 * p * cos,
-                q - p * (cos + root3 * sin),
-                q + p * (root3 * sin - cos),
-            ]
+            if r >= 0.0 {
+                // φ = φ': cos φ = c, sin φ = sin φ'.
+                [
+                    q + 2.0 * p * cos,
+                    q - p * (cos + root3 * sin),
+                    q + p * (root3 * sin - cos),
+                ]
+            } else {
+                // φ = π/3 − φ' (s = sin φ'): 2 cos φ = c + √3 s, 2 cos(φ + 2π/3) = −2c and
+                // 2 cos(φ − 2π/3) = c − √3 s.
+                [
+                    q + p * (cos + root3 * sin),
+                    q - 2.0 * p * cos,
+                    q + p * (cos - root3 * sin),
+                ]
+            }
         } else {
             [q; 3]
         };
@@ -161,15 +198,39 @@ impl Spectrum {
     /// eigenvalues (every divided difference is linear in h, so e^b rides along);
     /// `logs` are [`Spectrum::logs`].
     pub fn power(&self, a: f64, b: f64, logs: &[f64; 3]) -> Mat3 {
-        let [x0, x1, _] = self.nodes;
         let h = logs.map(|l| (a * l + b).exp());
+        self.interpolate(a, h, |i, j| 0.5 * (logs[i] - logs[j]))
+    }
+
+    /// `bound` C^{−½}, snow's law on a clamped piece ([`Spectrum::clamp`]): as
+    /// [`Spectrum::power`] with a = −½, b = ln `bound`, but with h(x_k) = `bound`/σ_k
+    /// from the singular values `sigma` = √x_k, and the logarithm of an eigenvalue
+    /// ratio taken only for a close pair: no exponential, and no logarithm for
+    /// eigenvalues apart.
+    fn inverse_root(&self, bound: f64, sigma: &[f64; 3]) -> Mat3 {
+        let h = sigma.map(|s| bound / s);
+        self.interpolate(-0.5, h, |i, j| 0.5 * (self.nodes[i] / self.nodes[j]).ln())
+    }
+
+    /// The quadratic through h(x_k) = `h`[k] at the eigenvalues, evaluated at C, for h
+    /// = e^b x^a: Newton's form. `half_log_ratio(i, j)` is ½ ln(x_i/x_j), asked for
+    /// only where x_i and x_j are within [`CLOSE_NODES`], whose divided difference
+    /// h[x_i, x_j] = e^{(a−1)(L_i+L_j)/2} sinh(a d)/sinh(d) (d that half ratio) is a
+    /// series in d.
+    fn interpolate(
+        &self,
+        a: f64,
+        h: [f64; 3],
+        half_log_ratio: impl Fn(usize, usize) -> f64,
+    ) -> Mat3 {
+        let [x0, x1, _] = self.nodes;
         let first = |i: usize, j: usize| -> f64 {
             let (xi, xj) = (self.nodes[i], self.nodes[j]);
             if (xi - xj).abs() > CLOSE_NODES * xi.max(xj) {
                 (h[i] - h[j]) / (xi - xj)
             } else {
                 // e^b e^{(a−1)(L_i+L_j)/2} = √(h_i h_j/(x_i x_j)); sinh(ad)/sinh(d) to d⁴.
-                let d = 0.5 * (logs[i] - logs[j]);
+                let d = half_log_ratio(i, j);
                 let (a2, d2) = (a * a, d * d);
                 let ratio =
                     a * (1.0 + (a2 - 1.0) * d2 / 6.0 * (1.0 + (3.0 * a2 - 7.0) * d2 / 60.0));
@@ -263,7 +324,7 @@ impl Spectrum {
         // The middle piece's law m(C), and m and the clamp's ratio r at each node.
         let mut g = match piece[2] {
             0 => IDENTITY,
-            p => self.power(-0.5, bound(p).ln(), &self.logs()),
+            p => self.inverse_root(bound(p), &sigma),
         };
         let law = |k: usize| match piece[2] {
             0 => 1.0,
