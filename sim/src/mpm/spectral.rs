@@ -199,48 +199,44 @@ impl Spectrum {
     /// `logs` are [`Spectrum::logs`].
     pub fn power(&self, a: f64, b: f64, logs: &[f64; 3]) -> Mat3 {
         let h = logs.map(|l| (a * l + b).exp());
-        self.interpolate(a, h, |i, j| 0.5 * (logs[i] - logs[j]))
+        self.interpolate(a, &h, Some(logs))
     }
 
-    /// `bound` C^{−½}, snow's law on a clamped piece ([`Spectrum::clamp`]): as
-    /// [`Spectrum::power`] with a = −½, b = ln `bound`, but with h(x_k) = `bound`/σ_k
-    /// from the singular values `sigma` = √x_k, and the logarithm of an eigenvalue
-    /// ratio taken only for a close pair: no exponential, and no logarithm for
-    /// eigenvalues apart.
-    fn inverse_root(&self, bound: f64, sigma: &[f64; 3]) -> Mat3 {
-        let h = sigma.map(|s| bound / s);
-        self.interpolate(-0.5, h, |i, j| 0.5 * (self.nodes[i] / self.nodes[j]).ln())
+    /// The first divided difference h[x_i, x_j] of h = e^b x^a, whose values at the
+    /// eigenvalues are `h`. Nodes within [`CLOSE_NODES`] take it as e^{(a−1)(L_i+L_j)/2}
+    /// sinh(a d)/sinh(d), d = (L_i − L_j)/2, a series in d, from `logs` (L_k = ln x_k)
+    /// or, without them, from one logarithm of x_i/x_j.
+    fn first_difference(
+        &self,
+        a: f64,
+        h: &[f64; 3],
+        (i, j): (usize, usize),
+        logs: Option<&[f64; 3]>,
+    ) -> f64 {
+        let (xi, xj) = (self.nodes[i], self.nodes[j]);
+        if (xi - xj).abs() > CLOSE_NODES * xi.max(xj) {
+            return (h[i] - h[j]) / (xi - xj);
+        }
+        // e^b e^{(a−1)(L_i+L_j)/2} = √(h_i h_j/(x_i x_j)); sinh(ad)/sinh(d) to d⁴.
+        let d = match logs {
+            Some(logs) => 0.5 * (logs[i] - logs[j]),
+            None => 0.5 * (xi / xj).ln(),
+        };
+        let (a2, d2) = (a * a, d * d);
+        let ratio = a * (1.0 + (a2 - 1.0) * d2 / 6.0 * (1.0 + (3.0 * a2 - 7.0) * d2 / 60.0));
+        (h[i] * h[j] / (xi * xj)).sqrt() * ratio
     }
 
     /// The quadratic through h(x_k) = `h`[k] at the eigenvalues, evaluated at C, for h
-    /// = e^b x^a: Newton's form. `half_log_ratio(i, j)` is ½ ln(x_i/x_j), asked for
-    /// only where x_i and x_j are within [`CLOSE_NODES`], whose divided difference
-    /// h[x_i, x_j] = e^{(a−1)(L_i+L_j)/2} sinh(a d)/sinh(d) (d that half ratio) is a
-    /// series in d.
-    fn interpolate(
-        &self,
-        a: f64,
-        h: [f64; 3],
-        half_log_ratio: impl Fn(usize, usize) -> f64,
-    ) -> Mat3 {
+    /// = e^b x^a: Newton's form (the divided differences of
+    /// [`Spectrum::first_difference`]).
+    fn interpolate(&self, a: f64, h: &[f64; 3], logs: Option<&[f64; 3]>) -> Mat3 {
         let [x0, x1, _] = self.nodes;
-        let first = |i: usize, j: usize| -> f64 {
-            let (xi, xj) = (self.nodes[i], self.nodes[j]);
-            if (xi - xj).abs() > CLOSE_NODES * xi.max(xj) {
-                (h[i] - h[j]) / (xi - xj)
-            } else {
-                // e^b e^{(a−1)(L_i+L_j)/2} = √(h_i h_j/(x_i x_j)); sinh(ad)/sinh(d) to d⁴.
-                let d = half_log_ratio(i, j);
-                let (a2, d2) = (a * a, d * d);
-                let ratio =
-                    a * (1.0 + (a2 - 1.0) * d2 / 6.0 * (1.0 + (3.0 * a2 - 7.0) * d2 / 60.0));
-                (h[i] * h[j] / (xi * xj)).sqrt() * ratio
-            }
-        };
-        let h01 = first(0, 1);
+        let h01 = self.first_difference(a, h, (0, 1), logs);
         let spread = x0 - x1;
         let h012 = if spread > COINCIDENT_NODES * x0 {
-            (first(0, 2) - first(2, 1)) / spread
+            (self.first_difference(a, h, (0, 2), logs) - self.first_difference(a, h, (2, 1), logs))
+                / spread
         } else {
             0.5 * a * (a - 1.0) * h[0] / (x0 * x0)
         };
@@ -287,8 +283,9 @@ impl Spectrum {
     ///
     /// The clamp is a power law on each of three pieces (below lo: lo σ̂⁻¹ = lo C^{−½};
     /// inside: 1; above: hi C^{−½}), and the sorted eigenvalues fall on the pieces in
-    /// order, so those sharing the middle eigenvalue x₂'s piece take its law m(C) and an
-    /// eigenvalue x_k alone on its piece is corrected by its spectral projector
+    /// order, so those sharing the middle eigenvalue x₂'s piece take its law m(C) (any
+    /// function of C equal to the law at those eigenvalues: the polynomial through
+    /// them alone) and an eigenvalue x_k alone on its piece is corrected by its spectral projector
     /// P_k = (C − x_iI)(C − x_jI)/((x_k − x_i)(x_k − x_j)): F_E = F̂ (m(C) + Σ_k (r_k −
     /// m(x_k)) P_k), r_k the clamp's ratio at x_k. A projector of an eigenvalue apart
     /// from the others by more than [`CLOSE_NODES`] is accurate to about ε/CLOSE_NODES;
@@ -321,14 +318,29 @@ impl Spectrum {
         if piece == [0; 3] {
             return Some(0.0);
         }
-        // The middle piece's law m(C), and m and the clamp's ratio r at each node.
-        let mut g = match piece[2] {
-            0 => IDENTITY,
-            p => self.inverse_root(bound(p), &sigma),
-        };
-        let law = |k: usize| match piece[2] {
-            0 => 1.0,
-            p => bound(p) / sigma[k],
+        // The middle piece's law m(C) and its values m(x_k): the clamp's ratio at the
+        // nodes on that piece, interpolated through them alone (the others are
+        // corrected by their projectors): bound C^{−½} through all three, a line
+        // through two. (A clamped middle shares its piece with the top or the bottom
+        // node, as the pieces are in the nodes' order.)
+        let (mut g, law) = match piece[2] {
+            0 => (IDENTITY, [1.0; 3]),
+            p => {
+                let h = sigma.map(|s| bound(p) / s);
+                match (top, bottom) {
+                    (false, false) => (self.interpolate(-0.5, &h, None), h),
+                    (top, _) => {
+                        let pair = if top { (2, 1) } else { (0, 2) };
+                        let slope = self.first_difference(-0.5, &h, pair, None);
+                        let base = h[pair.0] - slope * self.nodes[pair.0];
+                        let mut line = self.c.map(|row| row.map(|x| slope * x));
+                        for (k, row) in line.iter_mut().enumerate() {
+                            row[k] += base;
+                        }
+                        (line, self.nodes.map(|x| base + slope * x))
+                    }
+                }
+            }
         };
         let ratio = |k: usize| match piece[k] {
             0 => 1.0,
@@ -337,7 +349,7 @@ impl Spectrum {
         for (alone, k, i, j) in [(top, 0, 1, 2), (bottom, 1, 0, 2)] {
             if alone {
                 let (xk, xi, xj) = (self.nodes[k], self.nodes[i], self.nodes[j]);
-                let weight = (ratio(k) - law(k)) / ((xk - xi) * (xk - xj));
+                let weight = (ratio(k) - law[k]) / ((xk - xi) * (xk - xj));
                 let projector = self.shifted_product(xi, xj);
                 for (row, p_row) in g.iter_mut().zip(&projector) {
                     for (x, p) in row.iter_mut().zip(p_row) {
