@@ -138,7 +138,10 @@ fn contact_leaves_the_kalthoff_winkler_cracks_alone() {
     off.contact.particles = Some(false);
     let (on, off) = (crack_angles(&on), crack_angles(&off));
     for (notch, (on, off)) in ["upper", "lower"].iter().zip(on.iter().zip(&off)) {
-        eprintln!("{notch} notch: {:.1}° with contact, {:.1}° without", on.median, off.median);
+        eprintln!(
+            "{notch} notch: {:.1}° with contact, {:.1}° without",
+            on.median, off.median
+        );
         assert!(
             on.median >= 52.0 && off.median >= 52.0,
             "{notch} notch: the crack leaves at {:.1}° with contact, {:.1}° without (54.5° at 4 mm)",
