@@ -355,6 +355,46 @@ fn one_and_two_threads_give_the_same_bytes() {
     });
 }
 
+/// The plastic projections (Johnson–Cook with the rate and thermal terms, snow,
+/// Drucker–Prager) give the same bytes on one thread and two: three balls, one of
+/// each, land on the ground and flow (each body's ε^p grows, so every projection runs).
+#[test]
+fn plastic_flows_give_the_same_bytes_on_one_and_two_threads() {
+    let materials = [
+        "type = \"johnson-cook\", yield_stress = 2e3, hardening = 1e4, exponent = 0.5, \
+         rate_coefficient = 0.05, melting_temperature = 400, room_temperature = 300, \
+         thermal_exponent = 1, specific_heat = 1",
+        "type = \"snow\", critical_compression = 0.025, critical_stretch = 0.0075",
+        "type = \"drucker-prager\", friction_angle = 30",
+    ];
+    let mut text = String::from("[scene]\nduration = 1.0\nfps = 1000\n");
+    for (k, plasticity) in materials.iter().enumerate() {
+        text += &format!(
+            "[materials.m{k}]\ndensity = 1000\nyoungs_modulus = 1e5\npoisson_ratio = 0.3\n\
+             [materials.m{k}.mpm]\nplasticity = {{ {plasticity} }}\n\
+             [[body]]\nmodel = \"mpm\"\nmaterial = \"m{k}\"\nresolution = 0.02\nvelocity = [0, -3, 0]\n\
+             shape = {{ type = \"sphere\", center = [{}, 0.07, 0], radius = 0.06 }}\n",
+            0.15 * k as f64
+        );
+    }
+    text += "[[collider]]\ntype = \"ground\"\n";
+    text += OUTPUT;
+    same_bytes_on_one_and_two_threads(|| {
+        let mut p = prepared(&text);
+        for _ in 0..100 {
+            p.world.step().expect("steps");
+        }
+        let m = mpm(&p.world);
+        for body in 0..3 {
+            let flowed = (0..m.particles.len())
+                .filter(|&i| m.particles.body[i] as usize == body && m.particles.plastic[i] > 0.0)
+                .count();
+            assert!(flowed > 0, "no particle of body {body} flowed");
+        }
+        state_bytes(&p.world)
+    });
+}
+
 #[test]
 fn a_bar_rings_at_its_first_axial_frequency() {
     // A free–free bar with ν = 0 (λ = 0: the 1D wave speed c = √(E/ρ)), first mode
