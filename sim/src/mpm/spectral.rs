@@ -13,11 +13,11 @@
 //! matrix"): with q = tr C/3, p² = ‖C − qI‖²_F/6 and r = det((C − qI)/p)/2, they are
 //! q + 2p cos(φ + 2πj/3), φ = arccos(r)/3, instead of the Jacobi sweeps of
 //! [`symmetric_eigen`](super::constitutive::symmetric_eigen). cos φ and sin φ are not
-//! taken from the arccosine and a sine–cosine pair (with them the eigenvalues took 55 of
-//! a snow projection's 120 ns): c = cos φ' is the root in [cos π/6, 1] of the triple-angle equation 4c³ −
-//! 3c = |r| (φ' = arccos(|r|)/3, φ = φ' for r ≥ 0 and π/3 − φ' below), where the
-//! equation's slope 12c² − 3 is at least 6, so two Newton steps from a quartic in |r|
-//! (within 5·10⁻⁶) reach it to round-off, and sin φ' =
+//! taken from the arccosine and a sine–cosine pair (with them the eigenvalues took 55
+//! of a snow projection's 120 ns): c = cos φ' is the root in [cos π/6, 1] of the
+//! triple-angle equation 4c³ − 3c = |r| (φ' = arccos(|r|)/3, φ = φ' for r ≥ 0 and
+//! π/3 − φ' below), where the equation's slope 12c² − 3 is at least 6, so two Newton
+//! steps from a quartic in |r| (within 5·10⁻⁶) reach it to round-off, and sin φ' =
 //! √((1 − c)(1 + c)). Near a double eigenvalue (|r| → 1) r → φ is ill-conditioned and
 //! the two close eigenvalues err by up to √ε p, in opposite directions, as they would
 //! through arccos; the interpolation below is insensitive to that to second order
@@ -285,11 +285,12 @@ impl Spectrum {
     /// inside: 1; above: hi C^{−½}), and the sorted eigenvalues fall on the pieces in
     /// order, so those sharing the middle eigenvalue x₂'s piece take its law m(C) (any
     /// function of C equal to the law at those eigenvalues: the polynomial through
-    /// them alone) and an eigenvalue x_k alone on its piece is corrected by its spectral projector
-    /// P_k = (C − x_iI)(C − x_jI)/((x_k − x_i)(x_k − x_j)): F_E = F̂ (m(C) + Σ_k (r_k −
-    /// m(x_k)) P_k), r_k the clamp's ratio at x_k. A projector of an eigenvalue apart
-    /// from the others by more than [`CLOSE_NODES`] is accurate to about ε/CLOSE_NODES;
-    /// a close pair on one piece shares a law and needs no projector.
+    /// them alone) and an eigenvalue x_k alone on its piece is corrected by its
+    /// spectral projector P_k = (C − x_iI)(C − x_jI)/((x_k − x_i)(x_k − x_j)): F_E =
+    /// F̂ (m(C) + Σ_k (r_k − m(x_k)) P_k), r_k the clamp's ratio at x_k. A projector of
+    /// an eigenvalue apart from the others by more than [`CLOSE_NODES`] is accurate to
+    /// about ε/CLOSE_NODES; a close pair on one piece shares a law and needs no
+    /// projector.
     pub fn clamp(&self, f: &mut Mat3, lo: f64, hi: f64) -> Option<f64> {
         let sigma = self.nodes.map(f64::sqrt);
         let piece = sigma.map(|s| {
