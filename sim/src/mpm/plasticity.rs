@@ -190,7 +190,7 @@ impl Plasticity {
         {
             let (lo, hi) = snow_bounds(critical_compression, critical_stretch);
             let (det, c) = (determinant(f), gram(f));
-            if det > 0.0 && gershgorin_within(&c, lo * lo, hi * hi) {
+            if snow_surely_elastic(det, &c, lo, hi) {
                 return 0.0;
             }
             return self.clamp(f, input, lo, hi, Spectrum::of_gram(c, det));
@@ -226,7 +226,7 @@ impl Plasticity {
                 critical_stretch,
             } => {
                 let (lo, hi) = snow_bounds(critical_compression, critical_stretch);
-                determinant(f) > 0.0 && gershgorin_within(&gram(f), lo * lo, hi * hi)
+                snow_surely_elastic(determinant(f), &gram(f), lo, hi)
             }
             Plasticity::DruckerPrager { alpha } => {
                 drucker_prager_surely_elastic(f, alpha, input.mu, input.lambda)
@@ -517,6 +517,12 @@ pub fn drucker_prager_surely_elastic(f: &Mat3, alpha: f64, mu: f64, lambda: f64)
 /// Snow's range of singular values: [1 − θ_c, 1 + θ_s].
 fn snow_bounds(critical_compression: f64, critical_stretch: f64) -> (f64, f64) {
     (1.0 - critical_compression, 1.0 + critical_stretch)
+}
+
+/// Whether snow's clamp to lo ≤ σ ≤ hi leaves F̂ alone for certain, from C = F̂ᵀF̂
+/// and det F̂: not inverted, and every Gershgorin disc of C within [lo², hi²].
+fn snow_surely_elastic(det: f64, c: &Mat3, lo: f64, hi: f64) -> bool {
+    det > 0.0 && gershgorin_within(c, lo * lo, hi * hi)
 }
 
 /// Whether every Gershgorin disc of the symmetric `c` lies in [lo, hi], so that its
