@@ -250,10 +250,13 @@ impl Plasticity {
                 return self.clamp(f, input, lo, hi, Spectrum::of(f));
             }
             Plasticity::JohnsonCook(_) | Plasticity::DruckerPrager { .. } => {
-                if let Some(increment) = series::project(f, |log| self.log_map(log, input)) {
+                // The series and the closed form share C and det F̂.
+                let (c, det) = (gram(f), determinant(f));
+                if let Some(increment) = series::project(f, &c, det, |log| self.log_map(log, input))
+                {
                     return increment;
                 }
-                Spectrum::of(f).map(|spectrum| {
+                Spectrum::of_gram(c, det).map(|spectrum| {
                     let logs = spectrum.logs();
                     let map = self.log_map(LogInvariants::of(logs.map(|l| 0.5 * l)), input);
                     (spectrum, logs, map)

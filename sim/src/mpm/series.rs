@@ -24,7 +24,7 @@
 //! holds them to the exact SVD. Above 10⁻² (tried: 1.5·10⁻², 3·10⁻², 5·10⁻²) the
 //! extra terms cost more than the eigenvalues on the bench block's particles.
 
-use super::constitutive::{Mat3, determinant, gram, mul};
+use super::constitutive::{Mat3, mul};
 use super::spectral::{LogInvariants, LogMap};
 
 /// The Frobenius norm of E = C − I up to which [`project`] takes the series.
@@ -60,10 +60,10 @@ fn product(a: &Symmetric, b: &Symmetric) -> Symmetric {
     ]
 }
 
-/// E = F̂ᵀF̂ − I and ‖E‖_F when the series apply to `f`: det F > 0 (an inverted F̂ takes
-/// the SVD's convention) and ‖E‖_F ≤ [`SERIES_STRAIN`] (NaN fails both).
-fn near_identity(f: &Mat3) -> Option<(Symmetric, f64)> {
-    let c = gram(f);
+/// E = C − I and ‖E‖_F when the series apply to F̂ with C = F̂ᵀF̂ and `det` = det F̂:
+/// det F̂ > 0 (an inverted F̂ takes the SVD's convention) and ‖E‖_F ≤ [`SERIES_STRAIN`]
+/// (NaN fails both).
+fn near_identity(c: &Mat3, det: f64) -> Option<(Symmetric, f64)> {
     let e: Symmetric = [
         c[0][0] - 1.0,
         c[1][1] - 1.0,
@@ -74,23 +74,23 @@ fn near_identity(f: &Mat3) -> Option<(Symmetric, f64)> {
     ];
     let squared =
         e[0] * e[0] + e[1] * e[1] + e[2] * e[2] + 2.0 * (e[3] * e[3] + e[4] * e[4] + e[5] * e[5]);
-    (squared <= SERIES_STRAIN * SERIES_STRAIN && determinant(f) > 0.0).then(|| (e, squared.sqrt()))
+    (squared <= SERIES_STRAIN * SERIES_STRAIN && det > 0.0).then(|| (e, squared.sqrt()))
 }
 
-/// Whether [`project`] takes `f` (the tests count the states each path takes).
-#[cfg(test)]
-pub(super) fn applies(f: &Mat3) -> bool {
-    near_identity(f).is_some()
-}
-
-/// Projects `f` = F̂ by the map that `map` makes of the invariants of its log singular
-/// values (`None`: elastic), F_E = eᵗ F̂ C^{s/2}, and returns the map's increment (0
-/// when elastic); or `None`, `f` untouched, where the series do not apply
+/// Projects `f` = F̂, whose C = F̂ᵀF̂ and det F̂ are `c` and `det` (the caller has them
+/// for the closed form too), by the map that `map` makes of the invariants of its log
+/// singular values (`None`: elastic), F_E = eᵗ F̂ C^{s/2}, and returns the map's
+/// increment (0 when elastic); or `None`, `f` untouched, where the series do not apply
 /// (‖E‖_F above [`SERIES_STRAIN`], or det F ≤ 0). The invariants are those of ½ ln C = ½ Σ (−1)^{k+1} E^k/k, C^{s/2} =
 /// Σ C(s/2, k) E^k, and eᵗ is summed by its own series (|t| ≤ |tr ln C|/6 is smaller
 /// than ‖E‖).
-pub fn project(f: &mut Mat3, map: impl FnOnce(LogInvariants) -> Option<LogMap>) -> Option<f64> {
-    let (e, norm) = near_identity(f)?;
+pub fn project(
+    f: &mut Mat3,
+    c: &Mat3,
+    det: f64,
+    map: impl FnOnce(LogInvariants) -> Option<LogMap>,
+) -> Option<f64> {
+    let (e, norm) = near_identity(c, det)?;
     // E, E², …: ‖E‖^{n+1}/(1 − ‖E‖) ≤ tolerance decides how many.
     let limit = SERIES_TOLERANCE * (1.0 - norm);
     let mut powers = [e; SERIES_TERMS];

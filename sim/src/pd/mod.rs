@@ -422,6 +422,9 @@ impl PdModel {
                     return -1.0;
                 }
                 let g = 1.0 + c.alpha * phi[i];
+                let anisotropy = self.bodies[self.reference.body[i] as usize]
+                    .material
+                    .anisotropy;
                 let mut worst = 0.0f64;
                 for k in bonds.range(i) {
                     let nb = bonds.neighbours[k];
@@ -433,10 +436,7 @@ impl PdModel {
                     let e = norm(sub(y[j], y[i]))
                         - r
                         - self.plastic.as_ref().map_or(0.0, |p| p.extension[k]);
-                    let omega_r = match self.bodies[self.reference.body[i] as usize]
-                        .material
-                        .anisotropy
-                    {
+                    let omega_r = match anisotropy {
                         Some(g) => self.omega(i, k, g, r) * r,
                         None => c.delta,
                     };
