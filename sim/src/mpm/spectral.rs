@@ -16,8 +16,9 @@
 //! taken from the arccosine and a sine–cosine pair (with them the eigenvalues took 55
 //! of a snow projection's 120 ns): c = cos φ' is the root in [cos π/6, 1] of the
 //! triple-angle equation 4c³ − 3c = |r| (φ' = arccos(|r|)/3, φ = φ' for r ≥ 0 and
-//! π/3 − φ' below), where the equation's slope 12c² − 3 is at least 6, so two Newton
-//! steps from a quartic in |r| (within 5·10⁻⁶) reach it to round-off, and sin φ' =
+//! π/3 − φ' below), where the equation's slope 12c² − 3 is at least 6, so one Newton
+//! step from a polynomial of degree 8 in |r| (within 1.9·10⁻⁹) reaches it to round-off
+//! (the steps of 2026-12-07 went from a quartic, twice), and sin φ' =
 //! √((1 − c)(1 + c)). Near a double eigenvalue (|r| → 1) r → φ is ill-conditioned and
 //! the two close eigenvalues err by up to √ε p, in opposite directions, as they would
 //! through arccos; the interpolation below is insensitive to that to second order
@@ -33,6 +34,10 @@
 //! e^{(a−1)(L_x+L_y)/2} sinh(a d)/sinh(d)` with d = (L_x − L_y)/2 (a series in d), so it
 //! does not cancel; the second has the widest gap x₀ − x₁ as its denominator, and its
 //! cancellation error is multiplied by ‖(C − x₀I)(C − x₁I)‖, at most (x₀ − x₁)²/4.
+//! Snow's law b C^{−½} needs neither: with s_k = √x_k its divided differences are
+//! `h[x_i, x_j] = −b/(s_i s_j (s_i + s_j))` and `h[x₀, x₁, x₂] = b (s₀ + s₁ + s₂)/(s₀ s₁
+//! s₂ (s₀ + s₁)(s₀ + s₂)(s₁ + s₂))`, which do not cancel, close nodes or not
+//! (`inverse_root_difference`, `inverse_root_second_difference`).
 
 use super::constitutive::{IDENTITY, Mat3, determinant, gram, mul};
 
@@ -42,15 +47,21 @@ use super::constitutive::{IDENTITY, Mat3, determinant, gram, mul};
 /// Jacobi eigen-solve or the SVD ([`super::plasticity::Stretch`]).
 pub const SPECTRUM_CONDITION_FLOOR: f64 = 1e-2;
 
-/// cos(arccos(ρ)/3) on ρ ∈ [0, 1] as a quartic in t = 2ρ − 1 (coefficients of t⁰ to
-/// t⁴; interpolated at the five Chebyshev nodes, within 5.1·10⁻⁶ of it): the start of
-/// [`Spectrum::of`]'s Newton steps on the triple-angle equation.
-const TRIPLE_ANGLE_START: [f64; 5] = [
-    0.939_692_620_785_908_3,
-    0.065_803_115_364_956_16,
-    -0.006_426_687_085_732_754,
-    0.001_180_173_892_737_484_5,
-    -0.000_252_212_419_790_967_26,
+/// cos(arccos(ρ)/3) on ρ ∈ [0, 1] as a polynomial of degree 8 in t = 2ρ − 1
+/// (coefficients of t⁰ to t⁸; interpolated at the nine Chebyshev nodes, within
+/// 1.9·10⁻⁹ of it): the start of [`Spectrum::of`]'s Newton step on the triple-angle
+/// equation, which squares that error times at most 2 (the equation's second
+/// derivative over twice its slope), to round-off.
+const TRIPLE_ANGLE_START: [f64; 9] = [
+    0.939_692_620_785_908_6,
+    0.065_821_795_623_308_16,
+    -0.006_431_410_664_312_829,
+    0.001_106_809_315_405_361_2,
+    -0.000_233_689_308_813_585_68,
+    0.000_054_368_007_035_855_546,
+    -0.000_013_635_492_770_842_144,
+    0.000_004_323_750_560_944_164,
+    -0.000_001_183_024_135_937_355_6,
 ];
 
 /// Relative gap of two eigenvalues below which their divided difference is taken from
@@ -127,25 +138,33 @@ impl Spectrum {
         if det.is_nan() || det <= 0.0 {
             return None;
         }
-        let q = (c[0][0] + c[1][1] + c[2][2]) / 3.0;
+        // Products by 1/3 and 1/6 rather than quotients, and r's quotient taken beside
+        // the square root p = √p², not after it: every step of this chain waits for the
+        // one before it.
+        let q = (c[0][0] + c[1][1] + c[2][2]) * (1.0 / 3.0);
         let off = c[0][1] * c[0][1] + c[0][2] * c[0][2] + c[1][2] * c[1][2];
         let d = [c[0][0] - q, c[1][1] - q, c[2][2] - q];
-        let p2 = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + 2.0 * off) / 6.0;
+        let p2 = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + 2.0 * off) * (1.0 / 6.0);
         let nodes = if p2 > 0.0 {
             let p = p2.sqrt();
             let mut shifted = c;
             for (k, row) in shifted.iter_mut().enumerate() {
                 row[k] -= q;
             }
-            // det((C − qI)/p)/2; a NaN (p³ underflowing) fails the floor test below.
-            let r = (0.5 * determinant(&shifted) / (p2 * p)).clamp(-1.0, 1.0);
+            // det((C − qI)/p)/2 = det(C − qI) p/(2p⁴); where p⁴ underflows, ±∞ clamps to ±1
+            // and a NaN fails the floor test below.
+            let r = (0.5 * determinant(&shifted) / (p2 * p2) * p).clamp(-1.0, 1.0);
             let rho = r.abs();
             let t = 2.0 * rho - 1.0;
-            let [k0, k1, k2, k3, k4] = TRIPLE_ANGLE_START;
-            let mut cos = k0 + t * (k1 + t * (k2 + t * (k3 + t * k4)));
-            for _ in 0..2 {
-                cos -= (cos * (4.0 * cos * cos - 3.0) - rho) / (12.0 * cos * cos - 3.0);
-            }
+            // The start by Estrin's scheme (its chain is four products deep, Horner's
+            // eight), then one Newton step.
+            let k = TRIPLE_ANGLE_START;
+            let t2 = t * t;
+            let t4 = t2 * t2;
+            let low = (k[0] + k[1] * t) + (k[2] + k[3] * t) * t2;
+            let high = (k[4] + k[5] * t) + (k[6] + k[7] * t) * t2;
+            let mut cos = low + high * t4 + k[8] * (t4 * t4);
+            cos -= (cos * (4.0 * cos * cos - 3.0) - rho) / (12.0 * cos * cos - 3.0);
             let sin = ((1.0 - cos) * (1.0 + cos)).max(0.0).sqrt();
             let root3 = 3f64.sqrt();
             if r >= 0.0 {
@@ -199,29 +218,25 @@ impl Spectrum {
     /// `logs` are [`Spectrum::logs`].
     pub fn power(&self, a: f64, b: f64, logs: &[f64; 3]) -> Mat3 {
         let h = logs.map(|l| (a * l + b).exp());
-        self.interpolate(a, &h, Some(logs))
+        self.interpolate(a, &h, logs)
     }
 
     /// The first divided difference h[x_i, x_j] of h = e^b x^a, whose values at the
     /// eigenvalues are `h`. Nodes within [`CLOSE_NODES`] take it as e^{(a−1)(L_i+L_j)/2}
-    /// sinh(a d)/sinh(d), d = (L_i − L_j)/2, a series in d, from `logs` (L_k = ln x_k)
-    /// or, without them, from one logarithm of x_i/x_j.
+    /// sinh(a d)/sinh(d), d = (L_i − L_j)/2, a series in d, from `logs` (L_k = ln x_k).
     fn first_difference(
         &self,
         a: f64,
         h: &[f64; 3],
         (i, j): (usize, usize),
-        logs: Option<&[f64; 3]>,
+        logs: &[f64; 3],
     ) -> f64 {
         let (xi, xj) = (self.nodes[i], self.nodes[j]);
         if (xi - xj).abs() > CLOSE_NODES * xi.max(xj) {
             return (h[i] - h[j]) / (xi - xj);
         }
         // e^b e^{(a−1)(L_i+L_j)/2} = √(h_i h_j/(x_i x_j)); sinh(ad)/sinh(d) to d⁴.
-        let d = match logs {
-            Some(logs) => 0.5 * (logs[i] - logs[j]),
-            None => 0.5 * (xi / xj).ln(),
-        };
+        let d = 0.5 * (logs[i] - logs[j]);
         let (a2, d2) = (a * a, d * d);
         let ratio = a * (1.0 + (a2 - 1.0) * d2 / 6.0 * (1.0 + (3.0 * a2 - 7.0) * d2 / 60.0));
         (h[i] * h[j] / (xi * xj)).sqrt() * ratio
@@ -230,7 +245,7 @@ impl Spectrum {
     /// The quadratic through h(x_k) = `h`[k] at the eigenvalues, evaluated at C, for h
     /// = e^b x^a: Newton's form (the divided differences of
     /// [`Spectrum::first_difference`]).
-    fn interpolate(&self, a: f64, h: &[f64; 3], logs: Option<&[f64; 3]>) -> Mat3 {
+    fn interpolate(&self, a: f64, h: &[f64; 3], logs: &[f64; 3]) -> Mat3 {
         let [x0, x1, _] = self.nodes;
         let h01 = self.first_difference(a, h, (0, 1), logs);
         let spread = x0 - x1;
@@ -240,12 +255,19 @@ impl Spectrum {
         } else {
             0.5 * a * (a - 1.0) * h[0] / (x0 * x0)
         };
+        self.newton_form(h[0], h01, h012)
+    }
+
+    /// h[x₀] I + h[x₀, x₁](C − x₀I) + h[x₀, x₁, x₂](C − x₀I)(C − x₁I): Newton's form of
+    /// the quadratic with these divided differences, at C.
+    fn newton_form(&self, h0: f64, h01: f64, h012: f64) -> Mat3 {
+        let [x0, x1, _] = self.nodes;
         let m0 = self.shifted(x0);
         let product = self.shifted_product(x0, x1);
         let mut out = [[0.0; 3]; 3];
         for i in 0..3 {
             for j in 0..3 {
-                out[i][j] = h01 * m0[i][j] + h012 * product[i][j] + if i == j { h[0] } else { 0.0 };
+                out[i][j] = h01 * m0[i][j] + h012 * product[i][j] + if i == j { h0 } else { 0.0 };
             }
         }
         out
@@ -322,18 +344,24 @@ impl Spectrum {
         // The middle piece's law m(C) and its values m(x_k): the clamp's ratio at the
         // nodes on that piece, interpolated through them alone (the others are
         // corrected by their projectors): bound C^{−½} through all three, a line
-        // through two. (A clamped middle shares its piece with the top or the bottom
-        // node, as the pieces are in the nodes' order.)
+        // through two, by the divided differences of [`inverse_root_difference`] and
+        // [`inverse_root_second_difference`]. (A clamped middle shares its piece with the
+        // top or the bottom node, as the pieces are in the nodes' order.)
         let (mut g, law) = match piece[2] {
             0 => (IDENTITY, [1.0; 3]),
             p => {
-                let h = sigma.map(|s| bound(p) / s);
+                let b = bound(p);
+                let h = sigma.map(|s| b / s);
                 match (top, bottom) {
-                    (false, false) => (self.interpolate(-0.5, &h, None), h),
+                    (false, false) => {
+                        let h01 = inverse_root_difference(b, sigma[0], sigma[1]);
+                        let h012 = inverse_root_second_difference(b, sigma);
+                        (self.newton_form(h[0], h01, h012), h)
+                    }
                     (top, _) => {
-                        let pair = if top { (2, 1) } else { (0, 2) };
-                        let slope = self.first_difference(-0.5, &h, pair, None);
-                        let base = h[pair.0] - slope * self.nodes[pair.0];
+                        let (i, j) = if top { (2, 1) } else { (0, 2) };
+                        let slope = inverse_root_difference(b, sigma[i], sigma[j]);
+                        let base = h[i] - slope * self.nodes[i];
                         let mut line = self.c.map(|row| row.map(|x| slope * x));
                         for (k, row) in line.iter_mut().enumerate() {
                             row[k] += base;
@@ -350,7 +378,8 @@ impl Spectrum {
         for (alone, k, i, j) in [(top, 0, 1, 2), (bottom, 1, 0, 2)] {
             if alone {
                 let (xk, xi, xj) = (self.nodes[k], self.nodes[i], self.nodes[j]);
-                let weight = (ratio(k) - law[k]) / ((xk - xi) * (xk - xj));
+                // The reciprocal does not wait for the law, a quotient would.
+                let weight = (ratio(k) - law[k]) * (1.0 / ((xk - xi) * (xk - xj)));
                 let projector = self.shifted_product(xi, xj);
                 for (row, p_row) in g.iter_mut().zip(&projector) {
                     for (x, p) in row.iter_mut().zip(p_row) {
@@ -362,14 +391,48 @@ impl Spectrum {
         *f = mul(f, &g);
         let change: f64 = (0..3)
             .map(|k| {
-                // log σ̂ − log σ = ½ log(x/bound²).
+                // log σ̂ − log σ = log(σ̂/bound).
                 let d = match piece[k] {
                     0 => 0.0,
-                    p => 0.5 * (self.nodes[k] / (bound(p) * bound(p))).ln(),
+                    p => log_ratio(sigma[k], bound(p)),
                 };
                 d * d
             })
             .sum();
         Some(change.sqrt())
     }
+}
+
+/// The first divided difference of h(x) = b x^{−½} at x_i = s_i², x_j = s_j²:
+/// (b/s_i − b/s_j)/(s_i² − s_j²) = −b/(s_i s_j (s_i + s_j)), without cancellation and
+/// equal to h'(x_i) when the nodes coincide.
+fn inverse_root_difference(b: f64, si: f64, sj: f64) -> f64 {
+    -b / (si * sj * (si + sj))
+}
+
+/// The second divided difference of h(x) = b x^{−½} at x_k = s_k² (k = 0, 1, 2):
+/// (h[x₀, x₂] − h[x₂, x₁])/(x₀ − x₁) by [`inverse_root_difference`], whose numerator
+/// b (s₀ − s₁)(s₀ + s₁ + s₂)/(s₀ s₁ s₂ (s₀ + s₂)(s₁ + s₂)) shares the factor s₀ − s₁
+/// with the denominator: b (s₀ + s₁ + s₂)/(s₀ s₁ s₂ (s₀ + s₁)(s₀ + s₂)(s₁ + s₂)),
+/// h''(x)/2 = 3b/(8 s⁵) at a triple node.
+fn inverse_root_second_difference(b: f64, [s0, s1, s2]: [f64; 3]) -> f64 {
+    b * (s0 + s1 + s2) / (s0 * s1 * s2 * ((s0 + s1) * (s0 + s2) * (s1 + s2)))
+}
+
+/// The largest |u|, u = (s − b)/(s + b), for which [`log_ratio`] sums its series (s
+/// within about 6% of b).
+const LOG_SERIES_RADIUS: f64 = 3e-2;
+
+/// ln(s/b) of positive `s` and `b`. Near b (|u| ≤ [`LOG_SERIES_RADIUS`]) by the series
+/// ln(s/b) = 2 atanh u = 2u (1 + u²/3 + u⁴/5 + u⁶/7 + u⁸/9 + …) to u⁸, whose first
+/// term left out is below 6·10⁻¹⁷ of the sum, with no call to the logarithm: a
+/// singular value that snow clamped in the last step has grown from its bound by one
+/// step's deformation; elsewhere the logarithm.
+fn log_ratio(s: f64, b: f64) -> f64 {
+    let u = (s - b) / (s + b);
+    if u.abs() > LOG_SERIES_RADIUS {
+        return (s / b).ln();
+    }
+    let u2 = u * u;
+    2.0 * u * (1.0 + u2 * (1.0 / 3.0 + u2 * (1.0 / 5.0 + u2 * (1.0 / 7.0 + u2 * (1.0 / 9.0)))))
 }
