@@ -21,6 +21,7 @@ impl RigidPhase {
     /// Looks for fragments to hand over at `time` and hands them over; returns how
     /// many went rigid.
     pub fn look(&mut self, parts: &mut [Part], time: f64) -> usize {
+        let before = self.pieces.len();
         let mut handed = 0;
         let mut seen = BTreeMap::new();
         // Small fragments wait here until nothing else deformable is left.
@@ -120,6 +121,9 @@ impl RigidPhase {
                 handed += 1;
             }
         }
+        for a in before..self.pieces.len() {
+            self.find_partners(a, parts);
+        }
         handed
     }
 
@@ -216,6 +220,8 @@ impl RigidPhase {
             reach,
             limit,
             turn,
+            partners: Vec::new(),
+            balls: None,
         };
         place(&piece, &self.physics.bodies[handle], part);
         self.pieces.push(piece);

@@ -40,7 +40,9 @@
 //! for a single particle (a ball would roll forever), the convex hull of the particle
 //! centres rounded by half a spacing up to [`HULL_POINTS`] points (or, where the hull
 //! is flat, the union of the particles' cubes), and above that the union of the
-//! particles' cubes (concave where the piece is). Rigid pieces collide with each other,
+//! particles' cubes (concave where the piece is). Two pieces whose surface colliders
+//! overlap when one goes rigid (born side by side across a crack) meet as balls at
+//! their particles until their surfaces part (`partners.rs`). Rigid pieces collide with each other,
 //! the ground and the scene's colliders in rapier (meshes as their triangle meshes),
 //! with a rolling resistance rapier lacks (`rolling.rs`); with the particles still deformable
 //! through particle contact, its force on a piece's points summed into a force and a
@@ -67,6 +69,7 @@ mod air;
 mod checkpoint;
 mod fit;
 mod handoff;
+mod partners;
 mod reenter;
 mod rolling;
 mod shape;
@@ -113,6 +116,13 @@ struct Piece {
     /// ([`RigidPhase::orient`]). A checkpoint written before it was kept reads `None`.
     #[serde(default)]
     turn: Option<[[f64; 3]; 3]>,
+    /// The pieces whose surfaces its own overlapped when it went rigid and still
+    /// overlap: they meet as balls, not surfaces (`partners.rs`).
+    #[serde(default)]
+    partners: Vec<RigidBodyHandle>,
+    /// Its collider of balls at its points while it has partners, and their radius (m).
+    #[serde(default)]
+    balls: Option<(ColliderHandle, f64)>,
 }
 
 impl Piece {
@@ -336,6 +346,8 @@ impl RigidPhase {
             dt,
             ..IntegrationParameters::default()
         };
+        self.part_partners();
+        let filter = self.filter();
         let ph = &mut self.physics;
         self.pipeline.step(
             &vector(gravity),
@@ -348,7 +360,7 @@ impl RigidPhase {
             &mut ph.impulse_joints,
             &mut ph.multibody_joints,
             &mut ph.ccd,
-            &(),
+            &filter,
             &(),
         );
         self.resist_rolling();

@@ -1,0 +1,7 @@
+pub use self::parameters::VHACDParameters;
+pub use self::vhacd::VHACD;
+
+pub(crate) use self::vhacd::CutPlane;
+
+mod parameters;
+mod vhacd;
