@@ -169,6 +169,9 @@ impl RigidPhase {
     /// went back to its model), and takes the balls from pieces left without a
     /// partner.
     pub(super) fn part_partners(&mut self) {
+        if self.pieces.iter().all(|p| p.partners.is_empty()) {
+            return;
+        }
         let index: BTreeMap<(u32, u32), usize> = self
             .pieces
             .iter()
