@@ -97,15 +97,25 @@ impl RigidPhase {
             .filter(|(_, b)| b.points.len() > small && self.overlap(piece, b))
             .map(|(k, b)| (k, closest(piece, b, parts)))
             .collect();
-        for (b, distance) in found {
+        if found.is_empty() {
+            return;
+        }
+        // Every partnership first, then each piece's balls once: `a` takes the
+        // smallest radius of its new partnerships.
+        let mut smallest = f64::INFINITY;
+        let mut radii = Vec::with_capacity(found.len());
+        for &(b, distance) in &found {
             let spacing = self.pieces[a].thickness.min(self.pieces[b].thickness);
             let radius = (0.5 * distance).clamp(0.25 * spacing, 0.5 * spacing);
             let (ha, hb) = (self.pieces[a].body, self.pieces[b].body);
             self.pieces[a].partners.push(hb);
             self.pieces[b].partners.push(ha);
-            for k in [a, b] {
-                self.give_balls(k, radius, parts);
-            }
+            smallest = smallest.min(radius);
+            radii.push((b, radius));
+        }
+        self.give_balls(a, smallest, parts);
+        for (b, radius) in radii {
+            self.give_balls(b, radius, parts);
         }
     }
 
