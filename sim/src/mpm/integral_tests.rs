@@ -21,7 +21,8 @@ fn pull_bar(keys: &str, seconds: f64, mut each: impl FnMut(f64, &Mpm)) -> Prepar
 
 /// σ_yy averaged over the bar's middle (reference heights 4–16 cm), `inside` over
 /// its particles farther than δ from its sides only: the bonds' P_yy where the
-/// particles are bonded, else the MPM's Cauchy σ_yy.
+/// particles are bonded (with a viscous body's volume term on the grid's F, K ln J
+/// F⁻ᵀ), else the MPM's Cauchy σ_yy.
 fn middle_stress(m: &Mpm, inside: bool) -> f64 {
     let (mut sum, mut count) = (0.0, 0.0);
     for i in 0..m.particles.len() {
@@ -32,7 +33,16 @@ fn middle_stress(m: &Mpm, inside: bool) -> f64 {
             continue;
         }
         sum += match &m.patches {
-            Some(patches) => patches.bond_stress(i, &m.particles)[1][1],
+            Some(patches) => {
+                let f = m.particles.deformation[i];
+                let j = super::constitutive::determinant(&f);
+                let volume = patches
+                    .volume_modulus(m.particles.body[i] as usize)
+                    .map_or(0.0, |bulk| {
+                        bulk * j.ln() * perifrac_math::inverse3(&f, j)[1][1]
+                    });
+                patches.bond_stress(i, &m.particles)[1][1] + volume
+            }
             None => {
                 let f = m.particles.deformation[i];
                 let tau = m.materials[0].kirchhoff(&f, 0.0);
@@ -124,7 +134,9 @@ fn plastic_bonds_yield_at_their_yield_stress() {
 /// Viscous bonds make a Maxwell fluid of shear viscosity η that keeps its volume: a
 /// bar pulled at a constant rate ε̇ carries, once many relaxation times have passed,
 /// the Trouton stress σ_yy = 3ηε̇ (η = 600 Pa·s, τ = η/G = 15 ms, 0.15 s of pull:
-/// within 5%; measured 3.04ηε̇). Elastic bonds carry 1.8 kPa at the end.
+/// within 8%; measured 3.18ηε̇, the bonds' P and the volume's K ln J F⁻ᵀ on the grid's
+/// F, against 3.15 for a full lattice family, the lattice's anisotropy: 3.04 when the
+/// volume was taken on the bonds' F). Elastic bonds carry 1.8 kPa at the end.
 #[test]
 fn viscous_bonds_carry_three_times_their_viscosity_times_the_pull_rate() {
     let eta = 600.0;
@@ -148,7 +160,7 @@ fn viscous_bonds_carry_three_times_their_viscosity_times_the_pull_rate() {
     eprintln!(
         "σ_yy {stress:.1} Pa at ε̇ {rate:.4}/s: σ/(ηε̇) = {trouton:.3} (3 for a Maxwell fluid)"
     );
-    assert!((trouton - 3.0).abs() < 0.15, "{trouton}");
+    assert!((trouton - 3.0).abs() < 0.25, "{trouton}");
 }
 
 /// A ball of stiff honey (E = 1 MPa, η = 10 Pa·s: τ = 25 µs, a seventh of the step)
@@ -196,6 +208,41 @@ fn a_ball_of_stiff_honey_lands_as_a_puddle_that_keeps_its_volume() {
     assert!(height < 0.03, "{height}");
     assert!(fastest < 1.2 * landing, "{fastest}");
     assert!((median - 1.0).abs() < 0.04, "{median}");
+}
+
+/// A pie of whipped cream (`integral-cream-fig5.11.toml`'s: E = 25 kPa, σ_Y = 50 Pa,
+/// η = 20 Pa·s, ρ = 250 kg/m³, 16 cm across) thrown at a wall at 4 m/s, a third of
+/// its wave speed, keeps its volume where the impact stirs it: 0.12 s in (0.06 s after
+/// it strikes), the median J of the grid's F is within 2% of 1 and nine particles in
+/// ten under 1.15. With the volume term on the bonds' F, the F of a stirred family, the
+/// same pie measured a median J of 1.73 and a 90th percentile of 3.45: it dilated and no
+/// stress pulled it back (the module documentation of `patches::integral`).
+#[test]
+fn a_cream_pie_thrown_at_a_wall_keeps_its_volume() {
+    let text = "[scene]\nduration = 1\nfps = 100\n\
+         [materials.cream]\ndensity = 250\nyoungs_modulus = 2.5e4\npoisson_ratio = 0.25\n\
+         [materials.cream.mpm]\nbonds = { yield_stress = 50, viscosity = 20 }\n\
+         [[body]]\nmodel = \"mpm\"\nmaterial = \"cream\"\nresolution = 0.01\n\
+         shape = { type = \"cylinder\", center = [0, 0.25, 0], radius = 0.08, height = 0.03, axis = \"z\" }\n\
+         velocity = [0, 0.5, 4]\n\
+         [[collider]]\ntype = \"ground\"\nfriction = 0.8\n\
+         [[collider]]\ntype = \"box\"\ncenter = [0, 0.3, 0.32]\nsize = [0.8, 0.6, 0.04]\nfriction = 0.8\n\
+         [output]\ntets = false\nsurface = \"none\"\npreview = false\n";
+    let mut p = prepared(text);
+    for _ in 0..(0.12 / p.world.dt) as usize {
+        p.world.step().expect("steps");
+    }
+    let mut volumes: Vec<f64> = mpm(&p)
+        .particles
+        .deformation
+        .iter()
+        .map(super::constitutive::determinant)
+        .collect();
+    volumes.sort_by(f64::total_cmp);
+    let (median, high) = (volumes[volumes.len() / 2], volumes[volumes.len() * 9 / 10]);
+    eprintln!("J: median {median:.4}, 90th percentile {high:.4}");
+    assert!((median - 1.0).abs() < 0.02, "{median}");
+    assert!(high < 1.15, "{high}");
 }
 
 /// `perifrac check`'s estimate before seeding counts the integral-based MPM's bonds

@@ -451,7 +451,20 @@ impl Mpm {
             }
             let tau = match stress {
                 Some((tau, _)) if !member => tau,
-                _ => [[0.0; 3]; 3],
+                // A member of a viscous body holds its volume on the grid: K ln J I,
+                // J of the grid's F (`patches::integral`); none where F has inverted.
+                _ => match patches.and_then(|patches| patches.volume_modulus(b)) {
+                    Some(bulk) if member => {
+                        let j = constitutive::determinant(&deformation[i]);
+                        let pressure = if j > 0.0 { bulk * j.ln() } else { 0.0 };
+                        [
+                            [pressure, 0.0, 0.0],
+                            [0.0, pressure, 0.0],
+                            [0.0, 0.0, pressure],
+                        ]
+                    }
+                    _ => [[0.0; 3]; 3],
+                },
             };
             let scale = dt * volume[i] * d_inv;
             let m = affine_share * mass[i];

@@ -261,6 +261,17 @@ impl Patches {
         &self.members
     }
 
+    /// The bulk modulus K of body `b`'s volume term where its bonds are viscous (the
+    /// module documentation of `integral.rs`): its particles put the Kirchhoff stress
+    /// K ln J I of the grid's J on the grid, as material points do. `None` for every
+    /// other body.
+    pub fn volume_modulus(&self, b: usize) -> Option<f64> {
+        let bonds = self.bodies[b].bonds?;
+        bonds
+            .viscosity
+            .map(|_| constitutive::bulk_modulus(bonds.lambda, bonds.mu))
+    }
+
     /// Whether particle `p` is peridynamic.
     pub fn is_member(&self, p: usize) -> bool {
         self.slot[p] != OUTSIDE
