@@ -234,8 +234,10 @@ pub struct RenderArgs {
     #[arg(long)]
     pub overlay: bool,
     /// The sequence's camera: `fixed` (framed on the whole shot), `follow` (each frame
-    /// framed on the shot so far, pulling back as debris spreads) or `auto` (follow
-    /// when the action spreads over more than 3 times the first frame's size).
+    /// framed on the shot so far, pulling back as debris spreads), `auto` (follow
+    /// when the action spreads over more than 3 times the first frame's size) or
+    /// `largest` (each frame framed on its largest piece and the particles within
+    /// three of its radii: a still of the end of a shot whose pieces lie metres apart).
     #[arg(long, value_enum, default_value = "auto")]
     pub camera: CameraArg,
 }
@@ -249,6 +251,9 @@ pub enum CameraArg {
     Fixed,
     /// Each frame framed on the shot so far.
     Follow,
+    /// Each frame framed on its largest piece and what lies around it (a still of
+    /// the end of a shot).
+    Largest,
 }
 
 /// A validated `perifrac render`.

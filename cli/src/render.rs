@@ -158,6 +158,7 @@ pub fn command(config: &RenderConfig, quiet: bool) -> Result<(), Failure> {
                 crate::args::CameraArg::Auto => CameraMotion::Auto,
                 crate::args::CameraArg::Fixed => CameraMotion::Fixed,
                 crate::args::CameraArg::Follow => CameraMotion::Follow,
+                crate::args::CameraArg::Largest => CameraMotion::Largest,
             },
         };
         crate::verify::warn(&config.out)?;

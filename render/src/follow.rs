@@ -2,6 +2,10 @@
 //! k framed on the frames 1 to k pooled, and whether a shot spreads enough that the
 //! automatic camera follows it.
 
+use std::collections::BTreeMap;
+
+use perifrac_cache::ply::ParticleFrame;
+
 use crate::cache::{FRAMING_TAIL, FramePoints, Framing, percentile_bounds};
 use crate::camera::{Bounds, Camera, Subject};
 
@@ -81,6 +85,54 @@ pub fn follow_cameras(framing: &Framing, aspect: f32, azimuth: f32) -> Vec<(Came
         .collect()
 }
 
+/// How much of the ground around its largest piece [`largest_piece_view`] shows: the
+/// camera frames the box reaching this many of the piece's radii from its centre.
+pub const AROUND_LARGEST: f32 = 0.8;
+
+/// The camera of [`crate::preview::CameraMotion::Largest`] for one frame, with the
+/// bounds its shadow and clip planes cover: framed on the frame's largest fragment
+/// (most particles; the lowest id of equals), the box [`AROUND_LARGEST`] of its radii
+/// from its centre. `None` when the frame has no particles. For a still of the end of
+/// a shot whose pieces lie metres apart: on the largest piece where it came to rest
+/// among the chips around it, not on all the ground the debris crossed.
+pub fn largest_piece_view(
+    frame: &ParticleFrame,
+    pad: f32,
+    aspect: f32,
+    azimuth: f32,
+) -> Option<(Camera, Bounds)> {
+    let fragment: Vec<u32> = if frame.fragment.len() == frame.position.len() {
+        frame.fragment.iter().map(|&f| f as u32).collect()
+    } else {
+        vec![0; frame.position.len()]
+    };
+    let mut size: BTreeMap<u32, usize> = BTreeMap::new();
+    for &f in &fragment {
+        *size.entry(f).or_default() += 1;
+    }
+    let (&largest, _) = size
+        .iter()
+        .max_by_key(|&(f, n)| (*n, std::cmp::Reverse(*f)))?;
+    let mut piece = Bounds::EMPTY;
+    for (x, _) in frame
+        .position
+        .iter()
+        .zip(&fragment)
+        .filter(|(_, f)| **f == largest)
+    {
+        piece.add(*x);
+    }
+    let (center, reach) = (piece.center(), AROUND_LARGEST * piece.radius().max(pad));
+    let mut around = Bounds::EMPTY;
+    for corner in [-reach, reach] {
+        around.add(center.map(|c| c + corner));
+    }
+    let camera = Camera::framing(&around, aspect, azimuth);
+    piece.add(around.min);
+    piece.add(around.max);
+    Some((camera, piece))
+}
+
 /// Whether the action spreads: the robust bounds of the whole shot's pool (as the
 /// following camera pools it) over [`FOLLOW_GROWTH`] times the first frame's, by
 /// radius ([`crate::preview::CameraMotion::Auto`]).
@@ -158,6 +210,39 @@ mod tests {
             ranges: Ranges::default(),
             frames,
         }
+    }
+
+    /// A frame of a 0.4 m slab of 1,000 particles (fragment 7) 5 m from the origin and
+    /// 200 grains (fragments 1000–1199) spread 40 m: the largest piece's camera looks at
+    /// the slab, close enough that it fills a good part of the picture, and a frame
+    /// without particles has none.
+    #[test]
+    fn the_largest_piece_camera_frames_the_largest_piece() {
+        let mut frame = ParticleFrame::default();
+        for i in 0..1000 {
+            let (a, b, c) = (i % 10, (i / 10) % 10, i / 100);
+            frame
+                .position
+                .push([5.0 + a as f32 * 0.04, c as f32 * 0.005, b as f32 * 0.04]);
+            frame.fragment.push(7.0);
+        }
+        for i in 0..200 {
+            let t = i as f32 * 0.2;
+            frame.position.push([-20.0 + t, 0.0, 20.0 - t]);
+            frame.fragment.push(1000.0 + i as f32);
+        }
+        let (camera, bounds) = largest_piece_view(&frame, 0.01, 16.0 / 9.0, 0.6).expect("a camera");
+        let slab = Bounds {
+            min: [5.0, 0.0, 0.0],
+            max: [5.36, 0.045, 0.36],
+        };
+        assert!(
+            distance(&camera) < 3.0
+                && (0..3).all(|k| (camera.target[k] - slab.center()[k]).abs() < 0.01),
+            "{camera:?}"
+        );
+        assert!((0..3).all(|k| bounds.min[k] <= slab.min[k] && bounds.max[k] >= slab.max[k]));
+        assert!(largest_piece_view(&ParticleFrame::default(), 0.01, 1.0, 0.0).is_none());
     }
 
     fn distance(c: &Camera) -> f32 {

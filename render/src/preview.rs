@@ -19,7 +19,7 @@ use perifrac_cache::frames::FrameRange;
 use crate::RenderError;
 use crate::cache::{Cache, ColorBy, Framing, Ranges};
 use crate::camera::{Bounds, Camera, Subject};
-pub use crate::follow::{FOLLOW_GROWTH, follow_cameras, spreads};
+pub use crate::follow::{FOLLOW_GROWTH, follow_cameras, largest_piece_view, spreads};
 use crate::gl::{Backend, PassTimes, Renderer, View};
 use crate::{movie, sheet};
 
@@ -71,6 +71,10 @@ pub enum CameraMotion {
     /// Frame k's camera framed on the shot so far (frames 1 to k): close on the impact,
     /// pulling back as the debris spreads ([`follow_cameras`]).
     Follow,
+    /// Frame k's camera framed on frame k's largest piece and the particles around it
+    /// ([`largest_piece_view`]): for a still of the end of a shot whose pieces lie
+    /// metres apart.
+    Largest,
 }
 
 impl Default for PreviewOptions {
@@ -151,19 +155,9 @@ pub fn render_cache(
     let aspect = options.width as f32 / options.height as f32;
     let azimuth = options.azimuth.unwrap_or_else(|| cache.view_azimuth());
     let follow = match options.camera {
-        CameraMotion::Fixed => None,
+        CameraMotion::Fixed | CameraMotion::Largest => None,
         CameraMotion::Follow => Some(follow_cameras(&framing, aspect, azimuth)),
         CameraMotion::Auto => spreads(&framing).then(|| follow_cameras(&framing, aspect, azimuth)),
-    };
-    // Frame k's camera and bounds (cache.frames and the framing's frames agree).
-    let view_of = |frame: usize| -> (Camera, Bounds) {
-        follow
-            .as_ref()
-            .and_then(|cameras| {
-                let i = cache.frames.iter().position(|&f| f == frame)?;
-                cameras.get(i).copied()
-            })
-            .unwrap_or((view.camera, bounds))
     };
     let layout = &cache.layout;
     let dir = layout.preview_dir();
@@ -180,6 +174,32 @@ pub fn render_cache(
         (Some(k), _) => vec![k],
         (None, Some(range)) => range.frames().collect(),
         (None, None) => cache.frames.clone(),
+    };
+    // Each frame's camera on its largest piece, where asked for (frames without
+    // particles keep the fixed camera).
+    let mut largest = std::collections::BTreeMap::new();
+    if options.camera == CameraMotion::Largest {
+        for &frame in &frames {
+            let path = layout.particles(frame);
+            if path.is_file() {
+                let particles = perifrac_cache::ply::ParticleFrame::read(&path)?;
+                let pad = framing.subject.pad;
+                if let Some(v) = largest_piece_view(&particles, pad, aspect, azimuth) {
+                    largest.insert(frame, v);
+                }
+            }
+        }
+    }
+    // Frame k's camera and bounds (cache.frames and the framing's frames agree).
+    let view_of = |frame: usize| -> (Camera, Bounds) {
+        follow
+            .as_ref()
+            .and_then(|cameras| {
+                let i = cache.frames.iter().position(|&f| f == frame)?;
+                cameras.get(i).copied()
+            })
+            .or_else(|| largest.get(&frame).copied())
+            .unwrap_or((view.camera, bounds))
     };
     // Every frame of the sequence: it makes the contact sheet (and the movie).
     let sequence = options.frame.is_none() && options.frames.is_none();
@@ -224,6 +244,19 @@ pub fn render_cache(
         });
     }
     let mut report = run_jobs(&cache, &jobs, options, &framing.ranges, ground, progress)?;
+    if options.camera == CameraMotion::Largest {
+        let fixed: Vec<String> = frames
+            .iter()
+            .filter(|f| !largest.contains_key(f))
+            .map(usize::to_string)
+            .collect();
+        if !fixed.is_empty() {
+            report.preview.warnings.push(format!(
+                "--camera largest: frames {} have no particles to find a piece in; framed on the whole shot",
+                fixed.join(", ")
+            ));
+        }
+    }
     if sequence && report.thumbnails.len() > 1 {
         report.thumbnails.sort_by_key(|(frame, _)| *frame);
         let path = layout.contact_sheet();
