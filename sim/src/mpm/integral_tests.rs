@@ -73,11 +73,16 @@ fn middle_strain(m: &Mpm) -> f64 {
 }
 
 /// Bonds of Poisson's ratio 1/4 carry the material's stress: the bar pulled 3 mm
-/// on 16 cm stretches and narrows as the plain MLS-MPM bar does, and its σ_yy inside
-/// (farther than δ from its sides) is the MPM's within 3%, over its whole middle
-/// within 8% (measured: 1.6% and 5.5%; the surface layer is 4% stiffer). Without
-/// the surface correction the whole middle was 17% stiffer; without c_p's scale the
-/// bonds' stiffness would be off by the factor Σ ω V of a family.
+/// on 16 cm stretches as the plain MLS-MPM bar does (its middle's ε_yy within 5%),
+/// and its σ_yy over that strain inside (farther than δ from its sides) is the MPM's
+/// within 3%, over its whole middle within 8% (measured: 0.3% and 5.9%; the surface
+/// layer is 4% stiffer). The bonds' middle takes 3.3% more of the pull than the MPM's
+/// (0.01793 against 0.01735): their anchored particles' bond forces are their anchors'
+/// reactions and no longer pull the free nodes by the clamps back
+/// ([`super::patches::Patches::apply`]; before, 0.01718 and σ_yy within 1.6% and 5.5%
+/// at the same pull). Without the surface correction the whole middle was 17%
+/// stiffer; without c_p's scale the bonds' stiffness would be off by the factor Σ ω V
+/// of a family.
 #[test]
 fn bonds_carry_the_stress_of_the_material() {
     let measure = |keys: &str| {
@@ -96,9 +101,15 @@ fn bonds_carry_the_stress_of_the_material() {
          inside); ε_yy {plain_strain:.5} and {bonds_strain:.5}"
     );
     assert!((1.5e3..2.2e3).contains(&plain), "{plain}");
-    assert!((bonds_strain - plain_strain).abs() < 0.03 * plain_strain);
-    assert!((bonds_inner - plain_inner).abs() < 0.03 * plain_inner);
-    assert!((bonds - plain).abs() < 0.08 * plain);
+    assert!((bonds_strain - plain_strain).abs() < 0.05 * plain_strain);
+    let modulus = |stress: f64, strain: f64| stress / strain;
+    let (inner, whole) = (
+        modulus(bonds_inner, bonds_strain) / modulus(plain_inner, plain_strain),
+        modulus(bonds, bonds_strain) / modulus(plain, plain_strain),
+    );
+    eprintln!("σ_yy/ε_yy of the bonds over the MPM's: {inner:.4} inside, {whole:.4} whole");
+    assert!((inner - 1.0).abs() < 0.03, "{inner}");
+    assert!((whole - 1.0).abs() < 0.08, "{whole}");
 }
 
 /// Plastic bonds (σ_Y = 1 kPa) flow where the bar's stress reaches σ_Y: the bonds

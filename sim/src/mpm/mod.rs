@@ -275,6 +275,9 @@ pub struct Mpm {
     momentum_affine: Vec<Mat3>,
     /// Scratch: the anchored particles of this step and their anchors' velocities.
     held: Vec<(u32, [f64; 3])>,
+    /// Scratch: whether each particle is anchored this step (empty when no anchor
+    /// is active), for the bond forces ([`Patches::apply`]).
+    anchored: Vec<bool>,
     /// Scratch: each particle's mass and velocity in the anchors' P2G (0 and stale
     /// for the particles not held), kept between steps.
     held_p2g: (Vec<f64>, Vec<[f64; 3]>),
@@ -297,6 +300,7 @@ impl Mpm {
             patches: None,
             momentum_affine: vec![[[0.0; 3]; 3]; n],
             held: Vec::new(),
+            anchored: Vec::new(),
             held_p2g: (Vec::new(), Vec::new()),
             raised: Vec::new(),
             times: StageTimes::default(),
@@ -322,6 +326,13 @@ impl Mpm {
                 let p = p as usize;
                 let (_, v) = anchor.motion(self.particles.reference[p], time);
                 self.held.push((p as u32, v));
+            }
+        }
+        self.anchored.clear();
+        if !self.held.is_empty() {
+            self.anchored.resize(self.particles.len(), false);
+            for &(p, _) in &self.held {
+                self.anchored[p as usize] = true;
             }
         }
     }
@@ -378,8 +389,9 @@ impl Mpm {
         };
         if let Some(patches) = &self.patches {
             // The bond forces reach the grid as particle forces do: Δt f_p / m_p on
-            // v_p before the transfer.
-            patches.apply(dt, &mut self.particles);
+            // v_p before the transfer (not on anchored particles: their anchors'
+            // reactions).
+            patches.apply(dt, &self.anchored, &mut self.particles);
         }
         let p = &self.particles;
         self.grid

@@ -117,8 +117,24 @@ impl Patches {
     /// instead; positions moved apart from the grid's flow leave F^MPM behind them,
     /// and the MPM region next to a patch let go of it (a bar half peridynamic opened
     /// 4 mm at the edge of the patch under a 6 mm stretch, F^MPM there 1.01).
-    pub fn apply(&self, dt: f64, particles: &mut MpmParticles) {
+    ///
+    /// Particles `anchored` this step (one flag a particle, empty when no anchor is
+    /// active) keep their velocities. An anchor prescribes its particles' motion (the
+    /// world puts them back on its path after the step), so their virtual
+    /// displacements δu_p vanish in the weak form (Lyu Eq. 5.1; Eq. 6.3 for SPB-MPM)
+    /// and their force densities drop out of the grid's forces (Eq. 5.2, Eq. 6.6): the
+    /// bond force on an anchored particle is its anchor's reaction. They still bring
+    /// their mass and their anchor's velocity to the grid. Applied, the reaction went
+    /// through P2G onto the free nodes next to a clamp (where the anchored particles
+    /// have less than half the mass, [`crate::mpm::grid::HELD_MASS_SHARE`]), 23–42% of
+    /// the bar's tension pulling them back towards its middle, and the bonds across
+    /// the clamp's edge stretched ahead of a notch that took half the bar's section
+    /// away: the bar broke there, not at its notch (docs/mpm.md, "Integral-based MPM").
+    pub fn apply(&self, dt: f64, anchored: &[bool], particles: &mut MpmParticles) {
         for &(i, a) in &self.accelerations {
+            if anchored.get(i as usize).copied().unwrap_or(false) {
+                continue;
+            }
             let v = &mut particles.velocity[i as usize];
             for c in 0..3 {
                 v[c] += dt * a[c];

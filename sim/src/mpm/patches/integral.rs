@@ -102,6 +102,12 @@
 //! **Two-time integration** (§5.4) is not used: particles with a broken bond that
 //! move off the grid by their own forces, at the MPM's step, are unstable in an
 //! impact (docs/mpm.md, "Integral-based MPM"); every particle moves with the grid.
+//!
+//! **Anchors.** Every particle of a body is bonded, those its anchors hold too: their
+//! bonds pull on their free neighbours, but the bond force on an anchored particle is
+//! its anchor's reaction and stays off the grid (its δu_p is zero in Eq. 5.1, so it
+//! has no term in Eq. 5.2; [`Patches::apply`]). On the grid it went to the free nodes
+//! next to the clamp and a notched bar broke at its clamp's edge, not at its notch.
 
 use perifrac_math::{dot, mat_mul, mat_vec, norm, scale, sub};
 

@@ -38,7 +38,10 @@
 //! MPM region next to the patch let go of it (4 mm of a 6 mm stretch opened at the
 //! patch's edge; with the forces through P2G the two halves carry σ_yy within 0.2%);
 //! (2) counting a halo particle's stress on its bonds as well as on the grid pulled
-//! the halo off the MPM region below it (a gap of the same size).
+//! the halo off the MPM region below it (a gap of the same size). An anchored
+//! particle's bond force is its anchor's reaction and does not reach the grid
+//! ([`Patches::apply`]): its motion is prescribed, so its δu vanishes in the weak
+//! form (Eq. 5.1, 6.3).
 //!
 //! **Plasticity.** The thesis' SPB-MPM runs plastic materials (Table 6.2 clamps the
 //! bars' and chocolates' F by θ_c, θ_s) but says nothing of how a peridynamic
