@@ -1,6 +1,7 @@
-//! The camera that follows a shot ([`crate::preview::CameraMotion::Follow`]): frame
-//! k framed on the frames 1 to k pooled, and whether a shot spreads enough that the
-//! automatic camera follows it.
+//! The cameras that move with a shot: the one that follows it
+//! ([`crate::preview::CameraMotion::Follow`]: frame k framed on the frames 1 to k
+//! pooled), whether a shot spreads enough that the automatic camera follows it, and
+//! the one on each frame's largest piece ([`crate::preview::CameraMotion::Largest`]).
 
 use std::collections::BTreeMap;
 

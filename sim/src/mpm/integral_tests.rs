@@ -1,7 +1,7 @@
 //! The integral-based MPM (Lyu ch. 5): bonds between all material points.
 
 use super::Mpm;
-use super::patch_tests::{colliding_balls, mpm, notched_bar, pull, pulled_bar};
+use super::patch_tests::{colliding_balls, mpm, notched_bar, pull, pulled_bar, row_displacements};
 use super::tests::prepared;
 use super::tests::{same_bytes_on_one_and_two_threads, state_bytes};
 use crate::run::Prepared;
@@ -174,6 +174,18 @@ fn viscous_bonds_carry_three_times_their_viscosity_times_the_pull_rate() {
     assert!((trouton - 3.0).abs() < 0.25, "{trouton}");
 }
 
+/// Each particle's J = det F of the grid's F, in increasing order.
+fn sorted_volumes(m: &Mpm) -> Vec<f64> {
+    let mut volumes: Vec<f64> = m
+        .particles
+        .deformation
+        .iter()
+        .map(super::constitutive::determinant)
+        .collect();
+    volumes.sort_by(f64::total_cmp);
+    volumes
+}
+
 /// A ball of stiff honey (E = 1 MPa, η = 10 Pa·s: τ = 25 µs, a seventh of the step)
 /// dropped on the ground spreads into a puddle that keeps its volume: by 0.25 s it is
 /// under half its height, no particle moves faster than the landing, and the median J
@@ -205,13 +217,7 @@ fn a_ball_of_stiff_honey_lands_as_a_puddle_that_keeps_its_volume() {
     let m = mpm(&p);
     let heights = m.particles.position.iter().map(|x| x[1]);
     let height = heights.clone().fold(f64::MIN, f64::max) - heights.fold(f64::MAX, f64::min);
-    let mut volumes: Vec<f64> = m
-        .particles
-        .deformation
-        .iter()
-        .map(super::constitutive::determinant)
-        .collect();
-    volumes.sort_by(f64::total_cmp);
+    let volumes = sorted_volumes(m);
     let median = volumes[volumes.len() / 2];
     eprintln!(
         "height {height:.4} m, fastest {fastest:.2} m/s (landing {landing:.2}), median J {median:.4}"
@@ -243,13 +249,7 @@ fn a_cream_pie_thrown_at_a_wall_keeps_its_volume() {
     for _ in 0..(0.12 / p.world.dt) as usize {
         p.world.step().expect("steps");
     }
-    let mut volumes: Vec<f64> = mpm(&p)
-        .particles
-        .deformation
-        .iter()
-        .map(super::constitutive::determinant)
-        .collect();
-    volumes.sort_by(f64::total_cmp);
+    let volumes = sorted_volumes(mpm(&p));
     let (median, high) = (volumes[volumes.len() / 2], volumes[volumes.len() * 9 / 10]);
     eprintln!("J: median {median:.4}, 90th percentile {high:.4}");
     assert!((median - 1.0).abs() < 0.02, "{median}");
@@ -285,16 +285,7 @@ fn the_memory_estimate_before_seeding_counts_the_bonds() {
 /// unnotched half (x > 0; reference heights k to k + 1 cm, k = 0..20), from the rows'
 /// mean heights: entry k is the strain from row k − 1 to row k (0 for k = 0).
 fn row_strains(m: &Mpm) -> Vec<f64> {
-    let (x0, x) = (&m.particles.reference, &m.particles.position);
-    let rows: Vec<f64> = (0..20)
-        .map(|k| {
-            let band = (0.01 * k as f64)..(0.01 * (k + 1) as f64);
-            let (sum, count) = (0..x0.len())
-                .filter(|&i| x0[i][0] > 0.0 && band.contains(&x0[i][1]))
-                .fold((0.0, 0.0), |(s, c), i| (s + x[i][1] - x0[i][1], c + 1.0));
-            sum / count
-        })
-        .collect();
+    let rows = row_displacements(m);
     std::iter::once(0.0)
         .chain(rows.windows(2).map(|w| (w[1] - w[0]) / 0.01))
         .collect()

@@ -88,7 +88,7 @@ pub(super) fn pull(dx: f64, fracture: &str, seconds: f64, stop: bool) -> Pulled 
     }
     let m = mpm(&p);
     let (fragments, big) = pieces(m);
-    let (x0, x) = (&m.particles.reference, &m.particles.position);
+    let x0 = &m.particles.reference;
     let mut extents: Vec<(f64, f64)> = big
         .iter()
         .take(2)
@@ -102,15 +102,7 @@ pub(super) fn pull(dx: f64, fracture: &str, seconds: f64, stop: bool) -> Pulled 
         })
         .collect();
     extents.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
-    let displacement: Vec<f64> = (0..20)
-        .map(|k| {
-            let band = (0.01 * k as f64)..(0.01 * (k + 1) as f64);
-            let (sum, count) = (0..x0.len())
-                .filter(|&i| x0[i][0] > 0.0 && band.contains(&x0[i][1]))
-                .fold((0.0, 0.0), |(s, c), i| (s + x[i][1] - x0[i][1], c + 1.0));
-            sum / count
-        })
-        .collect();
+    let displacement = row_displacements(m);
     let stretch = displacement[19] - displacement[0];
     let localized = displacement
         .windows(3)
@@ -231,6 +223,21 @@ pub(super) fn colliding_balls(poisson_ratio: f64, mpm_keys: &str) -> String {
 /// Poisson's ratio `poisson_ratio`) on a 1 cm grid, its bottom and top 2 cm held and
 /// the top pulled at 2 cm/s, without gravity; `mpm_keys` (whole lines) go into its
 /// `[materials.<material>.mpm]`.
+/// The mean vertical displacement of each 1 cm row of the bar's unnotched half (x >
+/// 0; reference heights k to k + 1 cm, k = 0..20).
+pub(super) fn row_displacements(m: &Mpm) -> Vec<f64> {
+    let (x0, x) = (&m.particles.reference, &m.particles.position);
+    (0..20)
+        .map(|k| {
+            let band = (0.01 * k as f64)..(0.01 * (k + 1) as f64);
+            let (sum, count) = (0..x0.len())
+                .filter(|&i| x0[i][0] > 0.0 && band.contains(&x0[i][1]))
+                .fold((0.0, 0.0), |(s, c), i| (s + x[i][1] - x0[i][1], c + 1.0));
+            sum / count
+        })
+        .collect()
+}
+
 pub(super) fn pulled_bar(material: &str, poisson_ratio: f64, mpm_keys: &str) -> String {
     format!(
         "[scene]\nduration = 1\nfps = 100\ngravity = [0, 0, 0]\n\
