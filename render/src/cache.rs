@@ -10,6 +10,8 @@
 
 mod framing;
 
+#[cfg(test)]
+pub(crate) use framing::pieces;
 pub use framing::{
     FRAMING_TAIL, FramePoints, Framing, GRAIN_PARTICLES, SAMPLES_PER_FRAME, percentile_bounds,
 };

@@ -3,10 +3,6 @@
 //! pooled), whether a shot spreads enough that the automatic camera follows it, and
 //! the one on each frame's largest piece ([`crate::preview::CameraMotion::Largest`]).
 
-use std::collections::BTreeMap;
-
-use perifrac_cache::ply::ParticleFrame;
-
 use crate::cache::{FRAMING_TAIL, FramePoints, Framing, percentile_bounds};
 use crate::camera::{Bounds, Camera, Subject};
 
@@ -91,47 +87,30 @@ pub fn follow_cameras(framing: &Framing, aspect: f32, azimuth: f32) -> Vec<(Came
 pub const AROUND_LARGEST: f32 = 0.8;
 
 /// The camera of [`crate::preview::CameraMotion::Largest`] for one frame, with the
-/// bounds its shadow and clip planes cover: framed on the frame's largest fragment
-/// (most particles; the lowest id of equals), the box [`AROUND_LARGEST`] of its radii
-/// from its centre. `None` when the frame has no particles. For a still of the end of
-/// a shot whose pieces lie metres apart: on the largest piece where it came to rest
-/// among the chips around it, not on all the ground the debris crossed.
+/// bounds its shadow and clip planes cover: framed on the frame's largest fragment,
+/// whose bounds are `piece` ([`FramePoints::largest`]), the box [`AROUND_LARGEST`] of
+/// its radii (at least `pad`) from its centre. `None` when the frame has no particles.
+/// For a still of the end of a shot whose pieces lie metres apart: on the largest
+/// piece where it came to rest among the chips around it, not on all the ground the
+/// debris crossed.
 pub fn largest_piece_view(
-    frame: &ParticleFrame,
+    piece: &Bounds,
     pad: f32,
     aspect: f32,
     azimuth: f32,
 ) -> Option<(Camera, Bounds)> {
-    let fragment: Vec<u32> = if frame.fragment.len() == frame.position.len() {
-        frame.fragment.iter().map(|&f| f as u32).collect()
-    } else {
-        vec![0; frame.position.len()]
-    };
-    let mut size: BTreeMap<u32, usize> = BTreeMap::new();
-    for &f in &fragment {
-        *size.entry(f).or_default() += 1;
-    }
-    let (&largest, _) = size
-        .iter()
-        .max_by_key(|&(f, n)| (*n, std::cmp::Reverse(*f)))?;
-    let mut piece = Bounds::EMPTY;
-    for (x, _) in frame
-        .position
-        .iter()
-        .zip(&fragment)
-        .filter(|(_, f)| **f == largest)
-    {
-        piece.add(*x);
+    if piece.is_empty() {
+        return None;
     }
     let (center, reach) = (piece.center(), AROUND_LARGEST * piece.radius().max(pad));
     let mut around = Bounds::EMPTY;
     for corner in [-reach, reach] {
         around.add(center.map(|c| c + corner));
     }
-    let camera = Camera::framing(&around, aspect, azimuth);
-    piece.add(around.min);
-    piece.add(around.max);
-    Some((camera, piece))
+    let mut bounds = *piece;
+    bounds.add(around.min);
+    bounds.add(around.max);
+    Some((Camera::framing(&around, aspect, azimuth), bounds))
 }
 
 /// Whether the action spreads: the robust bounds of the whole shot's pool (as the
@@ -156,6 +135,7 @@ pub fn spreads(framing: &Framing) -> bool {
 mod tests {
     use super::*;
     use crate::cache::Ranges;
+    use perifrac_cache::ply::ParticleFrame;
 
     /// A shot of 40 frames: a 0.4 m slab of 4,000 points whose points fly apart at up to
     /// `spread` m a frame from frame 2 on, and a ball beside it that flies on at 2 m a
@@ -187,7 +167,11 @@ mod tests {
                         [ball[0] + 0.05 * a.cos(), ball[1] + 0.05 * a.sin(), ball[2]]
                     })
                     .collect();
-                FramePoints { colliders, samples }
+                FramePoints {
+                    colliders,
+                    samples,
+                    largest: Bounds::EMPTY,
+                }
             })
             .collect::<Vec<_>>();
         let mut samples = Vec::new();
@@ -213,10 +197,11 @@ mod tests {
         }
     }
 
-    /// A frame of a 0.4 m slab of 1,000 particles (fragment 7) 5 m from the origin and
-    /// 200 grains (fragments 1000–1199) spread 40 m: the largest piece's camera looks at
-    /// the slab, close enough that it fills a good part of the picture, and a frame
-    /// without particles has none.
+    /// A shot whose last frame holds a 0.4 m slab of 1,000 particles (fragment 7) 5 m
+    /// from the origin and 200 grains (fragments 1000–1199) spread 40 m: the framing
+    /// finds the slab as the largest piece, and its camera looks at the slab, close
+    /// enough that it fills a good part of the picture; a frame without particles has
+    /// none.
     #[test]
     fn the_largest_piece_camera_frames_the_largest_piece() {
         let mut frame = ParticleFrame::default();
@@ -232,7 +217,8 @@ mod tests {
             frame.position.push([-20.0 + t, 0.0, 20.0 - t]);
             frame.fragment.push(1000.0 + i as f32);
         }
-        let (camera, bounds) = largest_piece_view(&frame, 0.01, 16.0 / 9.0, 0.6).expect("a camera");
+        let (_, piece) = crate::cache::pieces(&frame);
+        let (camera, bounds) = largest_piece_view(&piece, 0.01, 16.0 / 9.0, 0.6).expect("a camera");
         let slab = Bounds {
             min: [5.0, 0.0, 0.0],
             max: [5.36, 0.045, 0.36],
@@ -243,7 +229,7 @@ mod tests {
             "{camera:?}"
         );
         assert!((0..3).all(|k| bounds.min[k] <= slab.min[k] && bounds.max[k] >= slab.max[k]));
-        assert!(largest_piece_view(&ParticleFrame::default(), 0.01, 1.0, 0.0).is_none());
+        assert!(largest_piece_view(&Bounds::EMPTY, 0.01, 1.0, 0.0).is_none());
     }
 
     fn distance(c: &Camera) -> f32 {

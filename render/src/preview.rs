@@ -175,32 +175,20 @@ pub fn render_cache(
         (None, Some(range)) => range.frames().collect(),
         (None, None) => cache.frames.clone(),
     };
-    // Each frame's camera on its largest piece, where asked for (frames without
-    // particles keep the fixed camera).
-    let mut largest = std::collections::BTreeMap::new();
-    if options.camera == CameraMotion::Largest {
-        for &frame in &frames {
-            let path = layout.particles(frame);
-            if path.is_file() {
-                let particles = perifrac_cache::ply::ParticleFrame::read(&path)?;
-                let pad = framing.subject.pad;
-                if let Some(v) = largest_piece_view(&particles, pad, aspect, azimuth) {
-                    largest.insert(frame, v);
-                }
+    // Frame k's camera and bounds (cache.frames and the framing's frames agree), or
+    // `None` for the fixed camera's.
+    let moving = |frame: usize| -> Option<(Camera, Bounds)> {
+        let i = cache.frames.iter().position(|&f| f == frame)?;
+        match &follow {
+            Some(cameras) => cameras.get(i).copied(),
+            None if options.camera == CameraMotion::Largest => {
+                let piece = &framing.frames.get(i)?.largest;
+                largest_piece_view(piece, framing.subject.pad, aspect, azimuth)
             }
+            None => None,
         }
-    }
-    // Frame k's camera and bounds (cache.frames and the framing's frames agree).
-    let view_of = |frame: usize| -> (Camera, Bounds) {
-        follow
-            .as_ref()
-            .and_then(|cameras| {
-                let i = cache.frames.iter().position(|&f| f == frame)?;
-                cameras.get(i).copied()
-            })
-            .or_else(|| largest.get(&frame).copied())
-            .unwrap_or((view.camera, bounds))
     };
+    let view_of = |frame: usize| moving(frame).unwrap_or((view.camera, bounds));
     // Every frame of the sequence: it makes the contact sheet (and the movie).
     let sequence = options.frame.is_none() && options.frames.is_none();
     let mut jobs: Vec<Job> = frames
@@ -247,7 +235,7 @@ pub fn render_cache(
     if options.camera == CameraMotion::Largest {
         let fixed: Vec<String> = frames
             .iter()
-            .filter(|f| !largest.contains_key(f))
+            .filter(|&&f| moving(f).is_none())
             .map(usize::to_string)
             .collect();
         if !fixed.is_empty() {

@@ -32,7 +32,7 @@ impl Cache {
     pub fn sequence_framing(&self, color_by: ColorBy) -> Result<Framing, RenderError> {
         // Every frame's result is kept and the first error in frame order reported, so
         // the message does not depend on which thread failed first.
-        type FrameBounds = (Vec<[f32; 3]>, Vec<[f32; 3]>, Ranges);
+        type FrameBounds = (Vec<[f32; 3]>, Vec<[f32; 3]>, Bounds, Ranges);
         let per_frame: Vec<Result<FrameBounds, RenderError>> = self
             .frames
             .par_iter()
@@ -46,6 +46,7 @@ impl Cache {
                 self.push_colliders(frame, &mut g);
                 let colliders = strided(&mesh_positions(&g));
                 let mut samples = Vec::new();
+                let mut largest = Bounds::EMPTY;
                 if self.uses_surface(frame, color_by) {
                     let mut s = FrameGeometry::default();
                     ranges.quantity =
@@ -57,7 +58,9 @@ impl Cache {
                 if self.layout.particles(frame).is_file() {
                     let path = self.layout.particles(frame);
                     let p = ParticleFrame::read(&path)?;
-                    samples = strided(&pieces(&p));
+                    let (kept, piece) = pieces(&p);
+                    samples = strided(&kept);
+                    largest = piece;
                     ranges.plastic_max = p
                         .plastic
                         .iter()
@@ -76,7 +79,7 @@ impl Cache {
                         ranges.quantity = widen(NO_RANGE, quantity(&p, &path)?);
                     }
                 }
-                Ok((colliders, samples, ranges))
+                Ok((colliders, samples, largest, ranges))
             })
             .collect();
         let per_frame: Vec<FrameBounds> = per_frame.into_iter().collect::<Result<_, _>>()?;
@@ -88,12 +91,13 @@ impl Cache {
             temperature: (f32::INFINITY, f32::NEG_INFINITY),
             quantity: NO_RANGE,
         };
-        for (c, s, r) in per_frame {
+        for (c, s, largest, r) in per_frame {
             whole.extend_from_slice(&c);
             samples.extend_from_slice(&s);
             frames.push(FramePoints {
                 colliders: c,
                 samples: s,
+                largest,
             });
             ranges.plastic_max = ranges.plastic_max.max(r.plastic_max);
             ranges.temperature.0 = ranges.temperature.0.min(r.temperature.0);
@@ -141,12 +145,15 @@ pub struct Framing {
 }
 
 /// One frame's points for the framing.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone)]
 pub struct FramePoints {
     /// The colliders' vertices (strided).
     pub colliders: Vec<[f32; 3]>,
     /// The bodies' samples: up to [`SAMPLES_PER_FRAME`] particles or surface vertices.
     pub samples: Vec<[f32; 3]>,
+    /// The bounds of the frame's largest fragment (most particles, the lowest id of
+    /// equals; all its particles without a fragment column), empty without particles.
+    pub largest: Bounds,
 }
 
 /// Points of one frame that the framing looks at, at most (a stride through the
@@ -168,14 +175,34 @@ fn mesh_positions(g: &FrameGeometry) -> Vec<[f32; 3]> {
 /// The positions of the particles in pieces: of fragments of more than
 /// [`GRAIN_PARTICLES`] particles, when they are at least half of the particles (else
 /// all). A shattered body throws thousands of single grains, a tenth of its particles,
-/// far and wide; the camera frames the pieces, and the grains in view with them.
-fn pieces(p: &ParticleFrame) -> Vec<[f32; 3]> {
+/// far and wide; the camera frames the pieces, and the grains in view with them. With
+/// them, the bounds of the largest fragment ([`FramePoints::largest`]).
+pub(crate) fn pieces(p: &ParticleFrame) -> (Vec<[f32; 3]>, Bounds) {
+    let whole = |points: &[[f32; 3]]| {
+        let mut b = Bounds::EMPTY;
+        points.iter().for_each(|&x| b.add(x));
+        b
+    };
     if p.fragment.len() != p.position.len() {
-        return p.position.clone();
+        return (p.position.clone(), whole(&p.position));
     }
     let mut size: BTreeMap<u32, usize> = BTreeMap::new();
     for &f in &p.fragment {
         *size.entry(f as u32).or_default() += 1;
+    }
+    let mut largest = Bounds::EMPTY;
+    if let Some((&id, _)) = size
+        .iter()
+        .max_by_key(|&(f, n)| (*n, std::cmp::Reverse(*f)))
+    {
+        for (x, _) in p
+            .position
+            .iter()
+            .zip(&p.fragment)
+            .filter(|(_, f)| **f as u32 == id)
+        {
+            largest.add(*x);
+        }
     }
     let kept: Vec<[f32; 3]> = p
         .position
@@ -185,9 +212,9 @@ fn pieces(p: &ParticleFrame) -> Vec<[f32; 3]> {
         .map(|(x, _)| *x)
         .collect();
     if 2 * kept.len() >= p.position.len() {
-        kept
+        (kept, largest)
     } else {
-        p.position.clone()
+        (p.position.clone(), largest)
     }
 }
 
