@@ -170,7 +170,7 @@ fn print_rigid(world: &perifrac_sim::world::World, scene: &Scene) {
         println!(
             "  rigid phase: off, for a shot of {:.2} s. `[rigid] enabled = true` hands \
              fragments that stop breaking to rapier and grows the step once only rigid \
-             pieces move (docs/rigid.md: the demo shot's 5 s in 9,528 steps)",
+             pieces move (docs/rigid.md: the demo shot's 5 s in 8,984 steps)",
             scene.scene.duration
         );
     }

@@ -224,9 +224,9 @@ fn the_tets_of_rigid_dust_turn_with_their_grains_and_lie_on_the_ground() {
     // it shatters into dust and chips of one to a few particles, whose bonds are all
     // broken or do not span 3-D. Each goes rigid and tumbles as rapier turns its
     // collider (the hull of its tets). Its written tets have no bond to say how they
-    // turned; placed by its body's rotation they rest where its collider does (about
-    // 1 mm into the ground). Placed by the identity (as they were), tets that turned
-    // reach centimetres below.
+    // turned; placed by its body's rotation they rest where its collider does, on the
+    // ground. Placed by the identity (as they were), tets that turned reach
+    // centimetres below.
     let s = scene(
         "[scene]\nduration = 1.5\nfps = 10\n[materials.glass]\ndensity = 2200.0\n\
          bulk_modulus = 3.3e10\nshear_modulus = 2.0e10\ncritical_stretch = 0.00005\n\
@@ -264,30 +264,31 @@ fn the_tets_of_rigid_dust_turn_with_their_grains_and_lie_on_the_ground() {
         .collect();
     low.sort_by(f64::total_cmp);
     let below = low.iter().filter(|&&y| y < -0.003).count();
+    let median = low[low.len() / 2];
     println!(
-        "dust and chips: {} tets, the lowest vertices {:.4?} m, {below} more than 3 mm below the ground",
+        "dust and chips: {} tets, the lowest vertices {:.4?} m, median {median:.5} m, {below} \
+         more than 3 mm below the ground",
         low.len(),
         &low[..4]
     );
     // Placed by the identity: 1,097 of 1,312 more than 3 mm below, down to 1.76 cm.
-    // The deepest left (9.5 mm) are the tets of a chip pinned 5–8 mm into the ground:
-    // rolling resistance takes away the spin rapier's solver would lift it out with
-    // (docs/rigid.md, "Contacts where a hull reaches deepest"); it is the turn that
-    // the count below checks.
+    // With rapier's contact defaults (1 mm of penetration allowed, soft contacts of 30
+    // Hz) the median tet reached 2.0 mm below and a chip rested 5–9.5 mm deep
+    // (docs/rigid.md, "Resting on the ground").
     assert!(
         low.len() > 100,
         "the block shatters into dust: {} tets",
         low.len()
     );
     assert!(
-        low[0] > -0.012,
+        low[0] > -0.003,
         "a tet reaches {:.4} m below the ground",
         -low[0]
     );
     assert!(
-        below * 20 < low.len(),
-        "{below} of {} tets more than 3 mm below the ground",
-        low.len()
+        median > -0.0005,
+        "the median tet's lowest vertex is {:.4} m below the ground",
+        -median
     );
 }
 
