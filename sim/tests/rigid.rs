@@ -139,157 +139,18 @@ fn the_air_slows_a_flying_piece_as_quadratic_drag_does() {
     );
 }
 
-/// The lowest particle's height (m) and the fastest particle's speed (m/s) of a frame.
-fn lowest_and_fastest(frame: &perifrac_sim::cache::ply::ParticleFrame) -> (f32, f32) {
-    let lowest = frame.position.iter().map(|x| x[1]).fold(f32::MAX, f32::min);
-    let fastest = frame
-        .velocity
-        .iter()
-        .map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt())
-        .fold(0.0f32, f32::max);
-    (lowest, fastest)
-}
-
-/// A glass plate dropped on the ground: it shatters, its pieces go rigid and land.
+/// A slab of glass (two particles thick) dropped on its corner for `duration` s:
+/// a few grains break off, the pieces go rigid and land (`rigid_rest.rs` drops a
+/// weaker plate that shatters).
 fn plate_drop(duration: f64) -> Scene {
-    plate_drop_at(duration, 10.0)
-}
-
-/// [`plate_drop`] with `fps` frames a second.
-fn plate_drop_at(duration: f64, fps: f64) -> Scene {
     scene(&format!(
-        "[scene]\nduration = {duration}\nfps = {fps}\n{GLASS}critical_compression = 0.01\n\
+        "[scene]\nduration = {duration}\nfps = 10\n{GLASS}critical_compression = 0.01\n\
          [[body]]\nname = \"plate\"\nmaterial = \"glass\"\nresolution = 0.02\n\
          shape = {{ type = \"box\", center = [0.0, 0.03, 0.0], size = [0.12, 0.04, 0.12] }}\n\
          velocity = [0.0, -6.0, 0.0]\nangular_velocity = [4.0, 0.0, 3.0]\n\
          [[collider]]\ntype = \"ground\"\n[rigid]\nenabled = true\n\
          [output]\npreview = false\nusd = false\ncheckpoint_every = 2\n"
     ))
-}
-
-#[test]
-fn a_dropped_glass_plate_shatters_and_every_piece_comes_to_rest() {
-    // Grains thrown up at twice the drop speed land within 3 s.
-    let s = plate_drop(3.5);
-    let dir = tempfile::tempdir().expect("temp dir");
-    let manifest = run::run(&s, dir.path(), &RunOptions::default(), &mut |_| {}).expect("runs");
-    assert_eq!(manifest.status.to_string(), "complete");
-    let last = manifest.frames();
-    let frame = perifrac_sim::cache::ply::ParticleFrame::read(
-        &dir.path().join(format!("particles/{last:04}.ply")),
-    )
-    .expect("reads");
-    let fragments = frame.fragment.iter().fold(0.0f32, |m, &f| m.max(f)) as u32 + 1;
-    let (lowest, fastest) = lowest_and_fastest(&frame);
-    println!(
-        "{fragments} fragments; {} steps; fastest particle {fastest:.2e} m/s; lowest {lowest:.4} m",
-        manifest.steps
-    );
-    // No two pieces overlap by more than λ/2: particles of different fragments are at
-    // least λ/2 apart (their cubes of side λ overlap by at most half a side).
-    let lambda = 0.02f32;
-    let mut closest = f32::MAX;
-    for (i, (x, fi)) in frame.position.iter().zip(&frame.fragment).enumerate() {
-        for (y, fj) in frame.position[i + 1..].iter().zip(&frame.fragment[i + 1..]) {
-            if fi != fj {
-                let d = (0..3).map(|k| (x[k] - y[k]).powi(2)).sum::<f32>().sqrt();
-                closest = closest.min(d);
-            }
-        }
-    }
-    println!("closest particles of two pieces: {:.3} λ", closest / lambda);
-    assert!(fragments > 2, "the plate shatters");
-    // The step grows once every piece is rigid: at the glass step (about 1 µs) the
-    // 3.5 s would be millions of steps.
-    assert!(
-        manifest.steps < 100_000,
-        "{} steps: the pieces never all went rigid",
-        manifest.steps
-    );
-    assert!(
-        closest >= 0.5 * lambda,
-        "pieces overlap by more than λ/2: particles {:.3} λ apart",
-        closest / lambda
-    );
-    assert!(fastest < 0.05, "every piece at rest: {fastest} m/s");
-    assert!(
-        lowest > -0.0075,
-        "pieces on the ground, not through it: {lowest}"
-    );
-}
-
-#[test]
-fn the_tets_of_rigid_dust_turn_with_their_grains_and_lie_on_the_ground() {
-    // A block of glass a fortieth as strong as the others here, thrown at the ground:
-    // it shatters into dust and chips of one to a few particles, whose bonds are all
-    // broken or do not span 3-D. Each goes rigid and tumbles as rapier turns its
-    // collider (the hull of its tets). Its written tets have no bond to say how they
-    // turned; placed by its body's rotation they rest where its collider does, on the
-    // ground. Placed by the identity (as they were), tets that turned reach
-    // centimetres below.
-    let s = scene(
-        "[scene]\nduration = 1.5\nfps = 10\n[materials.glass]\ndensity = 2200.0\n\
-         bulk_modulus = 3.3e10\nshear_modulus = 2.0e10\ncritical_stretch = 0.00005\n\
-         critical_compression = 0.01\n[[body]]\nmaterial = \"glass\"\nresolution = 0.02\n\
-         shape = { type = \"box\", center = [0.0, 0.05, 0.0], size = [0.1, 0.08, 0.1] }\n\
-         velocity = [3.0, -6.0, 0.0]\nangular_velocity = [0.0, 0.0, 20.0]\n\
-         [[collider]]\ntype = \"ground\"\n[rigid]\nenabled = true\n\
-         [output]\ntets = true\npreview = false\nusd = false\n",
-    );
-    let dir = tempfile::tempdir().expect("temp dir");
-    let manifest = run::run(&s, dir.path(), &RunOptions::default(), &mut |_| {}).expect("runs");
-    let last = manifest.frames();
-    let tets =
-        perifrac_sim::cache::vtu::TetFrame::read(&dir.path().join(format!("tets/{last:04}.vtu")))
-            .expect("reads");
-    let particles = perifrac_sim::cache::ply::ParticleFrame::read(
-        &dir.path().join(format!("particles/{last:04}.ply")),
-    )
-    .expect("reads");
-    let mut size = std::collections::BTreeMap::new();
-    for &f in &particles.fragment {
-        *size.entry(f as u32).or_insert(0usize) += 1;
-    }
-    // The lowest vertex of each tet of a fragment of at most 8 particles.
-    let mut low: Vec<f64> = tets
-        .tets
-        .iter()
-        .zip(&tets.particle)
-        .filter(|&(_, &p)| size[&(particles.fragment[p as usize] as u32)] <= 8)
-        .map(|(t, _)| {
-            t.iter()
-                .map(|&v| tets.points[v as usize][1])
-                .fold(f64::MAX, f64::min)
-        })
-        .collect();
-    low.sort_by(f64::total_cmp);
-    let below = low.iter().filter(|&&y| y < -0.003).count();
-    let median = low[low.len() / 2];
-    println!(
-        "dust and chips: {} tets, the lowest vertices {:.4?} m, median {median:.5} m, {below} \
-         more than 3 mm below the ground",
-        low.len(),
-        &low[..4]
-    );
-    // Placed by the identity: 1,097 of 1,312 more than 3 mm below, down to 1.76 cm.
-    // With rapier's contact defaults (1 mm of penetration allowed, soft contacts of 30
-    // Hz) the median tet reached 2.0 mm below and a chip rested 5–9.5 mm deep
-    // (docs/rigid.md, "Resting on the ground").
-    assert!(
-        low.len() > 100,
-        "the block shatters into dust: {} tets",
-        low.len()
-    );
-    assert!(
-        low[0] > -0.003,
-        "a tet reaches {:.4} m below the ground",
-        -low[0]
-    );
-    assert!(
-        median > -0.0005,
-        "the median tet's lowest vertex is {:.4} m below the ground",
-        -median
-    );
 }
 
 /// Runs `s` again stopped once each of `stops` steps are taken (at the next stop
@@ -456,7 +317,7 @@ fn rigid_pieces_land_on_a_mesh_collider_instead_of_falling_through_it() {
         };
         let last = manifest.frames();
         let (first, end) = (frame(1), frame(last));
-        let (lowest, fastest) = lowest_and_fastest(&end);
+        let (lowest, fastest) = common::lowest_and_fastest(&end);
         let tets =
             perifrac_sim::cache::vtu::TetFrame::read(&out.join(format!("tets/{last:04}.vtu")))
                 .expect("reads the tets");

@@ -80,3 +80,14 @@ pub fn momentum(p: &Prepared) -> [f64; 3] {
     }
     total
 }
+
+/// The lowest particle's height (m) and the fastest particle's speed (m/s) of a frame.
+pub fn lowest_and_fastest(frame: &perifrac_sim::cache::ply::ParticleFrame) -> (f32, f32) {
+    let lowest = frame.position.iter().map(|x| x[1]).fold(f32::MAX, f32::min);
+    let fastest = frame
+        .velocity
+        .iter()
+        .map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt())
+        .fold(0.0f32, f32::max);
+    (lowest, fastest)
+}
