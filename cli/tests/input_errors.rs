@@ -2,7 +2,7 @@
 //! 7), each with the input that showed it: a manifest that contradicts its frames,
 //! missing input files (exit 1 where bad input is 2), `perifrac check` on MPM bodies,
 //! `--frames N` and what it writes, the memory refusal under `ulimit -v`, a build
-//! without MPI started as one of several ranks.
+//! without MPI started as one of several ranks, a body that starts inside a collider.
 
 use std::path::Path;
 use std::process::Command;
@@ -155,6 +155,32 @@ fn missing_input_files_exit_with_2() {
             stderr.contains(&format!("{file}: no such file")) && stderr.contains("--force"),
             "{file}: {stderr}"
         );
+    }
+}
+
+/// A body that starts inside a collider is refused, naming the collider and the
+/// fix: a fuzzed glass wall with its ground at 1e308 m ran `perifrac check` for
+/// minutes with every particle a contact pair, and at 5 m it passed silently.
+#[test]
+fn a_body_that_starts_inside_a_collider_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    for height in ["5.0", "1e308"] {
+        let scene = dir.path().join(format!("ground-{height}.toml"));
+        let text = SCENE.replace(
+            "type = \"ground\"",
+            &format!("type = \"ground\"\nheight = {height}"),
+        );
+        std::fs::write(&scene, text).unwrap();
+        for command in ["check", "run"] {
+            let (code, stderr) = outcome(&perifrac(&[command, scene.to_str().unwrap()]));
+            assert_eq!(code, Some(2), "{command}, ground at {height} m: {stderr}");
+            assert!(
+                stderr.contains("collider 0: the ground at height")
+                    && stderr.contains("starts")
+                    && stderr.contains("move the collider"),
+                "{command}, ground at {height} m: {stderr}"
+            );
+        }
     }
 }
 

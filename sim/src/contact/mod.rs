@@ -79,6 +79,43 @@ pub fn colliders(scene: &Scene) -> Result<Vec<Collider>> {
         .collect()
 }
 
+/// Refuses points that start inside a collider, deeper than `tolerance` (m): a ground
+/// above a body, or a sphere, box or mesh placed through it. Contact would throw them
+/// out in the first steps, and with every point of a body a contact pair the steps
+/// never end (a ground at 1e308 m above the fuzzed glass wall). The error names the
+/// collider, the point and the fix.
+pub fn refuse_points_inside(
+    colliders: &[Collider],
+    position: &[[f64; 3]],
+    tolerance: f64,
+) -> Result<()> {
+    for (index, c) in colliders.iter().enumerate() {
+        let inside = position
+            .par_iter()
+            .position_first(|&p| c.penetration(p).is_some_and(|(_, depth)| depth > tolerance));
+        if let Some(i) = inside {
+            let p = position[i];
+            let depth = c.penetration(p).map_or(0.0, |(_, d)| d);
+            let what = match c.shape {
+                ColliderShape::Ground => format!("the ground at height {} m", c.center[1]),
+                ColliderShape::Sphere(_) => "a sphere".to_string(),
+                ColliderShape::Box(_) => "a box".to_string(),
+                ColliderShape::Mesh(_) => "a mesh".to_string(),
+            };
+            return Err(SimError::Collider {
+                index,
+                message: format!(
+                    "{what}: a particle at ({:.4}, {:.4}, {:.4}) m starts {depth:.3e} m \
+                     inside it; move the collider (or the body) so that no body starts \
+                     inside a collider",
+                    p[0], p[1], p[2]
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
 /// The keyframes of a per-frame transforms file: line k (from 0, comments and blank
 /// lines skipped) is the pose at t = k × `frame_time`.
 fn read_transforms(

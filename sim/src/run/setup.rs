@@ -104,6 +104,16 @@ pub fn prepare_shared(
     let t_setup = t1.elapsed().as_secs_f64();
     let (dt, steps_per_frame) = time_step(scene, stable)?;
     let colliders = contact::colliders(scene)?;
+    // A body meshed against a collider's face has its particles at most half a
+    // spacing inside it; one a spacing deep is a body placed through the collider.
+    let tolerance = scene
+        .bodies
+        .iter()
+        .map(|b| b.resolution)
+        .fold(f64::INFINITY, f64::min);
+    for part in &parts {
+        contact::refuse_points_inside(&colliders, part.model.points().position, tolerance)?;
+    }
     let mut world = World::new(
         parts,
         colliders,
