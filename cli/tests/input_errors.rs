@@ -185,7 +185,8 @@ fn a_body_that_starts_inside_a_collider_is_refused() {
 }
 
 /// `perifrac check` on an MPM body printed "0 particles" and "0.0 MiB": the model
-/// seeds its particles (2³ a cell), so they are counted after seeding.
+/// seeds its particles (2³ a cell), so they are counted after seeding; and one placed
+/// beyond the grid's reach is refused.
 #[test]
 fn check_counts_mpm_particles() {
     let dir = tempfile::tempdir().unwrap();
@@ -218,6 +219,17 @@ surface = "none"
     let out = perifrac(&["check", scene.to_str().unwrap()]);
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{}", outcome(&out).1);
+    // Placed 3.5e9 m out (a fuzzed scene), beyond the grid's keys: it blew up at step
+    // 16 (exit 1); now it is refused as bad input.
+    let far = dir.path().join("far.toml");
+    let text = std::fs::read_to_string(&scene).unwrap();
+    std::fs::write(&far, text.replace("[0.0, 0.1, 0.0]", "[0.0, 0.1, 3.5e9]")).unwrap();
+    let (code, stderr) = outcome(&perifrac(&["check", far.to_str().unwrap()]));
+    assert_eq!(code, Some(2), "{stderr}");
+    assert!(
+        stderr.contains("body 'snow'") && stderr.contains("beyond the MPM grid's reach"),
+        "{stderr}"
+    );
     // 4 cells a side of 0.01 m, 2³ particles a cell.
     assert!(
         stdout.contains("body snow: 512 MPM particles") && stdout.contains("particles: 512"),

@@ -155,6 +155,13 @@ pub fn spacing(scene: &crate::scene::Scene) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
+/// How far from the origin (m, along each axis) a scene's MPM particles may start on a
+/// grid of spacing `dx`: half the nodes its block keys hold, the other half left for
+/// the motion.
+pub fn reach(dx: f64) -> f64 {
+    0.5 * NODE_LIMIT as f64 * dx
+}
+
 /// The sparse grid of one MPM model.
 #[derive(Debug, Clone, Default)]
 pub struct SparseGrid {

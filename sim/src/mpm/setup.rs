@@ -7,7 +7,7 @@ use super::constitutive::Elastic;
 use super::patches::{Fracture, IntegralBonds, PatchBody, Patches};
 use super::plasticity::{self, Plasticity};
 use super::{Mpm, MpmMaterial, Transfer, seed};
-use crate::error::Result;
+use crate::error::{Result, SimError};
 use crate::scene::{MpmPlasticity, MpmTransfer, Scene};
 
 impl Mpm {
@@ -108,6 +108,21 @@ impl Mpm {
                 .collect();
         }
         let dx = super::grid::spacing(scene);
+        let reach = super::grid::reach(dx);
+        if let Some(i) =
+            (particles.reference.iter()).position(|x| x.iter().any(|c| c.abs() > reach))
+        {
+            let x = particles.reference[i];
+            return Err(SimError::Mesh {
+                body: scene.bodies[particles.body[i] as usize].name.clone(),
+                message: format!(
+                    "a particle at ({:.4e}, {:.4e}, {:.4e}) m lies beyond the MPM grid's \
+                     reach of {reach:.3e} m from the origin along each axis at Δx = {dx} m; \
+                     place the scene nearer the origin",
+                    x[0], x[1], x[2]
+                ),
+            });
+        }
         let mut model = Mpm::new(particles, materials, dx);
         let shapes = crate::geometry::shape::bond_shapes(scene)?;
         let bodies = scene
