@@ -7,6 +7,7 @@ mod common;
 
 use std::path::Path;
 
+use perifrac_math::{TET_FACES, cross, dot, sub};
 use perifrac_sim::cache::ply::ParticleFrame;
 use perifrac_sim::cache::vtu::TetFrame;
 use perifrac_sim::run::{self, RunOptions};
@@ -14,22 +15,6 @@ use perifrac_sim::scene::Scene;
 
 fn scene(text: &str) -> Scene {
     Scene::parse(text, Path::new("rigid-rest-test.toml"), Path::new(".")).expect("scene")
-}
-
-fn sub(p: [f64; 3], q: [f64; 3]) -> [f64; 3] {
-    [p[0] - q[0], p[1] - q[1], p[2] - q[2]]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 /// How deep tets `a` and `b` interpenetrate (m), 0 where they are apart: the
@@ -41,7 +26,7 @@ fn tet_overlap(a: &[[f64; 3]; 4], b: &[[f64; 3]; 4]) -> f64 {
     const EDGES: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
     let mut axes = Vec::with_capacity(44);
     for t in [a, b] {
-        for (i, j, k) in [(1, 2, 3), (0, 2, 3), (0, 1, 3), (0, 1, 2)] {
+        for [i, j, k] in TET_FACES {
             axes.push(cross(sub(t[j], t[i]), sub(t[k], t[i])));
         }
     }
