@@ -7,7 +7,8 @@
 //! the principal axis of their second moments. `KW_MAP` prints the broken bonds a 4 mm
 //! cell, `KW_CONTACT_MAP` where the contact force acted, `KW_ZERO_WIDTH` cuts the
 //! notches as zero-width pre-cuts instead of slots, `KW_LATTICE=aligned` meshes the
-//! plate on the aligned lattice instead of the unstructured mesh.
+//! plate on the aligned lattice instead of the unstructured mesh, `KW_SEED` meshes it
+//! with another seed.
 
 use std::path::Path;
 
@@ -179,6 +180,9 @@ fn kalthoff_winkler_angles() {
             _ => LatticeOrientation::Unstructured,
         };
         let mut scene = scene(lambda, cut, lattice);
+        if let Ok(seed) = std::env::var("KW_SEED") {
+            scene.scene.seed = seed.parse().expect("KW_SEED: an integer");
+        }
         match case {
             "on" => {}
             "frictionless" => scene.contact.friction = 0.0,
