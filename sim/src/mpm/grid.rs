@@ -146,7 +146,8 @@ pub struct Boundary<'a> {
     pub colliders: &'a [Collider],
 }
 
-/// Δx of a scene's one MPM grid: its finest body's resolution.
+/// Δx of a scene's one MPM grid: its finest body's resolution (also the depth inside
+/// a collider at which set-up refuses a body's particles).
 pub fn spacing(scene: &crate::scene::Scene) -> f64 {
     scene
         .bodies

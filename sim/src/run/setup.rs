@@ -106,11 +106,7 @@ pub fn prepare_shared(
     let colliders = contact::colliders(scene)?;
     // A body meshed against a collider's face has its particles at most half a
     // spacing inside it; one a spacing deep is a body placed through the collider.
-    let tolerance = scene
-        .bodies
-        .iter()
-        .map(|b| b.resolution)
-        .fold(f64::INFINITY, f64::min);
+    let tolerance = crate::mpm::grid::spacing(scene);
     for part in &parts {
         contact::refuse_points_inside(&colliders, part.model.points().position, tolerance)?;
     }
