@@ -1,7 +1,8 @@
 #!/bin/sh
 # Strong scaling 1 → 2 ranks on this machine against threads of one process
-# (docs/ranks.md): the glass wall of assets/scenes/glass-wall.toml (57,600 particles,
-# 115 bonds each, fracturing) for FRAMES frames (0.4 ms, 210 steps each), run as
+# (docs/ranks.md): SCENE (default assets/scenes/glass-wall.toml: 57,600 particles,
+# 115 bonds each, fracturing, 0.4 ms and 210 steps a frame) for FRAMES frames, with
+# checkpoints, previews, the stage and surfaces off, run as
 #   1t:  one process, one thread
 #   2t:  one process, two threads
 #   2r:  mpirun -np 2, one thread a rank
@@ -10,17 +11,25 @@
 # then each configuration's median and spread. The last 2r run also writes OpenMPI's
 # own count of the bytes each rank sent (its monitoring component, not our counter).
 # Needs a build with the mpi feature: cargo build --release -p perifrac --features mpi
-# Usage: scripts/ranks-bench.sh [REPEATS] [FRAMES]
+# Usage: scripts/ranks-bench.sh [REPEATS] [FRAMES] [SCENE]
 set -eu
 REPEATS=${1:-3}
 FRAMES=${2:-1}
+SCENE=$(realpath "${3:-$(dirname "$0")/../assets/scenes/glass-wall.toml}")
 cd "$(dirname "$0")/.."
 BIN=$PWD/target/release/perifrac
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT
-sed -e 's/^checkpoint_every = 10/checkpoint_every = 0\npreview = false\nusd = false\nsurface = "none"/' \
-    assets/scenes/glass-wall.toml > "$WORK/wall.toml"
-grep -q 'surface = "none"' "$WORK/wall.toml"
+# The scene with these keys of its [output] table replaced (or added).
+python3 - "$SCENE" "$WORK/wall.toml" <<'EOF'
+import sys
+text = open(sys.argv[1]).read()
+off = {"checkpoint_every": "0", "preview": "false", "usd": "false", "surface": '"none"'}
+head, sep, table = text.partition("\n[output]\n")
+kept = [l for l in table.splitlines() if l.split("=")[0].strip() not in off]
+keys = "".join("%s = %s\n" % kv for kv in off.items())
+open(sys.argv[2], "w").write(head + "\n[output]\n" + keys + "\n".join(kept) + "\n")
+EOF
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 loop_seconds() {
     python3 -c '

@@ -1,6 +1,7 @@
 //! The membrane's pass over its bonds: strains, fracture, forces and diffusion rates
 //! (Han Eq. 10, 18, 22, 25, 27–28), and the state-based option's dilatations.
 
+use std::ops::Range;
 use std::time::Instant;
 
 use perifrac_math::dist;
@@ -8,7 +9,7 @@ use rayon::iter::Either;
 use rayon::prelude::*;
 
 use super::diffusion::conductance;
-use super::{BLOCK, MembraneModel};
+use super::{BLOCK, MembraneModel, share};
 use crate::family::{BROKEN, INDEX};
 use crate::family::{blocks_mut, rows_mut};
 
@@ -22,10 +23,14 @@ impl MembraneModel {
     /// the dilatations. Returns the number of directed bonds that broke.
     pub fn internal_forces(&mut self) -> usize {
         let t = Instant::now();
+        let owned = self.owned();
+        let before = share::before(self, &owned);
         let broken_first = if self.weighted_volume.is_empty() {
             0
         } else {
-            self.dilatations()
+            let broken = self.dilatations(&owned);
+            share::after_dilatations(self, &owned);
+            broken
         };
         let (y, volume, body, bodies) = (&self.position, &self.volume, &self.body, &self.bodies);
         let (theta, area) = (&self.quantity, &self.area);
@@ -112,31 +117,37 @@ impl MembraneModel {
         } else {
             Either::Left(self.rate.par_chunks_mut(BLOCK).map(Some))
         };
+        let mine = &owned;
         let broken: usize = blocks
             .into_par_iter()
             .zip(self.force.par_chunks_mut(BLOCK))
             .zip(self.damage.par_chunks_mut(BLOCK))
             .zip(rates)
+            .filter(|((((first, _), _), _), _)| *first < mine.end && first + BLOCK > mine.start)
             .map(|((((first, mut rows), forces), damages), mut rates)| {
                 let mut broke = 0;
                 for (p, (force, damage)) in forces.iter_mut().zip(damages.iter_mut()).enumerate() {
                     let i = first + p;
                     let (row, rest) = rows.split_at_mut(offsets[i + 1] - offsets[i]);
                     rows = rest;
-                    let rate = rates.as_mut().map(|r| &mut r[p]);
-                    broke += particle(i, row, force, damage, rate);
+                    if mine.contains(&i) {
+                        let rate = rates.as_mut().map(|r| &mut r[p]);
+                        broke += particle(i, row, force, damage, rate);
+                    }
                 }
                 broke
             })
             .sum();
+        let broken = share::after_forces(self, &owned, before, broken_first + broken);
         self.times.forces += t.elapsed().as_secs_f64();
-        broken_first + broken
+        broken
     }
 
     /// The first pass of the state-based option: fracture (Eq. 27–28) and the
     /// dilatation ϑ_i = (2/m_i) Σ_j W_ij |ξ_ij| e_ij A_j of every particle of a
-    /// state-based body, over its intact bonds. Returns the bonds that broke.
-    fn dilatations(&mut self) -> usize {
+    /// state-based body of `owned`, over its intact bonds. Returns the bonds that
+    /// broke.
+    fn dilatations(&mut self, owned: &Range<usize>) -> usize {
         let (y, body, bodies) = (&self.position, &self.body, &self.bodies);
         let (theta, area, m) = (&self.quantity, &self.area, &self.weighted_volume);
         let (rest, weight, offsets) = (&self.rest_length, &self.weight, &self.bonds.offsets);
@@ -144,6 +155,8 @@ impl MembraneModel {
         rows.into_par_iter()
             .zip(self.dilatation.par_iter_mut())
             .enumerate()
+            .skip(owned.start)
+            .take(owned.len())
             .with_min_len(256)
             .map(|(i, (row, dilatation))| {
                 let constants = &bodies[body[i] as usize];

@@ -65,6 +65,7 @@ mod forces;
 pub mod law;
 #[cfg(test)]
 mod mesh_tests;
+mod share;
 pub mod sheet;
 mod solver;
 pub mod source;
@@ -84,6 +85,7 @@ use crate::family::Cracks;
 use crate::family::{self, BROKEN, Bonds, INDEX};
 use crate::geometry::discretize::Discretization;
 use crate::material::Material;
+use crate::ranks::Share;
 use crate::scene::{MembraneFormulation, MembraneMaterialSpec, ModelKind, Scene};
 
 /// Particles per parallel task of the passes over the bonds.
@@ -226,6 +228,9 @@ pub struct MembraneModel {
     rate: Vec<f64>,
     /// Stage timers.
     pub times: StageTimes,
+    /// The ranks the pass over the bonds is split over ([`share`]); `None` in one
+    /// process.
+    share: Option<Share>,
 }
 
 impl MembraneModel {
@@ -295,6 +300,7 @@ impl MembraneModel {
             force: vec![[0.0; 3]; n],
             rate: if conducts { vec![0.0; n] } else { Vec::new() },
             times: StageTimes::default(),
+            share: None,
         })
     }
 

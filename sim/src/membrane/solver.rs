@@ -9,7 +9,7 @@
 //! world's velocity Verlet is as stable as the paper's scheme (at second order) with
 //! the same bound ([`MembraneModel::stable_time_step`]).
 
-use std::sync::OnceLock;
+use std::sync::{Arc, OnceLock};
 
 use rayon::prelude::*;
 
@@ -19,6 +19,7 @@ use crate::cache::ply::VOLUME;
 use crate::cache::sheet::SheetFrame;
 use crate::error::Result;
 use crate::model::{Model, ParticleColumns, Points, PointsMut};
+use crate::ranks::Ranks;
 
 /// A [`MembraneModel`] behind the model interface.
 #[derive(Debug, Clone)]
@@ -213,5 +214,12 @@ impl Model for Membrane {
 
     fn reset_stage_times(&mut self) {
         self.model.times = Default::default();
+    }
+
+    /// Splits the pass over the bonds (strains, fracture, forces, diffusion rates)
+    /// over the ranks ([`MembraneModel::share`]); the rest of the step on every
+    /// rank.
+    fn share(&mut self, ranks: Arc<dyn Ranks>) {
+        self.model.share(ranks);
     }
 }
