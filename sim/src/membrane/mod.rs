@@ -171,6 +171,9 @@ pub struct StageTimes {
     pub forces: f64,
     /// The diffusion step (Eq. 25–26).
     pub diffusion: f64,
+    /// Sending this rank's part of the pass over the bonds and taking in the others'
+    /// ([`MembraneModel::share`]), waiting for the slowest rank included.
+    pub exchange: f64,
 }
 
 /// The membrane particles of every body of a scene: state, bonds and scratch.

@@ -18,6 +18,7 @@
 
 use std::ops::Range;
 use std::sync::Arc;
+use std::time::Instant;
 
 use super::MembraneModel;
 use crate::ranks::{Message, Ranks, Reader, Share};
@@ -57,10 +58,12 @@ pub(super) fn after_dilatations(m: &mut MembraneModel, owned: &Range<usize>) {
     let Some(share) = &m.share else {
         return;
     };
+    let t = Instant::now();
     let all = share.ranks.gather(&m.dilatation[owned.clone()]);
     for (rank, values) in all.iter().enumerate() {
         m.dilatation[share.bounds[rank]..share.bounds[rank + 1]].copy_from_slice(values);
     }
+    m.times.exchange += t.elapsed().as_secs_f64();
 }
 
 /// Sends this rank's forces, damage, rates (when a body conducts), broken count and
@@ -76,6 +79,7 @@ pub(super) fn after_forces(
     let Some(share) = &m.share else {
         return broken;
     };
+    let t = Instant::now();
     let first = m.bonds.offsets[owned.start];
     let mut mine = Message::default();
     mine.put(m.force[owned.clone()].as_flattened());
@@ -106,5 +110,6 @@ pub(super) fn after_forces(
             }
         }
     }
+    m.times.exchange += t.elapsed().as_secs_f64();
     total
 }

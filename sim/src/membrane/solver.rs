@@ -209,7 +209,11 @@ impl Model for Membrane {
 
     fn stage_times(&self) -> Vec<(&'static str, f64)> {
         let t = self.model.times;
-        vec![("forces", t.forces), ("diffusion", t.diffusion)]
+        let mut times = vec![("forces", t.forces), ("diffusion", t.diffusion)];
+        if self.model.share.is_some() {
+            times.push(("exchange", t.exchange));
+        }
+        times
     }
 
     fn reset_stage_times(&mut self) {
