@@ -1,7 +1,8 @@
 //! `mpirun -np N perifrac run` (issue 35): a fracturing scene gives the bytes of one
 //! process on 2 and 4 ranks (4 oversubscribed on this machine's 2 cores), a run
 //! stopped on 2 ranks resumes on 2 or 3 to those bytes, and a fragment that spans the
-//! ranks' particle ranges is one fragment. Loopback only (OpenMPI's shared memory).
+//! ranks' particle ranges is one fragment; a tearing, diffusing membrane does the same
+//! on 2 and 3 ranks. Loopback only (OpenMPI's shared memory).
 #![cfg(feature = "mpi")]
 
 use std::collections::BTreeMap;
@@ -216,7 +217,8 @@ fn a_run_stopped_on_two_ranks_resumes_on_two_or_three_to_the_same_bytes() {
 /// A state-based membrane torn from a slit by its top edge's halves, with wet
 /// patches whose moisture diffuses and swells it (Han Eq. 25–28; 460 particles, 5
 /// frames): every value its shared pass sends (ϑ, forces, damage, diffusion rates,
-/// broken bits) reaches the frames.
+/// broken bits) reaches the frames. Run whole, on 2 and 3 ranks, and stopped on 2
+/// ranks after 2 frames then resumed on 3.
 const MEMBRANE: &str = r#"[scene]
 name = "ranks-membrane"
 duration = 0.2
@@ -269,7 +271,7 @@ checkpoint_every = 2
 "#;
 
 #[test]
-fn a_membrane_on_two_and_three_ranks_gives_the_bytes_of_one_process() {
+fn a_membrane_on_two_and_three_ranks_and_resumed_gives_the_bytes_of_one_process() {
     let dir = tempfile::tempdir().unwrap();
     let scene = write_scene(dir.path(), "towel.toml", MEMBRANE);
     let out = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
@@ -299,6 +301,19 @@ fn a_membrane_on_two_and_three_ranks_gives_the_bytes_of_one_process() {
             &format!("a membrane on {ranks} ranks"),
         );
     }
+    ok(
+        on_ranks(2, &["run", &scene, "-o", &out("resumed"), "--frames", "2"]),
+        "2 ranks, 2 frames",
+    );
+    ok(
+        on_ranks(3, &["run", &scene, "-o", &out("resumed"), "--resume"]),
+        "resumed on 3 ranks",
+    );
+    assert_same(
+        &dir.path().join("one"),
+        &dir.path().join("resumed"),
+        "a membrane stopped on 2 ranks, resumed on 3",
+    );
 }
 
 /// A rank keeps the constants of its own bonds alone (sim/src/pd/coefficients.rs):
