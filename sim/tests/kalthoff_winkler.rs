@@ -158,6 +158,44 @@ fn contact_leaves_the_kalthoff_winkler_cracks_alone() {
     }
 }
 
+/// Issue 33's goal at converged spacings, with the scene's defaults (contact on,
+/// slotted notches): each notch's crack leaves at 65–72° (the experiment: 68–70°) on
+/// the aligned lattice at λ = 2 mm (65.5° at both notches, 207 s in release) and on
+/// the unstructured mesh at λ = 1.2 mm (about 1.2 million particles, 4.8 GB, 35
+/// minutes on 2 cores; `KW_SEED` picks the mesh). Too long for the suite, whose check
+/// at 4 mm is `contact_leaves_the_kalthoff_winkler_cracks_alone`; run it on purpose:
+/// `cargo test --release -p perifrac-sim --test kalthoff_winkler -- --ignored
+/// --nocapture converged`. At 1.5 mm the unstructured mesh's notches came to
+/// 63.3–67.3° over three meshes, two of six under the goal (docs/contact.md).
+#[test]
+#[ignore = "35 minutes in release: run it on purpose"]
+fn the_converged_cracks_leave_the_notches_at_65_to_72_degrees() {
+    for (lattice, lambda) in [
+        (LatticeOrientation::Aligned, 0.002),
+        (LatticeOrientation::Unstructured, 0.0012),
+    ] {
+        let mut scene = scene(lambda, NotchCut::Slots, lattice);
+        if let Ok(seed) = std::env::var("KW_SEED") {
+            scene.scene.seed = seed.parse().expect("KW_SEED: an integer");
+        }
+        let start = std::time::Instant::now();
+        let angles = crack_angles(&scene);
+        for (notch, angle) in ["upper", "lower"].iter().zip(&angles) {
+            eprintln!(
+                "λ = {lambda} m on {lattice:?}, seed {}: {notch} notch {:.1}° ({:.0} s)",
+                scene.scene.seed,
+                angle.median,
+                start.elapsed().as_secs_f64()
+            );
+            assert!(
+                (65.0..=72.0).contains(&angle.median),
+                "λ = {lambda} m on {lattice:?}: the {notch} notch's crack leaves at {:.1}°",
+                angle.median
+            );
+        }
+    }
+}
+
 /// Measurement (`KW_LAMBDA=0.003 cargo test --release -p perifrac-sim --test
 /// kalthoff_winkler -- --ignored --nocapture`): the angles with contact as the scene
 /// has it (on, by default), frictionless, and off.
