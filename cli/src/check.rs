@@ -104,7 +104,7 @@ fn print_ranks(estimate: &MemoryEstimate) {
     } else {
         println!(
             "  ranks:     {:.1} MiB a rank of `mpirun -np N perifrac run`, whatever N: \
-             every rank steps the whole model (docs/ranks.md)",
+             every rank holds the whole model (docs/ranks.md)",
             mib(2)
         );
     }

@@ -10,9 +10,10 @@
 //! return mapping, forces and fracture, most of a step — is split into contiguous
 //! particle ranges of about equal bond count ([`split_by_bonds`]), each rank building
 //! and keeping the per-bond constants of its own range alone
-//! ([`crate::pd::Coefficients`]). After each stage a rank sends what it changed in its
-//! range (θ; forces and damage; the bonds it broke, crushed or yielded) and receives
-//! the others'. Each particle still gathers over its own family in the same order, so
+//! ([`crate::pd::Coefficients`]). A membrane's pass over its bonds is split the same
+//! way ([`crate::membrane::MembraneModel::share`]). After each stage a rank sends what
+//! it changed in its range (θ; forces and damage; the bonds it broke, crushed or
+//! yielded) and receives the others'. Each particle still gathers over its own family in the same order, so
 //! a run gives the same bytes on any number of ranks. Keeping ghost copies within δ
 //! instead of every particle is not done yet; see docs/ranks.md.
 
