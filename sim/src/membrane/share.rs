@@ -1,5 +1,5 @@
 //! A membrane's pass over its bonds split over ranks ([`crate::ranks`]), as
-//! peridynamics' is (`crate::pd::share`): each rank strains, breaks and sums the
+//! peridynamics' is (`sim/src/pd/share.rs`): each rank strains, breaks and sums the
 //! bonds of its own contiguous range of particles (about equal bond counts,
 //! [`Share::by_bonds`]), then sends what it computed and takes in the others', so
 //! that every rank holds the whole model again before the rest of the step (the
