@@ -161,7 +161,7 @@ fn contact_leaves_the_kalthoff_winkler_cracks_alone() {
 /// Issue 33's goal at converged spacings, with the scene's defaults (contact on,
 /// slotted notches): each notch's crack leaves at 65–72° (the experiment: 68–70°) on
 /// the aligned lattice at λ = 2 mm (65.5° at both notches, 207 s in release) and on
-/// the unstructured mesh at λ = 1.2 mm (about 1.2 million particles, 4.8 GB, 35
+/// the unstructured mesh at λ = 1.2 mm (1.04 million particles, 4.8 GB, 29–35
 /// minutes on 2 cores; `KW_SEED` picks the mesh). Too long for the suite, whose check
 /// at 4 mm is `contact_leaves_the_kalthoff_winkler_cracks_alone`; run it on purpose:
 /// `cargo test --release -p perifrac-sim --test kalthoff_winkler -- --ignored
