@@ -1,7 +1,7 @@
 #!/bin/sh
 # Strong scaling 1 → 2 ranks on this machine against threads of one process
-# (docs/ranks.md): SCENE (default assets/scenes/glass-wall.toml: 57,600 particles,
-# 115 bonds each, fracturing, 0.4 ms and 210 steps a frame) for FRAMES frames, with
+# (docs/ranks.md): SCENE (default assets/scenes/glass-wall.toml: 73,696 particles,
+# 111 bonds each, fracturing, 0.4 ms and 313 steps a frame) for FRAMES frames, with
 # checkpoints, previews, the stage and surfaces off, run as
 #   1t:  one process, one thread
 #   2t:  one process, two threads
