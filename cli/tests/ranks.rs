@@ -147,26 +147,63 @@ fn write_scene(dir: &Path, name: &str, text: &str) -> String {
     path.to_str().unwrap().to_string()
 }
 
+/// `dir/name` as an argument.
+fn out(dir: &Path, name: &str) -> String {
+    dir.join(name).to_str().unwrap().to_string()
+}
+
+/// Runs `scene` in one process into `dir/one`.
+fn run_whole(dir: &Path, scene: &str) {
+    ok(
+        one_process(&["run", scene, "-o", &out(dir, "one")]),
+        "one process",
+    );
+}
+
+/// Runs `scene` on `ranks` ranks into `dir/ranksN`: the bytes of `dir/one`.
+fn same_on_ranks(dir: &Path, scene: &str, ranks: usize) {
+    let name = format!("ranks{ranks}");
+    ok(
+        on_ranks(ranks, &["run", scene, "-o", &out(dir, &name)]),
+        &format!("{ranks} ranks"),
+    );
+    assert_same(
+        &dir.join("one"),
+        &dir.join(&name),
+        &format!("{scene} on {ranks} ranks"),
+    );
+}
+
+/// Stops `scene` on 2 ranks after `frames` frames and resumes it on `ranks` ranks,
+/// into `dir/resumed-on-N`: the bytes of `dir/one`.
+fn same_after_resume(dir: &Path, scene: &str, frames: usize, ranks: usize) {
+    let name = format!("resumed-on-{ranks}");
+    let frames = frames.to_string();
+    ok(
+        on_ranks(
+            2,
+            &["run", scene, "-o", &out(dir, &name), "--frames", &frames],
+        ),
+        &format!("2 ranks, {frames} frames"),
+    );
+    ok(
+        on_ranks(ranks, &["run", scene, "-o", &out(dir, &name), "--resume"]),
+        &format!("resumed on {ranks} ranks"),
+    );
+    assert_same(
+        &dir.join("one"),
+        &dir.join(&name),
+        &format!("{scene} stopped on 2 ranks, resumed on {ranks}"),
+    );
+}
+
 #[test]
 fn two_and_four_ranks_give_the_bytes_of_one_process() {
     let dir = tempfile::tempdir().unwrap();
     let scene = write_scene(dir.path(), "wall.toml", SCENE);
-    let out = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
-    ok(
-        one_process(&["run", &scene, "-o", &out("one")]),
-        "one process",
-    );
+    run_whole(dir.path(), &scene);
     for ranks in [2, 4] {
-        let name = format!("ranks{ranks}");
-        ok(
-            on_ranks(ranks, &["run", &scene, "-o", &out(&name)]),
-            &format!("{ranks} ranks"),
-        );
-        assert_same(
-            &dir.path().join("one"),
-            &dir.path().join(&name),
-            &format!("{ranks} ranks"),
-        );
+        same_on_ranks(dir.path(), &scene, ranks);
     }
     let (_, broken, _) = manifest_facts(&dir.path().join("one"));
     assert!(broken > 10_000, "the wall breaks: {broken} bonds");
@@ -186,31 +223,14 @@ fn two_and_four_ranks_give_the_bytes_of_one_process() {
 fn a_run_stopped_on_two_ranks_resumes_on_two_or_three_to_the_same_bytes() {
     let dir = tempfile::tempdir().unwrap();
     let scene = write_scene(dir.path(), "wall.toml", &plastic_scene());
-    let out = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
-    ok(
-        one_process(&["run", &scene, "-o", &out("one")]),
-        "one process",
-    );
+    run_whole(dir.path(), &scene);
     let last = ParticleFrame::read(&dir.path().join("one/particles/0006.ply")).unwrap();
     assert!(
         last.plastic.iter().any(|&p| p > 0.0),
         "the bonds yield, so plastic extensions go between the ranks"
     );
     for ranks in [2, 3] {
-        let name = format!("resumed-on-{ranks}");
-        ok(
-            on_ranks(2, &["run", &scene, "-o", &out(&name), "--frames", "3"]),
-            "2 ranks, 3 frames",
-        );
-        ok(
-            on_ranks(ranks, &["run", &scene, "-o", &out(&name), "--resume"]),
-            &format!("resumed on {ranks} ranks"),
-        );
-        assert_same(
-            &dir.path().join("one"),
-            &dir.path().join(&name),
-            &format!("stopped on 2 ranks, resumed on {ranks}"),
-        );
+        same_after_resume(dir.path(), &scene, 3, ranks);
     }
 }
 
@@ -274,11 +294,7 @@ checkpoint_every = 2
 fn a_membrane_on_two_and_three_ranks_and_resumed_gives_the_bytes_of_one_process() {
     let dir = tempfile::tempdir().unwrap();
     let scene = write_scene(dir.path(), "towel.toml", MEMBRANE);
-    let out = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
-    ok(
-        one_process(&["run", &scene, "-o", &out("one")]),
-        "one process",
-    );
+    run_whole(dir.path(), &scene);
     let (_, broken, _) = manifest_facts(&dir.path().join("one"));
     assert!(broken > 500, "the towel tears: {broken} bonds");
     let last = ParticleFrame::read(&dir.path().join("one/particles/0006.ply")).unwrap();
@@ -290,30 +306,9 @@ fn a_membrane_on_two_and_three_ranks_and_resumed_gives_the_bytes_of_one_process(
     let damp = wet.iter().filter(|&&q| q > 0.01 && q < 0.49).count();
     assert!(damp > 20, "moisture diffuses: {damp} particles partly wet");
     for ranks in [2, 3] {
-        let name = format!("ranks{ranks}");
-        ok(
-            on_ranks(ranks, &["run", &scene, "-o", &out(&name)]),
-            &format!("{ranks} ranks"),
-        );
-        assert_same(
-            &dir.path().join("one"),
-            &dir.path().join(&name),
-            &format!("a membrane on {ranks} ranks"),
-        );
+        same_on_ranks(dir.path(), &scene, ranks);
     }
-    ok(
-        on_ranks(2, &["run", &scene, "-o", &out("resumed"), "--frames", "2"]),
-        "2 ranks, 2 frames",
-    );
-    ok(
-        on_ranks(3, &["run", &scene, "-o", &out("resumed"), "--resume"]),
-        "resumed on 3 ranks",
-    );
-    assert_same(
-        &dir.path().join("one"),
-        &dir.path().join("resumed"),
-        "a membrane stopped on 2 ranks, resumed on 3",
-    );
+    same_after_resume(dir.path(), &scene, 2, 3);
 }
 
 /// A rank keeps the constants of its own bonds alone (sim/src/pd/coefficients.rs):
@@ -334,8 +329,7 @@ fn a_rank_holds_its_share_of_the_bonds() {
          [output]\ncheckpoint_every = 0\npreview = false\nusd = false\nsurface = \"none\"\n",
     );
     let bin = env!("CARGO_BIN_EXE_perifrac");
-    let out = |name: &str| dir.path().join(name).to_string_lossy().into_owned();
-    let (one_out, two_out) = (out("one"), out("two"));
+    let (one_out, two_out) = (out(dir.path(), "one"), out(dir.path(), "two"));
     let run = |out| {
         [
             "run",

@@ -13,8 +13,8 @@
 //! ([`crate::pd::Coefficients`]). A membrane's pass over its bonds is split the same
 //! way ([`crate::membrane::MembraneModel::share`]). After each stage a rank sends what
 //! it changed in its range (θ; forces and damage; the bonds it broke, crushed or
-//! yielded) and receives the others'. Each particle still gathers over its own family in the same order, so
-//! a run gives the same bytes on any number of ranks. Keeping ghost copies within δ
+//! yielded) and receives the others'. Each particle still gathers over its own family
+//! in the same order, so a run gives the same bytes on any number of ranks. Keeping ghost copies within δ
 //! instead of every particle is not done yet; see docs/ranks.md.
 
 use std::fmt::Debug;
@@ -55,6 +55,14 @@ impl Share {
     pub fn owned(&self) -> Range<usize> {
         let r = self.ranks.rank();
         self.bounds[r]..self.bounds[r + 1]
+    }
+
+    /// Every rank's `mine` ([`Ranks::gather`]), in rank order, each with the particles
+    /// that rank owns.
+    pub fn gather(&self, mine: &[f64]) -> Vec<(Range<usize>, Vec<f64>)> {
+        let all = self.ranks.gather(mine).into_iter().enumerate();
+        all.map(|(r, values)| (self.bounds[r]..self.bounds[r + 1], values))
+            .collect()
     }
 }
 

@@ -28,6 +28,15 @@ fn scene(lambda: f64, cut: NotchCut, lattice: LatticeOrientation) -> Scene {
     kalthoff_winkler_variant(&base, lambda, cut, lattice).expect("a variant")
 }
 
+/// `scene` meshed with the seed `KW_SEED` when it is set (the measurements' other
+/// random meshes).
+fn seeded(mut scene: Scene) -> Scene {
+    if let Ok(seed) = std::env::var("KW_SEED") {
+        scene.scene.seed = seed.parse().expect("KW_SEED: an integer");
+    }
+    scene
+}
+
 /// Runs `scene` to its end and reads the cracks of the upper and lower notches
 /// (`perifrac_sim::crack_angle`, 2δ to 45 mm from the tips).
 fn crack_angles(scene: &Scene) -> [CrackAngle; 2] {
@@ -174,10 +183,7 @@ fn the_converged_cracks_leave_the_notches_at_65_to_72_degrees() {
         (LatticeOrientation::Aligned, 0.002),
         (LatticeOrientation::Unstructured, 0.0012),
     ] {
-        let mut scene = scene(lambda, NotchCut::Slots, lattice);
-        if let Ok(seed) = std::env::var("KW_SEED") {
-            scene.scene.seed = seed.parse().expect("KW_SEED: an integer");
-        }
+        let scene = seeded(scene(lambda, NotchCut::Slots, lattice));
         let start = std::time::Instant::now();
         let angles = crack_angles(&scene);
         for (notch, angle) in ["upper", "lower"].iter().zip(&angles) {
@@ -217,10 +223,7 @@ fn kalthoff_winkler_angles() {
             Ok("rotated") => LatticeOrientation::Rotated,
             _ => LatticeOrientation::Unstructured,
         };
-        let mut scene = scene(lambda, cut, lattice);
-        if let Ok(seed) = std::env::var("KW_SEED") {
-            scene.scene.seed = seed.parse().expect("KW_SEED: an integer");
-        }
+        let mut scene = seeded(scene(lambda, cut, lattice));
         match case {
             "on" => {}
             "frictionless" => scene.contact.friction = 0.0,

@@ -59,9 +59,8 @@ pub(super) fn after_dilatations(m: &mut MembraneModel, owned: &Range<usize>) {
         return;
     };
     let t = Instant::now();
-    let all = share.ranks.gather(&m.dilatation[owned.clone()]);
-    for (rank, values) in all.iter().enumerate() {
-        m.dilatation[share.bounds[rank]..share.bounds[rank + 1]].copy_from_slice(values);
+    for (range, values) in share.gather(&m.dilatation[owned.clone()]) {
+        m.dilatation[range].copy_from_slice(&values);
     }
     m.times.exchange += t.elapsed().as_secs_f64();
 }
@@ -91,11 +90,9 @@ pub(super) fn after_forces(
     if let Some(before) = &before {
         mine.put_changes(first, before, &m.bonds.neighbours);
     }
-    let all = share.ranks.gather(&mine.0);
     let mut total = 0;
-    for (rank, message) in all.iter().enumerate() {
-        let range = share.bounds[rank]..share.bounds[rank + 1];
-        let mut reader = Reader::new(message);
+    for (range, message) in share.gather(&mine.0) {
+        let mut reader = Reader::new(&message);
         m.force[range.clone()]
             .as_flattened_mut()
             .copy_from_slice(reader.take(3 * range.len()));

@@ -82,10 +82,8 @@ pub(super) fn after_dilatation(m: &mut PdModel, owned: &Range<usize>, before: Be
             mine.put_changes(first, before, &p.extension);
         }
     }
-    let all = share.ranks.gather(&mine.0);
-    for (rank, message) in all.iter().enumerate() {
-        let range = share.bounds[rank]..share.bounds[rank + 1];
-        let mut reader = Reader::new(message);
+    for (range, message) in share.gather(&mine.0) {
+        let mut reader = Reader::new(&message);
         m.theta[range.clone()].copy_from_slice(reader.take(range.len()));
         if let Some(p) = &mut m.plastic {
             for (y, &flag) in p.yielded[range.clone()]
@@ -127,11 +125,9 @@ pub(super) fn after_forces(
             mine.put_changes(first, before, crushed);
         }
     }
-    let all = share.ranks.gather(&mine.0);
     let mut total = 0;
-    for (rank, message) in all.iter().enumerate() {
-        let range = share.bounds[rank]..share.bounds[rank + 1];
-        let mut reader = Reader::new(message);
+    for (range, message) in share.gather(&mine.0) {
+        let mut reader = Reader::new(&message);
         m.force[range.clone()]
             .as_flattened_mut()
             .copy_from_slice(reader.take(3 * range.len()));
